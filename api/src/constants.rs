@@ -1,0 +1,30 @@
+//! Global constants of the script environment.
+
+/// A numeric constant a script sees as a global.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Constant {
+    Int(i64),
+    Double(f64),
+    Str(&'static str),
+}
+
+/// HMPL ch. 23.1 math constants, ch. 1.4 truth values and limits, the DRL `CR_LF`.
+pub const CONSTANTS: &[(&str, Constant, &str)] = &[
+    ("PI", Constant::Double(std::f64::consts::PI), "HMPL 23.1"),
+    ("SQRT2", Constant::Double(std::f64::consts::SQRT_2), "HMPL 23.1"),
+    ("SQRT1_2", Constant::Double(std::f64::consts::FRAC_1_SQRT_2), "HMPL 23.1"),
+    ("TRUE", Constant::Int(1), "HMPL 1.4"),
+    ("FALSE", Constant::Int(0), "HMPL 1.4"),
+    ("HMPL_STR_MAX_LEN", Constant::Int(512), "HMPL 3.1"),
+    ("CR_LF", Constant::Str("\r\n"), "DXMC 8.3 DRL"),
+];
+
+/// Every error code name of HMPL ch. 18 with its error id (`EEEE`); scripts combine it
+/// with the axis or group id, or compare `GetAxisLastErr(a) & 0xFFFF` with it.
+pub fn error_ids() -> impl Iterator<Item = (&'static str, u16)> {
+    use crate::errors::{AxisError, GroupError, SystemError};
+    let system = SystemError::ALL.iter().map(|e| (e.name(), e.id()));
+    let axis = AxisError::ALL.iter().map(|e| (e.name(), e.id()));
+    let group = GroupError::ALL.iter().map(|e| (e.name(), e.id()));
+    system.chain(axis).chain(group)
+}

@@ -1,0 +1,151 @@
+//! The API reference (`docs/api.md`) and the lua-language-server annotations
+//! (`scripts/luamotion.d.lua`), generated from the registry. Tests keep the committed
+//! files equal to what this generates.
+
+use std::fmt::Write;
+
+use crate::constants::{CONSTANTS, Constant, error_ids};
+use crate::registry::{ArgType, FunctionSpec, Kind, ValueType, all};
+
+fn lua_type(v: ValueType) -> &'static str {
+    match v {
+        ValueType::Int => "integer",
+        ValueType::Double => "number",
+        ValueType::Bool => "boolean",
+        ValueType::Str => "string",
+    }
+}
+
+fn lua_returns(f: &FunctionSpec) -> String {
+    if f.returns.is_empty() {
+        "nothing".to_string()
+    } else {
+        f.returns.iter().map(|&r| lua_type(r)).collect::<Vec<_>>().join(", ")
+    }
+}
+
+fn kind_name(k: Kind) -> &'static str {
+    match k {
+        Kind::Command => "command (round trip to the core)",
+        Kind::Query => "query (local snapshot)",
+        Kind::Local => "script process",
+    }
+}
+
+/// `docs/api.md`.
+pub fn markdown() -> String {
+    let mut out = String::new();
+    out.push_str("# API reference\n\n");
+    out.push_str("Generated from the registry (`api/src/functions.rs`) by `luamotion api markdown`; do not edit.\n\n");
+    out.push_str("Commands return 0 or an HMPL error code (`0x83IIEEEE` for an axis, as an unsigned number). ");
+    out.push_str("`Is*` queries return Lua booleans. Errors in arguments (a string where a number belongs, ");
+    out.push_str("an axis that does not exist in a query) raise a Lua error at the calling line.\n\n");
+    out.push_str("| function | C signature (manual) | returns in Lua | runs as | manual | ASCII |\n");
+    out.push_str("|---|---|---|---|---|---|\n");
+    for f in all() {
+        let _ = writeln!(
+            out,
+            "| `{}` | `{}` | {} | {} | {} | {} |",
+            f.name,
+            f.signature(),
+            lua_returns(f),
+            kind_name(f.kind()),
+            f.manual,
+            if f.ascii { "yes" } else { "no" }
+        );
+    }
+    out.push_str("\n## Functions\n");
+    for f in all() {
+        let _ = write!(out, "\n### {}\n\n`{}` ({})\n\n", f.name, f.signature(), f.manual);
+        for line in f.doc {
+            let _ = writeln!(out, "{}", line.trim());
+        }
+    }
+    out.push_str("\n## Constants\n\n| name | value | source |\n|---|---|---|\n");
+    for (name, value, source) in CONSTANTS {
+        let value = match value {
+            Constant::Int(i) => i.to_string(),
+            Constant::Double(d) => d.to_string(),
+            Constant::Str(s) => format!("{s:?}"),
+        };
+        let _ = writeln!(out, "| `{name}` | `{value}` | {source} |");
+    }
+    out.push_str("\nEvery error name of HMPL ch. 18 is also a constant holding its error id (`EEEE`), ");
+    out.push_str("e.g. `GetAxisLastErr(0) & 0xFFFF == eERR_AXIS_CMD_INVALID_DISABLED`.\n");
+    out
+}
+
+/// `scripts/luamotion.d.lua`, for completion and checks in editors.
+pub fn lua_meta() -> String {
+    let mut out = String::new();
+    out.push_str("---@meta luamotion\n");
+    out.push_str("-- Generated from the registry by `luamotion api lua`; do not edit.\n");
+    for f in all() {
+        out.push('\n');
+        for line in f.doc {
+            let _ = writeln!(out, "---{}", line.trim_end());
+        }
+        let _ = writeln!(out, "---{} ({})", f.manual, kind_name(f.kind()));
+        let mut params = Vec::new();
+        for a in f.args {
+            let (name, ty) = match a.ty {
+                ArgType::Int => (a.name, "integer"),
+                ArgType::Double => (a.name, "number"),
+                ArgType::Str => (a.name, "string"),
+                ArgType::Func => (a.name, "fun(): any"),
+                ArgType::Rest => ("...", "any"),
+            };
+            let _ = writeln!(out, "---@param {name} {ty}");
+            params.push(name);
+        }
+        for &r in f.returns {
+            let _ = writeln!(out, "---@return {}", lua_type(r));
+        }
+        let _ = writeln!(out, "function {}({}) end", f.name, params.join(", "));
+    }
+    out.push('\n');
+    for (name, value, source) in CONSTANTS {
+        let value = match value {
+            Constant::Int(i) => i.to_string(),
+            Constant::Double(d) => format!("{d:?}"),
+            Constant::Str(s) => format!("{s:?}"),
+        };
+        let _ = writeln!(out, "{name} = {value} -- {source}");
+    }
+    for (name, id) in error_ids() {
+        let _ = writeln!(out, "{name} = 0x{id:04X}");
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+    use std::path::Path;
+
+    fn repo_file(relative: &str) -> String {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(relative);
+        std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    }
+
+    #[test]
+    fn committed_reference_matches_the_registry() {
+        assert!(repo_file("docs/api.md") == markdown(), "run `cargo run -- api markdown > docs/api.md`");
+        assert!(
+            repo_file("scripts/luamotion.d.lua") == lua_meta(),
+            "run `cargo run -- api lua > scripts/luamotion.d.lua`"
+        );
+    }
+
+    #[test]
+    fn names_are_unique_and_every_function_is_documented() {
+        let mut names = HashSet::new();
+        for f in all() {
+            assert!(names.insert(f.name), "{} declared twice", f.name);
+            assert!(!f.doc.is_empty(), "{} has no doc", f.name);
+            assert!(f.manual.starts_with("HMPL ") || f.manual.starts_with("DXMC "), "{}: {}", f.name, f.manual);
+            assert_eq!(crate::registry::find(f.name).map(|g| g.name), Some(f.name));
+        }
+    }
+}

@@ -1,0 +1,12 @@
+//! The contract between scripts and the controller: the registry of API functions, the
+//! HMPL error codes and the constants scripts see.
+
+pub mod constants;
+pub mod docs;
+pub mod errors;
+mod functions;
+pub mod registry;
+
+pub use errors::{AxisError, ErrorCode, GroupError, SystemError};
+pub use functions::{Command, Local, Query};
+pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, ValueType};

@@ -1,0 +1,142 @@
+//! The controller's end: publish the state, serve each task's calls, wake tasks.
+//!
+//! Everything here is called from the RT thread once per cycle. Ports are created before
+//! the first cycle; serving, publishing and waking do not allocate.
+
+use iceoryx2::prelude::*;
+
+use crate::clock::monotonic_ns;
+use crate::messages::{Reply, Request, Snapshot};
+use crate::services::failed;
+use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StatePublisher, WakeNotifier};
+use crate::shm::Region;
+use crate::task_table::{RunState, TaskTable};
+use crate::{IpcError, Namespace};
+
+/// Name of the controller's node; a live node of this name owns the namespace.
+pub const CORE_NODE_NAME: &str = "luamotion-core";
+
+struct TaskChannel {
+    id: u8,
+    requests: RequestSubscriber,
+    replies: ReplyPublisher,
+    notifier: WakeNotifier,
+    /// Sequence number of the last wait request this task was woken for.
+    last_woken_wait: Option<u16>,
+    replied: bool,
+}
+
+/// Counters the soak test and the logs read.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CoreIpcStats {
+    pub requests: u64,
+    pub replies: u64,
+    pub send_failures: u64,
+    pub wakes: u64,
+    pub wake_failures: u64,
+    pub publish_failures: u64,
+}
+
+pub struct CoreEndpoint {
+    state: StatePublisher,
+    tasks: Vec<TaskChannel>,
+    table: Region<TaskTable>,
+    stats: CoreIpcStats,
+    // Dropped last: the ports above belong to it.
+    _node: Node<Ipc>,
+}
+
+impl CoreEndpoint {
+    /// Creates the services of the configured tasks and the task table.
+    pub fn create(ns: &Namespace, task_ids: &[u8]) -> Result<Self, IpcError> {
+        let node = services::node(ns, CORE_NODE_NAME)?;
+        let state = services::state(&node, ns, Open::Create)?
+            .publisher_builder()
+            .create()
+            .map_err(|e| failed("state publisher", e))?;
+        let mut tasks = Vec::with_capacity(task_ids.len());
+        for &id in task_ids {
+            let requests = services::requests(&node, ns, id, Open::Create)?
+                .subscriber_builder()
+                .create()
+                .map_err(|e| failed(&format!("task {id} requests"), e))?;
+            let replies = services::replies(&node, ns, id, Open::Create)?
+                .publisher_builder()
+                .create()
+                .map_err(|e| failed(&format!("task {id} replies"), e))?;
+            let notifier = services::wake(&node, ns, id, Open::Create)?
+                .notifier_builder()
+                .create()
+                .map_err(|e| failed(&format!("task {id} notifier"), e))?;
+            tasks.push(TaskChannel { id, requests, replies, notifier, last_woken_wait: None, replied: false });
+        }
+        let table = Region::<TaskTable>::create(ns, "tasks")?;
+        Ok(CoreEndpoint { state, tasks, table, stats: CoreIpcStats::default(), _node: node })
+    }
+
+    pub fn table(&self) -> &TaskTable {
+        &self.table
+    }
+
+    pub fn stats(&self) -> CoreIpcStats {
+        self.stats
+    }
+
+    /// Takes up to `max_per_task` pending requests of every task and answers each with
+    /// `handle(task, request, reply)`. The reply is sent at once; the task is woken by
+    /// `wake`, after the snapshot that shows the command's effect is published.
+    pub fn serve(&mut self, cycle: u64, max_per_task: usize, mut handle: impl FnMut(u8, &Request, &mut Reply)) {
+        for task in &mut self.tasks {
+            for _ in 0..max_per_task {
+                let Ok(Some(request)) = task.requests.receive() else { break };
+                let received_ns = monotonic_ns();
+                self.stats.requests += 1;
+                let mut reply = Reply::to(request.payload());
+                reply.received_ns = received_ns;
+                reply.cycle = cycle;
+                handle(task.id, request.payload(), &mut reply);
+                reply.sent_ns = monotonic_ns();
+                match task.replies.send_copy(reply) {
+                    Ok(_) => self.stats.replies += 1,
+                    Err(_) => self.stats.send_failures += 1,
+                }
+                task.replied = true;
+            }
+        }
+    }
+
+    /// Publishes the cycle's snapshot. A failure is counted, not formatted: this runs on
+    /// the RT thread, and the next cycle publishes again.
+    pub fn publish(&mut self, snapshot: &Snapshot) {
+        let Ok(sample) = self.state.loan_uninit() else {
+            self.stats.publish_failures += 1;
+            return;
+        };
+        let mut sample = sample.write_payload(*snapshot);
+        sample.payload_mut().published_ns = monotonic_ns();
+        if sample.send().is_err() {
+            self.stats.publish_failures += 1;
+        }
+    }
+
+    /// Wakes every task whose reply was sent this cycle or whose wait cycle has come.
+    pub fn wake(&mut self, cycle: u64) {
+        for task in &mut self.tasks {
+            let slot = &self.table.slots[task.id as usize];
+            let mut due = std::mem::take(&mut task.replied);
+            if slot.state() == RunState::Waiting {
+                let wait = slot.wait_request();
+                if wait.cycle <= cycle && task.last_woken_wait != Some(wait.seq) {
+                    task.last_woken_wait = Some(wait.seq);
+                    due = true;
+                }
+            }
+            if due {
+                match task.notifier.notify() {
+                    Ok(_) => self.stats.wakes += 1,
+                    Err(_) => self.stats.wake_failures += 1,
+                }
+            }
+        }
+    }
+}

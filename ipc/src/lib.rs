@@ -1,0 +1,113 @@
+//! luamotion's inter-process contract, over iceoryx2 (see ARCHITECTURE.md, "IPC").
+//!
+//! | what | pattern | direction |
+//! |---|---|---|
+//! | `state` | publish-subscribe, latest value | core -> everyone |
+//! | `task/<id>/cmd` | request-response | task <-> core |
+//! | `task/<id>/wake` | event | core -> task |
+//! | `tasks` | shared memory (atomics) | task -> core: heartbeat, run state, wait requests |
+
+pub mod clock;
+mod core_side;
+pub mod messages;
+mod namespace;
+pub mod query;
+pub mod services;
+pub mod shm;
+mod task_side;
+pub mod task_table;
+
+use iceoryx2::node::{NodeState, NodeView};
+use iceoryx2::prelude::*;
+
+pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats};
+pub use namespace::Namespace;
+pub use task_side::TaskEndpoint;
+
+#[derive(Debug, thiserror::Error)]
+pub enum IpcError {
+    #[error("invalid namespace {0:?}: use 1 to 40 characters of A-Z a-z 0-9 _ -")]
+    Namespace(String),
+    #[error("iceoryx2: {0}")]
+    Service(String),
+    #[error("shared memory: {0}")]
+    Shm(String),
+    #[error("protocol: {0}")]
+    Protocol(String),
+    #[error("the controller is gone")]
+    ControllerGone,
+    #[error("a controller (pid {pid}) is already running in namespace {ns}")]
+    NamespaceInUse { ns: String, pid: u32 },
+}
+
+/// Makes the namespace ready for a new controller: removes what dead processes left
+/// behind (so that a `kill -9` never blocks the next start) and refuses if a controller
+/// is alive in it.
+pub fn claim_namespace(ns: &Namespace) -> Result<(), IpcError> {
+    let mut alive_core = None;
+    Node::<services::Ipc>::list(&ns.config(), |state| {
+        match state {
+            NodeState::Alive(view) => {
+                if let Some(details) = view.details()
+                    && details.name().as_str() == CORE_NODE_NAME
+                {
+                    alive_core = Some(details.process_id().value() as u32);
+                }
+            }
+            NodeState::Dead(view) => {
+                // Another process may be cleaning the same node; either way it is gone after.
+                let _ = view.try_remove_stale_resources();
+            }
+            NodeState::Inaccessible(_) | NodeState::Undefined(_) => {}
+        }
+        CallbackProgression::Continue
+    })
+    .map_err(|e| IpcError::Service(format!("list nodes: {e:?}")))?;
+    match alive_core {
+        Some(pid) => Err(IpcError::NamespaceInUse { ns: ns.to_string(), pid }),
+        None => Ok(()),
+    }
+}
+
+/// Removes every file the namespace left in shared memory and in iceoryx2's directory.
+/// Call it once the controller and its scripts are gone.
+pub fn remove_namespace_files(ns: &Namespace) {
+    let prefix = ns.prefix();
+    for dir in ["/dev/shm", "/tmp/iceoryx2/nodes", "/tmp/iceoryx2/services"] {
+        let Ok(entries) = std::fs::read_dir(dir) else { continue };
+        for entry in entries.flatten() {
+            if entry.file_name().to_string_lossy().starts_with(&prefix) {
+                let path = entry.path();
+                let _ = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
+            }
+        }
+    }
+}
+
+/// True once SIGINT or SIGTERM has arrived (consumes it). iceoryx2 owns these signals in
+/// every process that uses it, so this is where they are seen.
+pub fn termination_requested() -> bool {
+    iceoryx2_bb_posix::signal::SignalHandler::termination_requested()
+}
+
+/// Lets SIGINT and SIGTERM end the process again, as they do for any program; script
+/// processes use it so that the controller can stop them with SIGTERM.
+pub fn restore_default_termination() {
+    // Creating iceoryx2's handler first: it is installed once, so it cannot replace ours later.
+    let _ = termination_requested();
+    // SAFETY: resetting two signals to their default action.
+    unsafe {
+        libc::signal(libc::SIGTERM, libc::SIG_DFL);
+        libc::signal(libc::SIGINT, libc::SIG_DFL);
+    }
+}
+
+/// Removes the stale resources of dead processes (e.g. a killed script) in the namespace.
+pub fn clean_dead_nodes(ns: &Namespace) {
+    let _ = Node::<services::Ipc>::list(&ns.config(), |state| {
+        if let NodeState::Dead(view) = state {
+            let _ = view.try_remove_stale_resources();
+        }
+        CallbackProgression::Continue
+    });
+}

@@ -1,0 +1,182 @@
+//! Every message that crosses a process boundary. All are `#[repr(C)]`, fixed-size and
+//! free of pointers, so that iceoryx2 can hand them between processes without copying.
+
+use iceoryx2::prelude::ZeroCopySend;
+
+/// 32 drives + 64 virtual axes (DXMC), more than HMPL's 16.
+pub const MAX_AXES: usize = 96;
+/// HMPL task ids 0..63 (HMPL ch. 16).
+pub const MAX_TASKS: usize = 64;
+/// Scalar arguments of one call; no HMPL function has more.
+pub const MAX_ARGS: usize = 12;
+/// Bytes for string and array arguments (`MovePVT` sends 3 x 50 doubles).
+pub const BLOB_SIZE: usize = 1536;
+
+/// One API call that needs the core (`api::Kind::Command`).
+///
+/// Arguments are 64-bit words whose meaning the registry gives: an `Int` argument is an
+/// `i64`, a `Double` the bits of an `f64`.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+pub struct Request {
+    /// Per-task sequence number, echoed by the reply: lost or duplicated replies show.
+    pub seq: u64,
+    /// CLOCK_MONOTONIC when the script sent it.
+    pub sent_ns: u64,
+    /// `api::Command::id()`.
+    pub func: u16,
+    pub argc: u16,
+    pub blob_len: u32,
+    pub args: [u64; MAX_ARGS],
+    pub blob: [u8; BLOB_SIZE],
+}
+
+impl Request {
+    pub fn new(func: u16) -> Self {
+        Request { seq: 0, sent_ns: 0, func, argc: 0, blob_len: 0, args: [0; MAX_ARGS], blob: [0; BLOB_SIZE] }
+    }
+
+    pub fn push_int(&mut self, v: i64) {
+        self.push_word(v as u64);
+    }
+
+    pub fn push_double(&mut self, v: f64) {
+        self.push_word(v.to_bits());
+    }
+
+    fn push_word(&mut self, w: u64) {
+        self.args[self.argc as usize] = w;
+        self.argc += 1;
+    }
+
+    pub fn int(&self, i: usize) -> i64 {
+        self.args[i] as i64
+    }
+
+    pub fn double(&self, i: usize) -> f64 {
+        f64::from_bits(self.args[i])
+    }
+
+    pub fn blob(&self) -> &[u8] {
+        &self.blob[..self.blob_len as usize]
+    }
+}
+
+/// The core's answer to one `Request`.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+pub struct Reply {
+    pub seq: u64,
+    /// The request's `sent_ns`, echoed for the round trip.
+    pub request_sent_ns: u64,
+    /// CLOCK_MONOTONIC when the core took the request.
+    pub received_ns: u64,
+    /// CLOCK_MONOTONIC when the core sent this reply.
+    pub sent_ns: u64,
+    /// The cycle in which the command was applied; the snapshot of that cycle shows it.
+    pub cycle: u64,
+    /// 0 on success, otherwise the HMPL error code (`0x83IIEEEE`, ...).
+    pub rc: u32,
+    pub valuec: u16,
+    pub blob_len: u16,
+    pub values: [u64; MAX_ARGS],
+    pub blob: [u8; BLOB_SIZE],
+}
+
+impl Reply {
+    pub fn to(request: &Request) -> Self {
+        Reply {
+            seq: request.seq,
+            request_sent_ns: request.sent_ns,
+            received_ns: 0,
+            sent_ns: 0,
+            cycle: 0,
+            rc: 0,
+            valuec: 0,
+            blob_len: 0,
+            values: [0; MAX_ARGS],
+            blob: [0; BLOB_SIZE],
+        }
+    }
+}
+
+/// HMPL table 5.1.1.5: the bits of an axis' `motion_status`.
+pub mod motion_status {
+    pub const ENABLED: u32 = 1 << 0;
+    pub const MOVING: u32 = 1 << 1;
+    pub const IN_POSITION: u32 = 1 << 2;
+    pub const SYNCHRONOUS: u32 = 1 << 3;
+    pub const GROUP: u32 = 1 << 4;
+    pub const GANTRY: u32 = 1 << 5;
+    pub const INPUT_SHAPE: u32 = 1 << 6;
+    pub const VSF: u32 = 1 << 7;
+    pub const GEAR: u32 = 1 << 8;
+    pub const CAM: u32 = 1 << 9;
+    pub const ACCELERATING: u32 = 1 << 10;
+    pub const HOMED: u32 = 1 << 11;
+    pub const HOMING: u32 = 1 << 12;
+    pub const HOME_SWITCH: u32 = 1 << 13;
+}
+
+/// HMPL table 5.1.1.4: the bits of an axis' `fault_status`.
+pub mod fault_status {
+    pub const ERROR_STOP: u32 = 1 << 0;
+    pub const DRIVE_FAULT: u32 = 1 << 1;
+    pub const POSITION_ERROR: u32 = 1 << 2;
+    pub const HW_RIGHT_LIMIT: u32 = 1 << 3;
+    pub const HW_LEFT_LIMIT: u32 = 1 << 4;
+    pub const SW_RIGHT_LIMIT: u32 = 1 << 5;
+    pub const SW_LEFT_LIMIT: u32 = 1 << 6;
+}
+
+/// One axis as the kernel saw it at the end of a cycle (HMPL tables 5.1.1.1 to 5.1.1.6).
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct AxisSnapshot {
+    pub motion_status: u32,
+    pub fault_status: u32,
+    pub last_err: u32,
+    pub coe_controlword: u16,
+    pub coe_statusword: u16,
+    pub ref_pos: f64,
+    pub ref_vel: f64,
+    pub ref_acc: f64,
+    pub pos_out: f64,
+    pub pos_fb: f64,
+    pub vel_fb: f64,
+    pub pos_err: f64,
+    pub vel: f64,
+    pub acc: f64,
+    pub dec: f64,
+}
+
+/// The machine at the end of one cycle, published every cycle (latest value wins).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+pub struct Snapshot {
+    /// `system_fclk`: cycles since start.
+    pub cycle: u64,
+    pub period_ns: u64,
+    /// `system_timeInMs`: controller time, derived from the cycle count.
+    pub time_in_ms: u64,
+    /// CLOCK_MONOTONIC at publication, for the age of a snapshot when read.
+    pub published_ns: u64,
+    pub axis_count: u32,
+    /// EtherCAT master state: 1 Init, 2 PreOp, 4 SafeOp, 8 Op (HMPL 2.5).
+    pub ecat_state: u32,
+    pub axes: [AxisSnapshot; MAX_AXES],
+}
+
+impl Default for Snapshot {
+    fn default() -> Self {
+        Snapshot {
+            cycle: 0,
+            period_ns: 0,
+            time_in_ms: 0,
+            published_ns: 0,
+            axis_count: 0,
+            ecat_state: 0,
+            axes: [AxisSnapshot::default(); MAX_AXES],
+        }
+    }
+}

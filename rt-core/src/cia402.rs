@@ -1,0 +1,179 @@
+//! CiA 402 words as they cross the bus: the controlword commands and the statusword state
+//! encodings. Both the simulated drives and the motion kernel (the master) speak them.
+
+/// Controlword 0x6040 bits (CoE manual 3.1, table 3-2).
+pub mod controlword {
+    pub const SWITCH_ON: u16 = 1 << 0;
+    pub const ENABLE_VOLTAGE: u16 = 1 << 1;
+    /// Active low: 0 requests a quick stop.
+    pub const QUICK_STOP: u16 = 1 << 2;
+    pub const ENABLE_OPERATION: u16 = 1 << 3;
+    /// Operation-mode specific: pp new set-point, hm start homing.
+    pub const NEW_SET_POINT: u16 = 1 << 4;
+    /// pp: change set immediately.
+    pub const CHANGE_SET_IMMEDIATELY: u16 = 1 << 5;
+    /// pp: the target is relative.
+    pub const RELATIVE: u16 = 1 << 6;
+    /// Acts on its rising edge.
+    pub const FAULT_RESET: u16 = 1 << 7;
+    pub const HALT: u16 = 1 << 8;
+
+    /// Typical values of table 3-3.
+    pub const SHUTDOWN: u16 = 0x0006;
+    pub const SWITCH_ON_CMD: u16 = 0x0007;
+    pub const ENABLE_OPERATION_CMD: u16 = 0x000F;
+    pub const DISABLE_VOLTAGE: u16 = 0x0000;
+    pub const QUICK_STOP_CMD: u16 = 0x0002;
+}
+
+/// Statusword 0x6041 bits (CoE manual 3.1, table 3-4).
+pub mod statusword {
+    pub const READY_TO_SWITCH_ON: u16 = 1 << 0;
+    pub const SWITCHED_ON: u16 = 1 << 1;
+    pub const OPERATION_ENABLED: u16 = 1 << 2;
+    pub const FAULT: u16 = 1 << 3;
+    pub const VOLTAGE_ENABLED: u16 = 1 << 4;
+    /// 1 = not in quick stop.
+    pub const QUICK_STOP: u16 = 1 << 5;
+    pub const SWITCH_ON_DISABLED: u16 = 1 << 6;
+    pub const WARNING: u16 = 1 << 7;
+    pub const REMOTE: u16 = 1 << 9;
+    pub const TARGET_REACHED: u16 = 1 << 10;
+    pub const INTERNAL_LIMIT_ACTIVE: u16 = 1 << 11;
+    /// Operation-mode specific (pp set-point acknowledge, hm attained, csp target used).
+    pub const OMS_12: u16 = 1 << 12;
+    /// Operation-mode specific (pp/csp following error, hm homing error).
+    pub const OMS_13: u16 = 1 << 13;
+}
+
+/// The states of the CiA 402 finite state automaton (CoE manual 3.1, table 3-1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum State {
+    NotReadyToSwitchOn,
+    SwitchOnDisabled,
+    ReadyToSwitchOn,
+    SwitchedOn,
+    OperationEnabled,
+    QuickStopActive,
+    FaultReactionActive,
+    Fault,
+}
+
+impl State {
+    /// The state bits of the statusword (CoE manual 3.1, table 3-5).
+    pub fn statusword_bits(self) -> u16 {
+        match self {
+            State::NotReadyToSwitchOn => 0x0000,
+            State::SwitchOnDisabled => 0x0040,
+            State::ReadyToSwitchOn => 0x0021,
+            State::SwitchedOn => 0x0023,
+            State::OperationEnabled => 0x0027,
+            State::QuickStopActive => 0x0007,
+            State::FaultReactionActive => 0x000F,
+            State::Fault => 0x0008,
+        }
+    }
+
+    /// Decodes a statusword with the masks of table 3-5: 0x004F for the states where bit
+    /// 5 is "don't care", 0x006F for the others.
+    pub fn from_statusword(sw: u16) -> Option<State> {
+        match sw & 0x004F {
+            0x0000 => return Some(State::NotReadyToSwitchOn),
+            0x0040 => return Some(State::SwitchOnDisabled),
+            0x000F => return Some(State::FaultReactionActive),
+            0x0008 => return Some(State::Fault),
+            _ => {}
+        }
+        match sw & 0x006F {
+            0x0021 => Some(State::ReadyToSwitchOn),
+            0x0023 => Some(State::SwitchedOn),
+            0x0027 => Some(State::OperationEnabled),
+            0x0007 => Some(State::QuickStopActive),
+            _ => None,
+        }
+    }
+
+    /// High voltage is applied (statusword bit 4, CiA 402 practice: not stated by HIWIN).
+    pub fn voltage_enabled(self) -> bool {
+        matches!(self, State::ReadyToSwitchOn | State::SwitchedOn | State::OperationEnabled | State::QuickStopActive)
+    }
+
+    /// The motor is energised and follows its set-points.
+    pub fn is_energised(self) -> bool {
+        matches!(self, State::OperationEnabled | State::QuickStopActive | State::FaultReactionActive)
+    }
+}
+
+/// The device-control commands of table 3-3 (fault reset is an edge, see `drive::fsa`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    Shutdown,
+    SwitchOn,
+    EnableOperation,
+    DisableVoltage,
+    QuickStop,
+}
+
+impl Command {
+    /// Decodes the low bits of a controlword in the order that makes the overlapping
+    /// masks of table 3-3 unambiguous: disable voltage, quick stop, shutdown, switch on
+    /// (= disable operation), enable operation. Bit 7 is ignored here.
+    pub fn decode(cw: u16) -> Command {
+        use controlword::*;
+        if cw & ENABLE_VOLTAGE == 0 {
+            Command::DisableVoltage
+        } else if cw & QUICK_STOP == 0 {
+            Command::QuickStop
+        } else if cw & SWITCH_ON == 0 {
+            Command::Shutdown
+        } else if cw & ENABLE_OPERATION == 0 {
+            Command::SwitchOn
+        } else {
+            Command::EnableOperation
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// CoE manual 3.1, table 3-5: every state encodes to bits its own mask decodes.
+    #[test]
+    fn every_state_decodes_from_its_own_statusword_bits() {
+        let states = [
+            State::NotReadyToSwitchOn,
+            State::SwitchOnDisabled,
+            State::ReadyToSwitchOn,
+            State::SwitchedOn,
+            State::OperationEnabled,
+            State::QuickStopActive,
+            State::FaultReactionActive,
+            State::Fault,
+        ];
+        for state in states {
+            // Bits outside the state masks (voltage, warning, remote, target reached...) do not matter.
+            for noise in [0x0000, 0x0010, 0x0080, 0x0200, 0x0400, 0x3E90] {
+                let sw = state.statusword_bits() | noise;
+                assert_eq!(State::from_statusword(sw), Some(state), "sw = {sw:#06x}");
+            }
+        }
+    }
+
+    /// CoE manual 3.1, table 3-3: typical controlword values.
+    #[test]
+    fn table_3_3_typical_controlwords() {
+        let rows: [(u16, Command); 7] = [
+            (0x0006, Command::Shutdown),
+            (0x0007, Command::SwitchOn),
+            (0x000F, Command::EnableOperation),
+            (0x0000, Command::DisableVoltage),
+            (0x000D, Command::DisableVoltage),
+            (0x0002, Command::QuickStop),
+            (0x000B, Command::QuickStop),
+        ];
+        for (cw, command) in rows {
+            assert_eq!(Command::decode(cw), command, "cw = {cw:#06x}");
+        }
+    }
+}

@@ -1,0 +1,276 @@
+//! The machine configuration (TOML): cycle, RT thread, axes and their drives, tasks.
+//!
+//! Unknown keys and wrong types are refused by serde with the key's name and line;
+//! `validate` checks ranges and names the key it refuses. Nothing starts on an error.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::drive::DriveModel;
+
+/// DC cycle times the drives accept (CoE manual table 2-1), in µs.
+pub const DC_CYCLES_US: [u32; 5] = [250, 500, 1000, 2000, 4000];
+/// HMPL task ids 0..63.
+pub const MAX_TASKS: usize = ipc::messages::MAX_TASKS;
+pub const MAX_AXES: usize = ipc::messages::MAX_AXES;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    #[error("cannot read {path}: {source}")]
+    Read { path: PathBuf, source: std::io::Error },
+    #[error("{path}: {message}")]
+    Parse { path: PathBuf, message: String },
+    #[error("{key}: {message}")]
+    Invalid { key: String, message: String },
+}
+
+fn invalid(key: impl Into<String>, message: impl Into<String>) -> ConfigError {
+    ConfigError::Invalid { key: key.into(), message: message.into() }
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MachineConfig {
+    /// Controller cycle in µs: one of 250, 500, 1000, 2000, 4000.
+    pub cycle_us: u32,
+    pub rt: RtConfig,
+    pub axes: Vec<AxisConfig>,
+    pub tasks: Vec<TaskConfig>,
+}
+
+/// How the RT thread asks the OS for real-time service. Each is tried and, where the OS
+/// refuses, logged and skipped.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RtConfig {
+    /// SCHED_FIFO priority 1..99; 0 runs a plain thread.
+    pub priority: u8,
+    /// CPU to pin the RT thread to; none for no pinning.
+    pub cpu: Option<usize>,
+    /// mlockall(MCL_CURRENT | MCL_FUTURE) so that the cycle never page-faults.
+    pub lock_memory: bool,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Unit {
+    Mm,
+    Deg,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AxisConfig {
+    pub name: String,
+    pub drive: DriveModel,
+    pub unit: Unit,
+    /// Drive counts per mm (or per degree).
+    pub counts_per_unit: f64,
+    /// Highest profile velocity `SetVel` accepts (units/s).
+    pub max_vel: f64,
+    /// Highest acceleration or deceleration `SetAcc`/`SetDec` accept (units/s²).
+    pub max_acc: f64,
+    /// Profile at start-up.
+    pub vel: f64,
+    pub acc: f64,
+    pub dec: f64,
+    pub plant: PlantConfig,
+}
+
+/// The motor and load behind a drive (see `drive::plant`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlantConfig {
+    /// Bandwidth of the drive's velocity loop, Hz.
+    pub bandwidth_hz: f64,
+    /// Load inertia over the inertia the drive is tuned for; 1 is a perfect tuning.
+    pub inertia_ratio: f64,
+    /// Coulomb friction as a fraction of rated force.
+    pub friction: f64,
+    /// Acceleration of the tuned load at rated force, units/s².
+    pub rated_acc: f64,
+    /// Peak force over rated force.
+    pub peak_ratio: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaskConfig {
+    pub id: u8,
+    pub program: PathBuf,
+    #[serde(default)]
+    pub autorun: bool,
+    #[serde(default = "TaskConfig::default_watchdog_ms")]
+    pub watchdog_ms: u32,
+    #[serde(default = "TaskConfig::default_memory_limit_mib")]
+    pub memory_limit_mib: u32,
+}
+
+impl TaskConfig {
+    fn default_watchdog_ms() -> u32 {
+        500
+    }
+
+    fn default_memory_limit_mib() -> u32 {
+        64
+    }
+
+    /// A task running `program`, started with the controller.
+    pub fn autorun(id: u8, program: PathBuf) -> Self {
+        TaskConfig {
+            id,
+            program,
+            autorun: true,
+            watchdog_ms: Self::default_watchdog_ms(),
+            memory_limit_mib: Self::default_memory_limit_mib(),
+        }
+    }
+}
+
+impl Default for MachineConfig {
+    /// The built-in machine: 4 axes on simulated HIWIN D1 drives, mm, 1 ms cycle.
+    fn default() -> Self {
+        MachineConfig {
+            cycle_us: 1000,
+            rt: RtConfig::default(),
+            axes: (0..4).map(|i| AxisConfig { name: format!("axis{i}"), ..AxisConfig::default() }).collect(),
+            tasks: Vec::new(),
+        }
+    }
+}
+
+impl Default for RtConfig {
+    fn default() -> Self {
+        let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+        RtConfig { priority: 80, cpu: (cpus > 1).then(|| cpus - 1), lock_memory: true }
+    }
+}
+
+impl Default for AxisConfig {
+    fn default() -> Self {
+        AxisConfig {
+            name: String::new(),
+            drive: DriveModel::D1,
+            unit: Unit::Mm,
+            counts_per_unit: 10_000.0,
+            max_vel: 2_000.0,
+            max_acc: 50_000.0,
+            vel: 100.0,
+            acc: 1_000.0,
+            dec: 1_000.0,
+            plant: PlantConfig::default(),
+        }
+    }
+}
+
+impl Default for PlantConfig {
+    fn default() -> Self {
+        PlantConfig { bandwidth_hz: 100.0, inertia_ratio: 1.0, friction: 0.02, rated_acc: 20_000.0, peak_ratio: 3.0 }
+    }
+}
+
+impl MachineConfig {
+    /// Reads and validates a machine file. Task programs are relative to the file.
+    pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        let text =
+            std::fs::read_to_string(path).map_err(|source| ConfigError::Read { path: path.to_path_buf(), source })?;
+        let mut config: MachineConfig = toml::from_str(&text)
+            .map_err(|e| ConfigError::Parse { path: path.to_path_buf(), message: e.to_string() })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        for task in &mut config.tasks {
+            if task.program.is_relative() {
+                task.program = base.join(&task.program);
+            }
+        }
+        config.validate()?;
+        Ok(config)
+    }
+
+    pub fn period_ns(&self) -> u64 {
+        self.cycle_us as u64 * 1000
+    }
+
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if !DC_CYCLES_US.contains(&self.cycle_us) {
+            return Err(invalid(
+                "cycle_us",
+                format!(
+                    "{} is not a DC cycle the drives accept; use one of 250, 500, 1000, 2000, 4000 (CoE manual table 2-1)",
+                    self.cycle_us
+                ),
+            ));
+        }
+        if self.rt.priority > 99 {
+            return Err(invalid("rt.priority", "SCHED_FIFO priorities are 1..99 (0: plain thread)"));
+        }
+        if self.axes.is_empty() || self.axes.len() > MAX_AXES {
+            return Err(invalid("axes", format!("a machine has 1 to {MAX_AXES} axes, not {}", self.axes.len())));
+        }
+        for (i, axis) in self.axes.iter().enumerate() {
+            axis.validate(&format!("axes[{i}]"))?;
+        }
+        let mut ids = HashSet::new();
+        for (i, task) in self.tasks.iter().enumerate() {
+            let key = format!("tasks[{i}]");
+            if task.id as usize >= MAX_TASKS {
+                return Err(invalid(format!("{key}.id"), format!("task ids are 0..{} (HMPL ch. 16)", MAX_TASKS - 1)));
+            }
+            if !ids.insert(task.id) {
+                return Err(invalid(format!("{key}.id"), format!("task {} is configured twice", task.id)));
+            }
+            if task.watchdog_ms == 0 {
+                return Err(invalid(format!("{key}.watchdog_ms"), "must be at least 1 ms"));
+            }
+            if !(1..=4096).contains(&task.memory_limit_mib) {
+                return Err(invalid(format!("{key}.memory_limit_mib"), "must be 1..4096"));
+            }
+            if !task.program.is_file() {
+                return Err(invalid(format!("{key}.program"), format!("{} is not a file", task.program.display())));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn positive(key: &str, value: f64) -> Result<(), ConfigError> {
+    if value.is_finite() && value > 0.0 { Ok(()) } else { Err(invalid(key, format!("must be > 0, not {value}"))) }
+}
+
+impl AxisConfig {
+    fn validate(&self, key: &str) -> Result<(), ConfigError> {
+        positive(&format!("{key}.counts_per_unit"), self.counts_per_unit)?;
+        positive(&format!("{key}.max_vel"), self.max_vel)?;
+        positive(&format!("{key}.max_acc"), self.max_acc)?;
+        for (name, value, max) in
+            [("vel", self.vel, self.max_vel), ("acc", self.acc, self.max_acc), ("dec", self.dec, self.max_acc)]
+        {
+            positive(&format!("{key}.{name}"), value)?;
+            if value > max {
+                return Err(invalid(format!("{key}.{name}"), format!("{value} is above the axis limit {max}")));
+            }
+        }
+        // A drive position is an INT32 count: keep one full turn of travel representable.
+        if self.max_vel * self.counts_per_unit > i32::MAX as f64 {
+            return Err(invalid(format!("{key}.max_vel"), "max_vel x counts_per_unit exceeds the drive's INT32 range"));
+        }
+        let p = &self.plant;
+        positive(&format!("{key}.plant.bandwidth_hz"), p.bandwidth_hz)?;
+        if p.bandwidth_hz > 1000.0 {
+            return Err(invalid(
+                format!("{key}.plant.bandwidth_hz"),
+                "a servo velocity loop above 1000 Hz is not simulated",
+            ));
+        }
+        positive(&format!("{key}.plant.inertia_ratio"), p.inertia_ratio)?;
+        positive(&format!("{key}.plant.rated_acc"), p.rated_acc)?;
+        if !(0.0..1.0).contains(&p.friction) {
+            return Err(invalid(format!("{key}.plant.friction"), "a fraction of rated force in 0..1"));
+        }
+        if !(p.peak_ratio >= 1.0 && p.peak_ratio.is_finite()) {
+            return Err(invalid(format!("{key}.plant.peak_ratio"), "peak force is at least the rated force (>= 1)"));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,10 @@
+//! The simulated EtherCAT network: slaves with their state machine, mailbox and process
+//! data, reached by the master only as a real master reaches real slaves.
+
+pub mod esm;
+pub mod network;
+pub mod pdo;
+pub mod slave;
+
+pub use esm::{AlState, AlStatusCode};
+pub use network::{Field, Network, StartError};

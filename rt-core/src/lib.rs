@@ -1,0 +1,18 @@
+//! The controller process: the RT cycle, the simulated EtherCAT network of CiA 402
+//! drives, the motion kernel, and the supervisor of the script processes.
+//! See ARCHITECTURE.md for the map and the invariants.
+
+pub mod cia402;
+pub mod config;
+pub mod controller;
+pub mod cycle;
+pub mod dispatch;
+pub mod drive;
+pub mod ecat;
+pub mod motion;
+pub mod realtime;
+pub mod rt_alloc;
+pub mod supervisor;
+
+pub use config::MachineConfig;
+pub use controller::{ControllerError, RunOptions, RunReport, run};

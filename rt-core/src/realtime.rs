@@ -1,0 +1,71 @@
+//! What the RT thread asks of the OS: SCHED_FIFO, a CPU of its own, locked memory, and
+//! absolute-deadline sleeps. Each request the OS refuses is logged and skipped, so that
+//! the controller also runs as a plain thread (in a container, on a laptop).
+
+use crate::config::RtConfig;
+
+/// What the OS granted, for the logs and the soak report.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Granted {
+    pub fifo_priority: Option<u8>,
+    pub cpu: Option<usize>,
+    pub memory_locked: bool,
+}
+
+/// Applies `config` to the calling thread.
+pub fn setup_current_thread(config: &RtConfig) -> Granted {
+    let mut granted = Granted::default();
+    if config.lock_memory {
+        // SAFETY: plain syscall with constant flags.
+        if unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) } == 0 {
+            granted.memory_locked = true;
+        } else {
+            tracing::warn!("mlockall refused ({}); page faults may delay cycles", errno());
+        }
+    }
+    if let Some(cpu) = config.cpu {
+        // SAFETY: the set is zeroed then filled with a CPU index checked against its size.
+        let ok = unsafe {
+            let mut set: libc::cpu_set_t = std::mem::zeroed();
+            cpu < libc::CPU_SETSIZE as usize && {
+                libc::CPU_SET(cpu, &mut set);
+                libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
+            }
+        };
+        if ok {
+            granted.cpu = Some(cpu);
+        } else {
+            tracing::warn!("cannot pin the RT thread to CPU {cpu} ({}); it floats", errno());
+        }
+    }
+    if config.priority > 0 {
+        let param = libc::sched_param { sched_priority: config.priority as i32 };
+        // SAFETY: `param` is valid for the call.
+        if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } == 0 {
+            granted.fifo_priority = Some(config.priority);
+        } else {
+            tracing::warn!(
+                "SCHED_FIFO priority {} refused ({}); the RT thread runs as a plain thread",
+                config.priority,
+                errno()
+            );
+        }
+    }
+    granted
+}
+
+fn errno() -> std::io::Error {
+    std::io::Error::last_os_error()
+}
+
+/// Sleeps until the absolute CLOCK_MONOTONIC time `deadline_ns`.
+pub fn sleep_until(deadline_ns: u64) {
+    let ts = libc::timespec {
+        tv_sec: (deadline_ns / 1_000_000_000) as libc::time_t,
+        tv_nsec: (deadline_ns % 1_000_000_000) as libc::c_long,
+    };
+    // SAFETY: `ts` is valid; EINTR is retried with the same absolute deadline.
+    while unsafe { libc::clock_nanosleep(libc::CLOCK_MONOTONIC, libc::TIMER_ABSTIME, &ts, std::ptr::null_mut()) }
+        == libc::EINTR
+    {}
+}

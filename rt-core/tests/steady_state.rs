@@ -1,0 +1,80 @@
+//! The RT thread's invariant: after start-up, a cycle never calls the system allocator,
+//! even while a task's commands are served, replies published and wake-ups sent.
+//! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
+//! from the RT thread's pool.)
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use api::Command;
+use ipc::messages::Request;
+use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
+use rt_core::MachineConfig;
+use rt_core::cycle::{CycleWork, Machine};
+use rt_core::ecat::Network;
+use rt_core::motion::Kernel;
+use rt_core::rt_alloc::{self, RtAllocator};
+
+#[global_allocator]
+static ALLOCATOR: RtAllocator = RtAllocator;
+
+/// A task that enables axis 0 and then moves it back and forth without pause.
+fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
+    let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
+    let mut enable = Request::new(Command::Enable.id());
+    enable.push_int(0);
+    task.call(&mut enable).unwrap();
+    let mut i = 0;
+    while !stop.load(Ordering::Acquire) {
+        i += 1;
+        let mut request = Request::new(Command::MoveAbs.id());
+        request.push_int(0);
+        request.push_double((i % 2) as f64);
+        task.call(&mut request).unwrap();
+        let target = task.snapshot().cycle + 1;
+        task.wait_until_cycle(target).unwrap();
+    }
+}
+
+fn run(work: &mut CycleWork, cycles: usize) {
+    for _ in 0..cycles {
+        work.run_cycle();
+        std::thread::sleep(Duration::from_micros(200));
+    }
+}
+
+#[test]
+fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
+    rt_alloc::claim_pool_for_this_thread();
+    let config = MachineConfig::default();
+    let mut network = Network::new(&config.axes);
+    network.start().unwrap();
+    let kernel = Kernel::new(&config, &network);
+    let machine = Machine { network, kernel, period_ns: config.period_ns() };
+    let ns = Namespace::new(&format!("t{}-alloc", std::process::id())).unwrap();
+    ipc::claim_namespace(&ns).unwrap();
+    let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());
+
+    let stop = Arc::new(AtomicBool::new(false));
+    let task = {
+        let (ns, stop) = (ns.clone(), stop.clone());
+        std::thread::spawn(move || busy_task(ns, stop))
+    };
+    run(&mut work, 500);
+    let (system_before, pool_before) = (rt_alloc::owner_system_allocations(), rt_alloc::pool_allocations());
+    run(&mut work, 3000);
+    let system = rt_alloc::owner_system_allocations() - system_before;
+    let pool = rt_alloc::pool_allocations() - pool_before;
+    let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
+
+    stop.store(true, Ordering::Release);
+    run(&mut work, 50);
+    task.join().unwrap();
+    drop(work);
+    ipc::remove_namespace_files(&ns);
+
+    assert!(enabled, "the task's commands were applied");
+    assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
+    assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");
+}

@@ -1,0 +1,262 @@
+//! The Lua globals of the API, derived from the registry: every function of
+//! `api::registry::all()` becomes a global of the same name, with its arguments checked
+//! against the registry's types and its results returned as the registry says.
+
+use std::cell::RefCell;
+use std::io::Write;
+use std::rc::Rc;
+
+use api::constants::{CONSTANTS, Constant, error_ids};
+use api::{ArgType, Command, Func, FunctionSpec, Local, Query};
+use ipc::TaskEndpoint;
+use ipc::messages::{MAX_ARGS, Request};
+use ipc::query::{self, Words};
+use mlua::{Function, Lua, MultiValue, Value};
+
+use crate::printf::{self, Arg};
+
+/// What the bindings share: the link to the controller.
+pub struct Host {
+    pub endpoint: RefCell<TaskEndpoint>,
+}
+
+impl Host {
+    fn period_ns(&self) -> u64 {
+        self.endpoint.borrow_mut().snapshot().period_ns
+    }
+
+    /// Blocks for `ns` nanoseconds of controller time (at least one cycle if `ns` > 0).
+    fn sleep_ns(&self, ns: f64) -> mlua::Result<()> {
+        if ns <= 0.0 {
+            return Ok(());
+        }
+        let cycles = (ns / self.period_ns() as f64).ceil() as u64;
+        let mut endpoint = self.endpoint.borrow_mut();
+        let target = endpoint.snapshot().cycle + cycles;
+        endpoint.wait_until_cycle(target).map_err(mlua::Error::external)
+    }
+}
+
+/// Installs every API function and constant as a global.
+pub fn install(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
+    let globals = lua.globals();
+    for spec in api::registry::all() {
+        let function = match spec.func {
+            Func::Command(c) => command(lua, host.clone(), c)?,
+            Func::Query(q) => status_query(lua, host.clone(), q)?,
+            Func::Local(l) => local(lua, host.clone(), l)?,
+        };
+        globals.set(spec.name, function)?;
+    }
+    for (name, value, _) in CONSTANTS {
+        let value = match value {
+            Constant::Int(i) => Value::Integer(*i),
+            Constant::Double(d) => Value::Number(*d),
+            Constant::Str(s) => Value::String(lua.create_string(s)?),
+        };
+        globals.set(*name, value)?;
+    }
+    for (name, id) in error_ids() {
+        globals.set(name, id as i64)?;
+    }
+    Ok(())
+}
+
+/// An error at the Lua line that called the binding, as `luaL_error` words it.
+pub fn error_here(lua: &Lua, message: impl std::fmt::Display) -> mlua::Error {
+    let position = lua
+        .inspect_stack(1, |d| {
+            let line = d.current_line()?;
+            Some(format!("{}:{line}: ", d.source().short_src?))
+        })
+        .flatten()
+        .unwrap_or_default();
+    mlua::Error::runtime(format!("{position}{message}"))
+}
+
+fn bad_argument(lua: &Lua, spec: &FunctionSpec, i: usize, expected: &str, got: &Value) -> mlua::Error {
+    error_here(lua, format!("bad argument #{} to '{}' ({expected} expected, got {})", i + 1, spec.name, type_name(got)))
+}
+
+fn type_name(v: &Value) -> String {
+    match v {
+        Value::Number(n) => format!("number {n}"),
+        other => other.type_name().to_string(),
+    }
+}
+
+fn int_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<i64> {
+    let v = args.get(i).cloned().unwrap_or(Value::Nil);
+    match v {
+        Value::Integer(n) => Ok(n),
+        Value::Number(n) if n.fract() == 0.0 && n.abs() < 9.0e15 => Ok(n as i64),
+        other => Err(bad_argument(lua, spec, i, "integer", &other)),
+    }
+}
+
+fn double_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<f64> {
+    match args.get(i).cloned().unwrap_or(Value::Nil) {
+        Value::Integer(n) => Ok(n as f64),
+        Value::Number(n) => Ok(n),
+        other => Err(bad_argument(lua, spec, i, "number", &other)),
+    }
+}
+
+fn string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
+    match args.get(i).cloned().unwrap_or(Value::Nil) {
+        Value::String(s) => Ok(s.to_str()?.to_string()),
+        Value::Integer(n) => Ok(n.to_string()),
+        Value::Number(n) => Ok(n.to_string()),
+        other => Err(bad_argument(lua, spec, i, "string", &other)),
+    }
+}
+
+/// Encodes the scalar arguments as the registry types them.
+fn words(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<([u64; MAX_ARGS], usize)> {
+    let mut words = [0u64; MAX_ARGS];
+    for (i, arg) in spec.args.iter().enumerate() {
+        words[i] = match arg.ty {
+            ArgType::Int => int_arg(lua, spec, args, i)? as u64,
+            ArgType::Double => double_arg(lua, spec, args, i)?.to_bits(),
+            ArgType::Str | ArgType::Func | ArgType::Rest => {
+                unreachable!("{}: only scalar arguments are encoded as words", spec.name)
+            }
+        };
+    }
+    Ok((words, spec.args.len()))
+}
+
+/// A command: one round trip to the core; returns the HMPL return code.
+fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function> {
+    let spec = command.spec();
+    lua.create_function(move |lua, args: MultiValue| {
+        let (words, argc) = words(lua, spec, &args)?;
+        let mut request = Request::new(command.id());
+        request.args = words;
+        request.argc = argc as u16;
+        let reply = host.endpoint.borrow_mut().call(&mut request).map_err(mlua::Error::external)?;
+        Ok(reply.rc as i64)
+    })
+}
+
+/// A status query: read the local snapshot, no round trip.
+fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Function> {
+    let spec = query.spec();
+    lua.create_function(move |lua, args: MultiValue| {
+        let (words, argc) = words(lua, spec, &args)?;
+        let value = {
+            let mut endpoint = host.endpoint.borrow_mut();
+            query::evaluate(query, Words(&words[..argc]), endpoint.snapshot())
+        };
+        match value {
+            Ok(query::Value::Bool(b)) => Ok(Value::Boolean(b)),
+            Ok(query::Value::Int(i)) => Ok(Value::Integer(i)),
+            Ok(query::Value::Double(d)) => Ok(Value::Number(d)),
+            Err(code) => Err(error_here(lua, format!("{}: {code}", spec.name))),
+        }
+    })
+}
+
+/// Functions that run in the script process.
+fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
+    let spec = local.spec();
+    match local {
+        Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
+            let ms = int_arg(lua, spec, &args, 0)?;
+            if ms < 0 {
+                return Err(error_here(lua, format!("Sleep: ms must be >= 0, not {ms}")));
+            }
+            host.sleep_ns(ms as f64 * 1e6)
+        }),
+        Local::DELAY => lua.create_function(move |lua, args: MultiValue| {
+            let seconds = double_arg(lua, spec, &args, 0)?;
+            if !(seconds >= 0.0 && seconds.is_finite()) {
+                return Err(error_here(lua, format!("DELAY: seconds must be >= 0, not {seconds}")));
+            }
+            host.sleep_ns(seconds * 1e9)
+        }),
+        Local::Till => lua.create_function(move |lua, args: MultiValue| {
+            let condition = match args.front() {
+                Some(Value::Function(f)) => f.clone(),
+                other => {
+                    let got = other.cloned().unwrap_or(Value::Nil);
+                    return Err(error_here(
+                        lua,
+                        format!(
+                            "bad argument #1 to 'Till' (function expected, got {}); write Till(function() return IsInPos(0) end)",
+                            type_name(&got)
+                        ),
+                    ));
+                }
+            };
+            loop {
+                if is_true(&condition.call::<Value>(())?) {
+                    return Ok(());
+                }
+                let mut endpoint = host.endpoint.borrow_mut();
+                let next = endpoint.snapshot().cycle + 1;
+                endpoint.wait_until_cycle(next).map_err(mlua::Error::external)?;
+            }
+        }),
+        Local::Print => lua.create_function(move |lua, args: MultiValue| {
+            let fmt = string_arg(lua, spec, &args, 0)?;
+            let values: Vec<Arg> = args.iter().skip(1).map(printf_arg).collect::<mlua::Result<_>>()?;
+            match printf::format(&fmt, &values) {
+                Ok(text) => {
+                    write_line(&text);
+                    Ok(text.chars().count() as i64)
+                }
+                Err(e) => {
+                    // HMPL 3.2: Print returns -1 on error; say why on stderr.
+                    eprintln!("warning: Print({fmt:?}): {e}");
+                    Ok(-1)
+                }
+            }
+        }),
+        Local::my_print => lua.create_function(move |lua, args: MultiValue| {
+            write_line(&string_arg(lua, spec, &args, 0)?);
+            Ok(())
+        }),
+    }
+}
+
+/// `Till` keeps waiting while its condition returns false, nil or 0.
+fn is_true(v: &Value) -> bool {
+    match v {
+        Value::Nil | Value::Boolean(false) => false,
+        Value::Integer(0) => false,
+        Value::Number(n) => *n != 0.0,
+        _ => true,
+    }
+}
+
+fn printf_arg(v: &Value) -> mlua::Result<Arg> {
+    Ok(match v {
+        Value::Integer(i) => Arg::Int(*i),
+        Value::Number(n) => Arg::Float(*n),
+        Value::Boolean(b) => Arg::Int(*b as i64),
+        Value::String(s) => Arg::Str(s.to_str()?.to_string()),
+        Value::Nil => Arg::Str("nil".into()),
+        other => Arg::Str(other.type_name().to_string()),
+    })
+}
+
+/// One line of program output; the controller puts the task id in front.
+pub fn write_line(text: &str) {
+    let mut out = std::io::stdout().lock();
+    let _ = out.write_all(text.as_bytes());
+    if !text.ends_with('\n') {
+        let _ = out.write_all(b"\n");
+    }
+    let _ = out.flush();
+}
+
+/// Lua's own `print`, through the same output.
+pub fn install_print(lua: &Lua) -> mlua::Result<()> {
+    let print = lua.create_function(|_, args: MultiValue| {
+        let parts: Vec<String> = args.iter().map(|v| v.to_string()).collect::<mlua::Result<_>>()?;
+        write_line(&parts.join("\t"));
+        Ok(())
+    })?;
+    lua.globals().set("print", print)
+}

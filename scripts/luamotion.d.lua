@@ -1,0 +1,336 @@
+---@meta luamotion
+-- Generated from the registry by `luamotion api lua`; do not edit.
+
+--- Enables (servo on) the axis by walking the drive's CiA 402 state machine.
+--- Returns at once; `Till(function() return IsEnabled(a) end)` waits for the drive.
+---HMPL 5.2.1 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function Enable(axis_id) end
+
+--- Disables (servo off) the axis and clears its path planning.
+---HMPL 5.2.2 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function Disable(axis_id) end
+
+--- Moves to an absolute position (mm or deg) with the axis' velocity, acceleration and
+--- deceleration. A move while moving re-plans to the new target.
+---HMPL 5.2.4 (command (round trip to the core))
+---@param axis_id integer
+---@param pos number
+---@return integer
+function MoveAbs(axis_id, pos) end
+
+--- Moves by a distance relative to the current command position.
+---HMPL 5.2.5 (command (round trip to the core))
+---@param axis_id integer
+---@param rel_dist number
+---@return integer
+function MoveRel(axis_id, rel_dist) end
+
+--- Sets the profile velocity (mm/s or deg/s, > 0).
+---HMPL 5.3.2 (command (round trip to the core))
+---@param axis_id integer
+---@param vel number
+---@return integer
+function SetVel(axis_id, vel) end
+
+--- Sets the profile acceleration (mm/s² or deg/s², > 0).
+---HMPL 5.3.4 (command (round trip to the core))
+---@param axis_id integer
+---@param acc number
+---@return integer
+function SetAcc(axis_id, acc) end
+
+--- Sets the profile deceleration (mm/s² or deg/s², > 0).
+---HMPL 5.3.7 (command (round trip to the core))
+---@param axis_id integer
+---@param dec number
+---@return integer
+function SetDec(axis_id, dec) end
+
+--- True when the axis is enabled (drive in Operation enabled).
+---HMPL 5.4.1 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsEnabled(axis_id) end
+
+--- True while the profile generator still emits new positions.
+---HMPL 5.4.2 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsMoving(axis_id) end
+
+--- True when the feedback has stayed within the position window for the window time.
+---HMPL 5.4.3 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsInPos(axis_id) end
+
+--- Position feedback (mm or deg).
+---HMPL 5.3.20 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosFb(axis_id) end
+
+--- Reference position: the profile generator's output (mm or deg).
+---HMPL 5.3.27 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetRefPos(axis_id) end
+
+--- The axis' last error as a 32-bit code `0x83IIEEEE` (0: none).
+---HMPL 18.3 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetAxisLastErr(axis_id) end
+
+--- Suspends the task for `ms` milliseconds of controller time.
+---HMPL 2.18 (script process)
+---@param ms integer
+function Sleep(ms) end
+
+--- Suspends the task until `condition()` returns a true value (not false, nil or 0).
+--- The condition is evaluated once per controller cycle.
+---HMPL 19.3 (script process)
+---@param condition fun(): any
+function Till(condition) end
+
+--- Writes a formatted line to the message window (`%d %i %u %x %c %s %f %e %g %%`).
+--- Returns the number of characters written.
+---HMPL 3.2 (script process)
+---@param format string
+---@param ... any
+---@return integer
+function Print(format, ...) end
+
+--- DRL: writes a string to the program's console.
+---DXMC 8.3 DRL (script process)
+---@param text string
+function my_print(text) end
+
+--- DRL: suspends the program for a number of seconds (fractions allowed) of controller time.
+---DXMC 8.3 DRL (script process)
+---@param seconds number
+function DELAY(seconds) end
+
+PI = 3.141592653589793 -- HMPL 23.1
+SQRT2 = 1.4142135623730951 -- HMPL 23.1
+SQRT1_2 = 0.7071067811865476 -- HMPL 23.1
+TRUE = 1 -- HMPL 1.4
+FALSE = 0 -- HMPL 1.4
+HMPL_STR_MAX_LEN = 512 -- HMPL 3.1
+CR_LF = "\r\n" -- DXMC 8.3 DRL
+eERR_HCV_ID_NOT_FOUND = 0x0001
+eERR_DATA_EXCEEDED = 0x0002
+eERR_HCV_IS_READ_ONLY = 0x0003
+eERR_HCV_VALUE_OUT_OF_RANGE = 0x0004
+eERR_EWM_CALLBACK_BUSY = 0x0050
+eERR_EMERGENCY_STOP = 0x0064
+eERR_NOT_VALID_TASKID = 0x0107
+eERR_TASK_IS_RUNNING = 0x0108
+eERR_FUNC_NOT_IN_TASK = 0x0109
+eERR_TASK_EMPTY = 0x010A
+eERR_TASK_NOT_RUNNING = 0x010B
+eERR_NIC_INIT_TOUT = 0x012C
+eERR_HARDWARE_MISMATCH = 0x012D
+eERR_SLAVE_NUM_MISMATCH = 0x012E
+eERR_INVALID_MCK_CNFG = 0x0130
+eERR_HIMC_LOAD_CONFIG_FAIL = 0x0138
+eERR_HIMC_SAVE_CONFIG_FAIL = 0x0139
+eERR_HIMC_SAVE_CONFIG_COPY_FAIL = 0x013A
+eERR_ETHERCAT_LICENSE_MISMATCH = 0x013C
+eERR_ISR_NOT_STABLE = 0x01F4
+eWRN_ISR_NOT_STABLE = 0x41F4
+eERR_MCK_OVERLOAD = 0x01F5
+eDBG_MCK_OVERLOAD = 0xC1F5
+eERR_ISR_OVERLOAD = 0x01F6
+eDBG_ISR_OVERLOAD = 0xC1F6
+eERR_HMPL_INVALID_ARG = 0x1388
+eERR_HMPL_INVALID_PTR = 0x1389
+eERR_HMPL_STACK_OVERFLOW = 0x138A
+eERR_HMPL_ILLEGAL_MEM_OP = 0x138B
+eERR_HMPL_MOTION_NOT_READY = 0x138C
+eERR_HMPL_STR_TOO_LONG = 0x138D
+eERR_HMPL_INVALID_STR_FORMAT = 0x138E
+eERR_HMPL_ARG_OUT_OF_RANGE = 0x138F
+eERR_HMPL_ASCII_AGENT_RUNNING = 0x1392
+eERR_HMPL_CANNOT_RUN_IN_DEBUG = 0x139C
+eERR_HMPL_TOO_MANY_BRK_POINT = 0x13A6
+eERR_HMPL_MUTEX_LOCK_TWICE = 0x13EC
+eERR_HMPL_INVALID_SYS_TIME_MEMORY = 0x1450
+eERR_HMPL_NOT_SUPPORTED = 0x1451
+eERR_HMPL_CLIENT_NOT_CONNECTED = 0x1452
+eERR_HMPL_NOT_IN_OP_MODE = 0x14B4
+eERR_HMPL_INTERNAL_ERROR = 0x176F
+eERR_HMPL_EXEC_FAILED = 0x1770
+eERR_HMPL_ASM_LOAD_FAILED = 0x1771
+eERR_HMPL_STARTTASK_TIMEOUT = 0x1772
+eERR_HMPL_STOPTASK_TIMEOUT = 0x1773
+eERR_ASCII_CONNECT_TIMEOUT = 0x17D4
+eERR_ASCII_CONNECT_FAILED = 0x17D5
+eERR_ASCII_MULTI_CONNECTING = 0x17D6
+eERR_ASCII_MULTI_DISCONNECTING = 0x17D7
+eERR_ASCII_DISCONNECT_TIMEOUT = 0x17D8
+eERR_ASCII_RECV_TIMEOUT = 0x17DE
+eERR_ASCII_RECV_FAIL = 0x17DF
+eERR_ASCII_MULTI_RECVING = 0x17E0
+eERR_ASCII_SEND_TIMEOUT = 0x17E8
+eERR_ASCII_SEND_FAIL = 0x17E9
+eERR_ASCII_MULTI_SENDING = 0x17EA
+eERR_MODBUS_CONNECT_TIMEOUT = 0x1838
+eERR_MODBUS_CONNECT_FAILED = 0x1839
+eERR_MODBUS_MULTI_CONNECTING = 0x183A
+eERR_MODBUS_MULTI_DISCONNECTING = 0x183B
+eERR_MODBUS_DISCONNECT_TIMEOUT = 0x183C
+eERR_MODBUS_DATALENGTH_ERR = 0x183D
+eERR_MODBUS_SOCKET_BUSY = 0x183E
+eERR_MODBUS_JOB_TIMEOUT = 0x183F
+eERR_MODBUS_JOB_FAIL = 0x1840
+eMSG_HIMC_SET_DEFAULT = 0xB037
+eMSG_HIMC_REBOOT = 0xB038
+eMSG_HIMC_BOOT = 0xB039
+eMSG_HIMC_INFO = 0xB03A
+eMSG_HIMC_STORE_CONFIG = 0xB03B
+eMSG_API_MAIN_ID_CHANGE_GET = 0xB03E
+eMSG_API_MAIN_ID_CHANGE_RELEASE = 0xB03F
+eMSG_START_HMI_SCOPE = 0xB2C8
+eMSG_STOP_HMI_SCOPE = 0xB2C9
+eERR_SYS_LOG = 0x3FFF
+eWRN_SYS_LOG = 0x7FFF
+eMSG_SYS_LOG = 0xBFFF
+eDBG_SYS_LOG = 0xFFFF
+eERR_AXIS_CMD_UNKOWN = 0x000A
+eERR_AXIS_CMD_QUEUE_FULL = 0x001E
+eERR_AXIS_CMD_INVALID_IN_SIM = 0x0050
+eERR_AXIS_CMD_INVALID_IN_VIRTUAL = 0x0060
+eERR_AXIS_CMD_INVALID_STATE = 0x0064
+eERR_AXIS_CMD_INVALID_ENABLED = 0x006E
+eERR_AXIS_CMD_INVALID_DISABLED = 0x0078
+eERR_AXIS_CMD_INVALID_MOVING = 0x0082
+eERR_AXIS_CMD_INVALID_STOPPING = 0x008C
+eERR_AXIS_CMD_INVALID_ERROR_STATE = 0x0096
+eERR_AXIS_CMD_INVALID_IN_SYNC = 0x00A0
+eERR_AXIS_CMD_INVALID_GEAR_MASTER = 0x00AA
+eERR_AXIS_CMD_INVALID_PP_MODE = 0x00B4
+eERR_AXIS_CMD_INVALID_MAP_SWITCHING = 0x00BE
+eERR_AXIS_CMD_INVALID_INPUTSHAPING_ENABLED = 0x00C8
+eERR_AXIS_CMD_INVALID_COMP_ENABLED = 0x00D2
+eERR_AXIS_CMD_INVALID_GANTRY_MODE = 0x00DC
+eERR_AXIS_CMD_INVALID_GROUPED = 0x00E6
+eERR_AXIS_CMD_INVALID_CONTROL_MODE = 0x00F0
+eERR_AXIS_CMD_INVALID_OP_MODE = 0x00FA
+eERR_AXIS_CMD_INVALID_BUFFER_MODE = 0x0104
+eERR_AXIS_CMD_INVALID_SETBUFFERMODE = 0x0105
+eERR_AXIS_CMD_INVALID_TP_ENABLED = 0x010E
+eERR_AXIS_CMD_INVALID_PARAMETER = 0x012C
+eERR_AXIS_CMD_INVALID_POS = 0x0136
+eERR_AXIS_CMD_INVALID_VEL = 0x0140
+eERR_AXIS_CMD_INVALID_ACC = 0x014A
+eERR_AXIS_CMD_INVALID_DEC = 0x0154
+eERR_AXIS_CMD_INVALID_JERK = 0x015E
+eERR_AXIS_CMD_INVALID_SM_TIME = 0x0168
+eERR_AXIS_CMD_INVALID_KILL_DEC = 0x0172
+eERR_AXIS_CMD_INVALID_VEL_SCALE = 0x017C
+eERR_AXIS_COMP_NOT_CNFG = 0x0190
+eERR_AXIS_CMD_INVALID_MASTER_SLAVE_CONNECTION = 0x01C2
+eERR_AXIS_CMD_INVALID_SLAVE_ID = 0x01CC
+eERR_AXIS_CMD_INVALID_GEAR_RATIO = 0x01D6
+eERR_AXIS_CMD_INVALID_ROLLOVER_POS = 0x01F4
+eERR_AXIS_CMD_INVALID_ROLLOVER_PP_MODE = 0x01FE
+eERR_AXIS_CMD_INVALID_FORCECONST_TRQMODE = 0x0208
+eERR_AXIS_CMD_INVALID_NO_SPECIFIC_PDO = 0x0258
+eERR_AXIS_DRIVE_FAULT = 0x03F2
+eERR_AXIS_DRIVE_ABNORMAL_DISABLE = 0x03FC
+eERR_AXIS_DRIVE_ENABLE_TOUT = 0x0406
+eERR_AXIS_DRIVE_ENABLE_TOUT_RMT = 0x0407
+eERR_AXIS_DRIVE_CLEAR_ERROR_TOUT = 0x0410
+eERR_AXIS_DRIVE_DISABLE_TOUT = 0x041A
+eERR_AXIS_DRIVE_HOME_TOUT = 0x0424
+eERR_AXIS_DRIVE_HOME_FAILED = 0x042E
+eERR_AXIS_VEL_LIMIT = 0x0456
+eWRN_AXIS_VEL_LIMIT = 0x4456
+eERR_AXIS_ACC_LIMIT = 0x0460
+eERR_AXIS_CURR_LIMIT = 0x046A
+eERR_AXIS_DAMPINGRATIO_LIMIT = 0x0474
+eERR_AXIS_FREQUENCY_LIMIT = 0x047E
+eERR_AXIS_SWRL = 0x07DA
+eERR_AXIS_SWLL = 0x07E4
+eERR_AXIS_HWRL = 0x07EE
+eERR_AXIS_HWLL = 0x07F8
+eERR_AXIS_COMP_LIMIT = 0x0802
+eERR_AXIS_PERR = 0x083E
+eERR_AXIS_VERR = 0x0848
+eERR_AXIS_PVT_MOTION_VEL_LIMIT = 0x08A2
+eERR_AXIS_PVT_MOTION_ACC_LIMIT = 0x08AC
+eERR_AXIS_PVT_MOTION_INVALID_TIME = 0x08B6
+eERR_AXIS_CTRL_ERR = 0x0BB8
+eERR_AXIS_CMD_GEAR_DISABLED = 0x0FA0
+eERR_AXIS_CMD_INVALID_AXIS_IN_CAM = 0x0FA1
+eERR_CAM_CMD_INVALID_ENGAGE_WINDOW = 0x1388
+eERR_CAM_CMD_INVALID_ENGAGE_POSITION = 0x1389
+eERR_CAM_CMD_INVALID_MASTER_SCALE_FACTOR = 0x138A
+eERR_CAM_CMD_INVALID_CAM_SCALE_FACTOR = 0x138B
+eERR_CAM_CMD_INVALID_CAMTABLE_ID = 0x138C
+eERR_CAM_CMD_INVALID_DISENGAGE_WINDOW = 0x138D
+eERR_CAM_CMD_INVALID_DISENGAGE_POSITION = 0x138E
+eERR_CAM_CMD_INVALID_OPERATION_IN_ENGAGED_STATE = 0x138F
+eERR_CAM_CMD_INVALID_START_MODE = 0x1390
+eERR_CAM_CMD_INVALID_MOVE_MODE = 0x1391
+eERR_CAM_ENGAGED_FAILED = 0x1392
+eERR_CAM_CMD_NOTINUSE = 0x1393
+eERR_CAM_CMD_CAM_DISABLED = 0x1394
+eERR_CAM_CMD_INVALID_AXIS_NOT_INCAM = 0x1395
+eERR_CAM_CMD_INVALID_AXIS_NOT_IN_DISENGAGED = 0x1396
+eERR_CAM_CMD_INVALID_AXIS_IN_GEAR = 0x1397
+eERR_CRD_CMD_UNKNOWN = 0x000A
+eERR_CRD_CMD_REACH_MAX_NUM_AXIS = 0x0014
+eERR_CRD_CMD_INVALID_KIN_SETTING = 0x001E
+eERR_CRD_CMD_INVALID_SPECIFIC_KIN = 0x001F
+eERR_CRD_CMD_AXIS_DUPLICATED = 0x0028
+eERR_CRD_CMD_GRP_SIZE_EMPTY = 0x0032
+eERR_CRD_CMD_GRP_SIZE_FULL = 0x003C
+eERR_CRD_CMD_INVALID_MOVING = 0x0046
+eERR_CRD_CMD_INVALID_DISABLED = 0x0050
+eERR_CRD_CMD_INVALID_INPUTSHAPING_PARAMETER_INCOMPLETE = 0x005A
+eERR_CRD_CMD_INVALID_STATE = 0x006E
+eERR_CRD_CMD_QUEUE_FULL = 0x0078
+eERR_CRD_CMD_GRP_AXIS_INVALID = 0x0082
+eERR_CRD_CMD_QUEUE_IS_NOT_EMPTY = 0x008C
+eERR_CRD_CMD_INVALID_QUEUE_SIZE = 0x0096
+eERR_CRD_CMD_INVALID_POS = 0x00D2
+eERR_CRD_CMD_INVALID_LIN_VEL = 0x00DC
+eERR_CRD_CMD_INVALID_LIN_ACC = 0x00E6
+eERR_CRD_CMD_INVALID_LIN_DEC = 0x00F0
+eERR_CRD_CMD_INVALID_LIN_JERK = 0x00FA
+eERR_CRD_CMD_INVALID_LIN_SM_TIME = 0x0104
+eERR_CRD_CMD_INVALID_DAMPINGRATIO = 0x010E
+eERR_CRD_CMD_INVALID_FREQUENCY = 0x0118
+eERR_CRD_CMD_INVALID_ANG_VEL = 0x0140
+eERR_CRD_CMD_INVALID_ANG_ACC = 0x014A
+eERR_CRD_CMD_INVALID_ANG_DEC = 0x0154
+eERR_CRD_CMD_INVALID_ANG_JERK = 0x015E
+eERR_CRD_CMD_INVALID_ANG_SM_TIME = 0x0168
+eERR_CRD_CMD_INVALID_VEL_SCALE = 0x0190
+eERR_CRD_CMD_INVALID_TRANS_VEL = 0x019A
+eERR_CRD_CMD_INVALID_TRANS_DIS = 0x01A4
+eERR_CRD_CMD_INVALID_TRANS_DEV = 0x01A5
+eERR_CRD_CMD_INVALID_TRANS_CURVE = 0x01A6
+eERR_CRD_CMD_TRANS_MODE_UNKNOWN = 0x01B8
+eERR_CRD_CMD_COORD_SYS_UNKNOWN = 0x01C2
+eERR_CRD_CMD_BLEND_MODE_UNKNOWN = 0x01CC
+eERR_CRD_CMD_LIN_INVALID_PARAM = 0x01FE
+eERR_CRD_CMD_CIRC_INVALID_PARAM = 0x0262
+eERR_CRD_CMD_CIRC_INVALID_CENTER = 0x026C
+eERR_CRD_CMD_CIRC_ANGLE_SMALL = 0x0276
+eERR_CRD_CMD_CIRC_INVALID_RADIUS = 0x0280
+eERR_CRD_CMD_CIRC_INVALID_COORD = 0x028A
+eERR_CRD_CMD_BEZIER_INVALID_PARAM = 0x02C6
+eERR_CRD_CMD_BSPLINE_INVALID_PARAM = 0x02D0
+eERR_CRD_CMD_CURVE_INVALID_STARTPOS = 0x02DA
+eERR_CRD_CMD_COORD_INVALID_PARAM = 0x02E4
+eERR_CRD_CMD_NURBS_INVALID_PARAM = 0x02EE
+eERR_CRD_CMD_LOOKAHEAD_INVALID_PARAM = 0x02F8
+eERR_CRD_AXIS_ABNORMALLY_DISABLED = 0x03F2
+eERR_CRD_AXIS_SWL = 0x03FC
