@@ -50,6 +50,82 @@ function SetAcc(axis_id, acc) end
 ---@return integer
 function SetDec(axis_id, dec) end
 
+--- Reads a drive object by SDO. Returns its value (sign-extended), or -1 on failure
+--- (ambiguous with a real -1, as in HMPL; use `ReadSDOEx` to tell them apart).
+---HMPL 17.2.1 (command (round trip to the core))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@param obj_length integer
+---@return integer
+function ReadSDO(slv_id, obj_index, obj_subindex, obj_length) end
+
+--- Reads a drive object by SDO: `rc, bytes` with rc 0 or -1 and the object's bytes as a
+--- table of integers (little-endian).
+---HMPL 17.2.2 (command (round trip to the core))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@param obj_length integer
+---@return integer
+---@return integer[]
+function ReadSDOEx(slv_id, obj_index, obj_subindex, obj_length) end
+
+--- Writes a drive object by SDO. Returns 0, or -1 on failure.
+---HMPL 17.2.3 (command (round trip to the core))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@param obj_length integer
+---@param obj_value integer
+---@return integer
+function WriteSDO(slv_id, obj_index, obj_subindex, obj_length, obj_value) end
+
+--- Writes a drive object by SDO from bytes (a table of integers or a string). Returns 0 or -1.
+---HMPL 17.2.4 (command (round trip to the core))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@param obj_length integer
+---@param obj_value integer[]|string
+---@return integer
+function WriteSDOEx(slv_id, obj_index, obj_subindex, obj_length, obj_value) end
+
+--- Writes an object mapped in the RxPDO. The motion kernel may overwrite it in the same
+--- cycle if it writes that object too. Returns 0 or -1.
+---HMPL 17.2.7 (command (round trip to the core))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@param obj_value integer
+---@return integer
+function WritePDO(slv_id, obj_index, obj_subindex, obj_value) end
+
+--- Forces an RxPDO object: the value overrides every other writer until `ReleasePDO`.
+---HMPL 17.2.8 (command (round trip to the core))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@param obj_value integer
+---@return integer
+function ForceWritePDO(slv_id, obj_index, obj_subindex, obj_value) end
+
+--- Releases a forced RxPDO object. Returns 0 or -1.
+---HMPL 17.2.9 (command (round trip to the core))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@return integer
+function ReleasePDO(slv_id, obj_index, obj_subindex) end
+
+--- Simulator only: puts a drive into Fault with an error code of the CoE manual's table
+--- 4-16 (e.g. 0x3110 over voltage). Returns 0, or -1 for a code the drive model lacks.
+---luamotion sim (command (round trip to the core))
+---@param slv_id integer
+---@param error_code integer
+---@return integer
+function SimDriveFault(slv_id, error_code) end
+
 --- True when the axis is enabled (drive in Operation enabled).
 ---HMPL 5.4.1 (query (local snapshot))
 ---@param axis_id integer
@@ -85,6 +161,74 @@ function GetRefPos(axis_id) end
 ---@param axis_id integer
 ---@return integer
 function GetAxisLastErr(axis_id) end
+
+--- Reads an object mapped in the process data (TxPDO or RxPDO). Returns its value, or -1
+--- when it is not mapped.
+---HMPL 17.2.5 (query (local snapshot))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@return integer
+function ReadPDO(slv_id, obj_index, obj_subindex) end
+
+--- Reads a mapped object: `rc, bytes` with rc 0 or -1.
+---HMPL 17.2.6 (query (local snapshot))
+---@param slv_id integer
+---@param obj_index integer
+---@param obj_subindex integer
+---@return integer
+---@return integer[]
+function ReadPDOEx(slv_id, obj_index, obj_subindex) end
+
+--- True while the controller is initialising (never, once scripts run).
+---HMPL 2.1 (query (local snapshot))
+---@return boolean
+function IsSystemInit() end
+
+--- True when the system runs and EtherCAT is in Op: motion and PDO functions work.
+---HMPL 2.2 (query (local snapshot))
+---@return boolean
+function IsSystemOper() end
+
+--- True when the system runs with EtherCAT in Pre-Op (mailbox only).
+---HMPL 2.3 (query (local snapshot))
+---@return boolean
+function IsSystemPreOp() end
+
+--- True when the system is in error, e.g. EtherCAT start-up stopped short of Op.
+---HMPL 2.4 (query (local snapshot))
+---@return boolean
+function IsSystemError() end
+
+--- The master's EtherCAT state: 1 Init, 2 Pre-Op, 4 Safe-Op, 8 Op.
+---HMPL 2.5 (query (local snapshot))
+---@return integer
+function GetECATSt() end
+
+--- A slave's EtherCAT state: 1, 2, 4 or 8 (-1 for no such slave).
+---HMPL 2.6 (query (local snapshot))
+---@param slv_id integer
+---@return integer
+function GetSlvECATSt(slv_id) end
+
+--- The number of slaves on the network.
+---HMPL 2.10 (query (local snapshot))
+---@return integer
+function GetSlaveNum() end
+
+--- Channels of a slave (`slv_id | HMPL_SLOT_n`) by type: 1 digital inputs, 2 digital
+--- outputs, 3 analog inputs, 4 analog outputs (-1 for no such slave or type).
+---HMPL 21.1 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ch_type integer
+---@return integer
+function GetSlvChNum(slv_slot_id, ch_type) end
+
+--- The number of slots (modules) of a slave; a drive has none.
+---HMPL 21.2 (query (local snapshot))
+---@param slv_id integer
+---@return integer
+function GetSlvSlotNum(slv_id) end
 
 --- Suspends the task for `ms` milliseconds of controller time.
 ---HMPL 2.18 (script process)
@@ -122,6 +266,10 @@ TRUE = 1 -- HMPL 1.4
 FALSE = 0 -- HMPL 1.4
 HMPL_STR_MAX_LEN = 512 -- HMPL 3.1
 CR_LF = "\r\n" -- DXMC 8.3 DRL
+HMPL_SLOT_1 = 65536 -- HMPL 9.1 (value: luamotion)
+HMPL_SLOT_2 = 131072 -- HMPL 9.1 (value: luamotion)
+HMPL_SLOT_3 = 196608 -- HMPL 9.1 (value: luamotion)
+HMPL_SLOT_4 = 262144 -- HMPL 9.1 (value: luamotion)
 eERR_HCV_ID_NOT_FOUND = 0x0001
 eERR_DATA_EXCEEDED = 0x0002
 eERR_HCV_IS_READ_ONLY = 0x0003

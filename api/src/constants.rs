@@ -17,7 +17,16 @@ pub const CONSTANTS: &[(&str, Constant, &str)] = &[
     ("FALSE", Constant::Int(0), "HMPL 1.4"),
     ("HMPL_STR_MAX_LEN", Constant::Int(512), "HMPL 3.1"),
     ("CR_LF", Constant::Str("\r\n"), "DXMC 8.3 DRL"),
+    ("HMPL_SLOT_1", Constant::Int(1 << 16), "HMPL 9.1 (value: luamotion)"),
+    ("HMPL_SLOT_2", Constant::Int(2 << 16), "HMPL 9.1 (value: luamotion)"),
+    ("HMPL_SLOT_3", Constant::Int(3 << 16), "HMPL 9.1 (value: luamotion)"),
+    ("HMPL_SLOT_4", Constant::Int(4 << 16), "HMPL 9.1 (value: luamotion)"),
 ];
+
+/// `slv_slot_id`: the slave id in the low 16 bits, `HMPL_SLOT_n` = n << 16 above them.
+pub fn split_slave_slot(slv_slot_id: i64) -> (i64, i64) {
+    (slv_slot_id & 0xFFFF, slv_slot_id >> 16)
+}
 
 /// Every error code name of HMPL ch. 18 with its error id (`EEEE`); scripts combine it
 /// with the axis or group id, or compare `GetAxisLastErr(a) & 0xFFFF` with it.

@@ -13,6 +13,7 @@ fn lua_type(v: ValueType) -> &'static str {
         ValueType::Double => "number",
         ValueType::Bool => "boolean",
         ValueType::Str => "string",
+        ValueType::Bytes => "integer[]",
     }
 }
 
@@ -93,6 +94,7 @@ pub fn lua_meta() -> String {
                 ArgType::Double => (a.name, "number"),
                 ArgType::Str => (a.name, "string"),
                 ArgType::Func => (a.name, "fun(): any"),
+                ArgType::Bytes => (a.name, "integer[]|string"),
                 ArgType::Rest => ("...", "any"),
             };
             let _ = writeln!(out, "---@param {name} {ty}");
@@ -144,7 +146,8 @@ mod tests {
         for f in all() {
             assert!(names.insert(f.name), "{} declared twice", f.name);
             assert!(!f.doc.is_empty(), "{} has no doc", f.name);
-            assert!(f.manual.starts_with("HMPL ") || f.manual.starts_with("DXMC "), "{}: {}", f.name, f.manual);
+            let source = ["HMPL ", "DXMC ", "luamotion "].iter().any(|p| f.manual.starts_with(p));
+            assert!(source, "{}: {}", f.name, f.manual);
             assert_eq!(crate::registry::find(f.name).map(|g| g.name), Some(f.name));
         }
     }

@@ -270,6 +270,64 @@ error_table! {
     }
 }
 
+macro_rules! sdo_aborts {
+    ($( $code:literal $variant:ident $meaning:literal, )*) => {
+        /// SDO abort codes (CiA 301; DXMC manual 9.3, table of SDO abort codes).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[repr(u32)]
+        pub enum SdoAbort { $( $variant = $code, )* }
+
+        impl SdoAbort {
+            pub const ALL: &'static [SdoAbort] = &[ $( SdoAbort::$variant, )* ];
+
+            pub fn meaning(self) -> &'static str {
+                match self { $( SdoAbort::$variant => $meaning, )* }
+            }
+        }
+    };
+}
+
+sdo_aborts! {
+    0x0503_0000 ToggleBit "toggle bit not alternated",
+    0x0504_0000 Timeout "SDO protocol timed out",
+    0x0504_0001 UnknownCommand "command specifier not valid or unknown",
+    0x0601_0000 UnsupportedAccess "unsupported access to an object",
+    0x0601_0001 WriteOnly "attempt to read a write-only object",
+    0x0601_0002 ReadOnly "attempt to write a read-only object",
+    0x0602_0000 NoObject "object does not exist in the object dictionary",
+    0x0604_0041 NotMappable "object cannot be mapped to the PDO",
+    0x0604_0042 PdoTooLong "the mapped objects would exceed the PDO length",
+    0x0607_0010 LengthMismatch "data type does not match, length of service parameter does not match",
+    0x0607_0012 LengthTooHigh "data type does not match, length of service parameter too high",
+    0x0607_0013 LengthTooLow "data type does not match, length of service parameter too low",
+    0x0609_0011 NoSubIndex "sub-index does not exist",
+    0x0609_0030 ValueRange "value range of parameter exceeded",
+    0x0609_0031 ValueTooHigh "value of parameter written too high",
+    0x0609_0032 ValueTooLow "value of parameter written too low",
+    0x0800_0000 General "general error",
+    0x0800_0020 CannotStore "data cannot be transferred or stored",
+    0x0800_0021 LocalControl "data cannot be transferred or stored because of local control",
+    0x0800_0022 DeviceState "data cannot be transferred or stored because of the present device state",
+}
+
+impl SdoAbort {
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+
+    pub fn from_code(code: u32) -> Option<Self> {
+        Self::ALL.iter().copied().find(|a| a.code() == code)
+    }
+}
+
+impl fmt::Display for SdoAbort {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "SDO abort 0x{:08X}: {}", self.code(), self.meaning())
+    }
+}
+
+impl std::error::Error for SdoAbort {}
+
 /// Class byte `CC` of an error code (HMPL ch. 18.1).
 const CLASS_AXIS: u32 = 0x83;
 const CLASS_GROUP: u32 = 0x82;

@@ -7,6 +7,6 @@ pub mod errors;
 mod functions;
 pub mod registry;
 
-pub use errors::{AxisError, ErrorCode, GroupError, SystemError};
+pub use errors::{AxisError, ErrorCode, GroupError, SdoAbort, SystemError};
 pub use functions::{Command, Local, Query};
 pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, ValueType};

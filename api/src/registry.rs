@@ -30,6 +30,8 @@ pub enum ArgType {
     Str,
     /// A Lua function, for `Till(function() ... end)`.
     Func,
+    /// `uint8_t*`: a table of integers 0..255, or a string.
+    Bytes,
     /// `...` of a printf-style function: any number of values.
     Rest,
 }
@@ -42,6 +44,8 @@ pub enum ValueType {
     /// HMPL's TRUE/FALSE, returned to Lua as a boolean: 0 is true in Lua.
     Bool,
     Str,
+    /// An out-pointer buffer: a table of integers 0..255.
+    Bytes,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -82,6 +86,7 @@ impl FunctionSpec {
             Some(ValueType::Int | ValueType::Bool) => "int",
             Some(ValueType::Double) => "double",
             Some(ValueType::Str) => "char*",
+            Some(ValueType::Bytes) => "uint8_t*",
         };
         let args: Vec<String> = self
             .args
@@ -91,6 +96,7 @@ impl FunctionSpec {
                 ArgType::Double => format!("double {}", a.name),
                 ArgType::Str => format!("char *{}", a.name),
                 ArgType::Func => format!("condition {}", a.name),
+                ArgType::Bytes => format!("uint8_t *{}", a.name),
                 ArgType::Rest => "...".to_string(),
             })
             .collect();

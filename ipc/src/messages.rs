@@ -60,6 +60,12 @@ impl Request {
     pub fn blob(&self) -> &[u8] {
         &self.blob[..self.blob_len as usize]
     }
+
+    pub fn set_blob(&mut self, bytes: &[u8]) {
+        let n = bytes.len().min(BLOB_SIZE);
+        self.blob[..n].copy_from_slice(&bytes[..n]);
+        self.blob_len = n as u32;
+    }
 }
 
 /// The core's answer to one `Request`.
@@ -75,7 +81,8 @@ pub struct Reply {
     pub sent_ns: u64,
     /// The cycle in which the command was applied; the snapshot of that cycle shows it.
     pub cycle: u64,
-    /// 0 on success, otherwise the HMPL error code (`0x83IIEEEE`, ...).
+    /// 0 on success, otherwise why it failed: the HMPL error code (`0x83IIEEEE`, ...),
+    /// or for SDO services the CiA 301 abort code.
     pub rc: u32,
     pub valuec: u16,
     pub blob_len: u16,
@@ -84,6 +91,22 @@ pub struct Reply {
 }
 
 impl Reply {
+    /// Appends a returned value (the C return value first, then out-pointers).
+    pub fn push_int(&mut self, v: i64) {
+        self.values[self.valuec as usize] = v as u64;
+        self.valuec += 1;
+    }
+
+    pub fn set_blob(&mut self, bytes: &[u8]) {
+        let n = bytes.len().min(BLOB_SIZE);
+        self.blob[..n].copy_from_slice(&bytes[..n]);
+        self.blob_len = n as u16;
+    }
+
+    pub fn blob(&self) -> &[u8] {
+        &self.blob[..self.blob_len as usize]
+    }
+
     pub fn to(request: &Request) -> Self {
         Reply {
             seq: request.seq,
@@ -150,6 +173,44 @@ pub struct AxisSnapshot {
     pub dec: f64,
 }
 
+/// Entries and bytes of one PDO (CoE manual 2.4: at most 7 entries, 20 bytes).
+pub const MAX_PDO_ENTRIES: usize = 7;
+pub const MAX_PDO_BYTES: usize = 20;
+/// One drive per axis.
+pub const MAX_SLAVES: usize = MAX_AXES;
+
+/// One mapped object of a PDO and its byte offset in the slave's process data.
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct PdoEntrySnapshot {
+    pub index: u16,
+    pub sub: u8,
+    pub bits: u8,
+    pub offset: u8,
+    /// The object's type is signed (sign-extend when reading).
+    pub signed: u8,
+}
+
+/// One slave as the master sees it: its AL state, its mapping and its process data.
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct SlaveSnapshot {
+    /// 1 Init, 2 PreOp, 4 SafeOp, 8 Op.
+    pub al_state: u8,
+    pub rx_count: u8,
+    pub tx_count: u8,
+    /// Digital inputs and outputs of the slave (HMPL ch. 21).
+    pub digital_inputs: u8,
+    pub digital_outputs: u8,
+    /// AL status code of the last refused state change (0: none).
+    pub al_status_code: u16,
+    pub rx: [PdoEntrySnapshot; MAX_PDO_ENTRIES],
+    pub tx: [PdoEntrySnapshot; MAX_PDO_ENTRIES],
+    /// RxPDO as the master last sent it, TxPDO as the slave last returned it.
+    pub outputs: [u8; MAX_PDO_BYTES],
+    pub inputs: [u8; MAX_PDO_BYTES],
+}
+
 /// The machine at the end of one cycle, published every cycle (latest value wins).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
@@ -164,7 +225,11 @@ pub struct Snapshot {
     pub axis_count: u32,
     /// EtherCAT master state: 1 Init, 2 PreOp, 4 SafeOp, 8 Op (HMPL 2.5).
     pub ecat_state: u32,
+    /// The system is in error (HMPL 2.4): EtherCAT start-up stopped short of Op.
+    pub system_error: u32,
+    pub slave_count: u32,
     pub axes: [AxisSnapshot; MAX_AXES],
+    pub slaves: [SlaveSnapshot; MAX_SLAVES],
 }
 
 impl Default for Snapshot {
@@ -176,7 +241,10 @@ impl Default for Snapshot {
             published_ns: 0,
             axis_count: 0,
             ecat_state: 0,
+            system_error: 0,
+            slave_count: 0,
             axes: [AxisSnapshot::default(); MAX_AXES],
+            slaves: [SlaveSnapshot::default(); MAX_SLAVES],
         }
     }
 }

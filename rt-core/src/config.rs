@@ -77,6 +77,80 @@ pub struct AxisConfig {
     pub acc: f64,
     pub dec: f64,
     pub plant: PlantConfig,
+    pub travel: TravelConfig,
+    pub drive_settings: DriveSettings,
+    /// Custom PDO mapping entries (`0xIIIISSLL`) the master writes in PreOp; none: the
+    /// drive's defaults (CoE manual table 4-3).
+    pub rx_pdo: Option<Vec<u32>>,
+    pub tx_pdo: Option<Vec<u32>>,
+}
+
+/// Switches, index and hard stops along the travel, in units (mm or deg) of the machine's
+/// own coordinates. Absent ones do not exist.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TravelConfig {
+    pub negative_limit: Option<f64>,
+    pub positive_limit: Option<f64>,
+    /// The home switch is active over `[L, R]`.
+    pub home_switch: Option<[f64; 2]>,
+    /// Distance between encoder index pulses (one motor turn); none: no index.
+    pub index_pitch: Option<f64>,
+    pub index_offset: f64,
+    pub negative_hard_stop: Option<f64>,
+    pub positive_hard_stop: Option<f64>,
+    /// Where the motor stands at power-up.
+    pub start_position: f64,
+}
+
+/// Drive parameters set with HIWIN's Lightening tool rather than through objects.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DriveSettings {
+    /// Hard-stop homing (methods -1, -2, -4, -5): the current that means "at the stop",
+    /// in % of rated current, held for `end_stop_time_ms`.
+    pub end_stop_current_pct: f64,
+    pub end_stop_time_ms: f64,
+    /// Methods -4/-5: distance from the hard stop to home, counts.
+    pub end_stop_offset: i64,
+    /// A multi-turn absolute encoder (method -3).
+    pub multi_turn_absolute: bool,
+    /// Motor rated current, A, and force (torque) constant, N/A (N·m/A): torque modes.
+    pub rated_current_a: f64,
+    pub force_constant: f64,
+    /// Outputs O1..O5 configured as general purpose ("PDL usage"), bit 0 = O1.
+    pub general_purpose_outputs: u8,
+}
+
+impl Default for DriveSettings {
+    fn default() -> Self {
+        DriveSettings {
+            end_stop_current_pct: 80.0,
+            end_stop_time_ms: 20.0,
+            end_stop_offset: 1000,
+            multi_turn_absolute: false,
+            rated_current_a: 2.0,
+            force_constant: 10.0,
+            general_purpose_outputs: 0b1_1111,
+        }
+    }
+}
+
+impl TravelConfig {
+    /// The built-in machine: limit switches at ±1000 mm, hard stops 10 mm beyond them, a
+    /// home switch at [-10, -5] mm and an index every 10 mm (a 10 mm screw).
+    pub fn built_in() -> Self {
+        TravelConfig {
+            negative_limit: Some(-1000.0),
+            positive_limit: Some(1000.0),
+            home_switch: Some([-10.0, -5.0]),
+            index_pitch: Some(10.0),
+            index_offset: 0.0,
+            negative_hard_stop: Some(-1010.0),
+            positive_hard_stop: Some(1010.0),
+            start_position: 0.0,
+        }
+    }
 }
 
 /// The motor and load behind a drive (see `drive::plant`).
@@ -135,7 +209,13 @@ impl Default for MachineConfig {
         MachineConfig {
             cycle_us: 1000,
             rt: RtConfig::default(),
-            axes: (0..4).map(|i| AxisConfig { name: format!("axis{i}"), ..AxisConfig::default() }).collect(),
+            axes: (0..4)
+                .map(|i| AxisConfig {
+                    name: format!("axis{i}"),
+                    travel: TravelConfig::built_in(),
+                    ..AxisConfig::default()
+                })
+                .collect(),
             tasks: Vec::new(),
         }
     }
@@ -161,6 +241,10 @@ impl Default for AxisConfig {
             acc: 1_000.0,
             dec: 1_000.0,
             plant: PlantConfig::default(),
+            travel: TravelConfig::default(),
+            drive_settings: DriveSettings::default(),
+            rx_pdo: None,
+            tx_pdo: None,
         }
     }
 }
@@ -271,6 +355,35 @@ impl AxisConfig {
         if !(p.peak_ratio >= 1.0 && p.peak_ratio.is_finite()) {
             return Err(invalid(format!("{key}.plant.peak_ratio"), "peak force is at least the rated force (>= 1)"));
         }
+        let t = &self.travel;
+        if let (Some(n), Some(p)) = (t.negative_limit, t.positive_limit)
+            && n >= p
+        {
+            return Err(invalid(format!("{key}.travel"), "negative_limit must be below positive_limit"));
+        }
+        if let Some([l, r]) = t.home_switch
+            && l > r
+        {
+            return Err(invalid(format!("{key}.travel.home_switch"), "[L, R] with L <= R"));
+        }
+        if let Some(pitch) = t.index_pitch {
+            positive(&format!("{key}.travel.index_pitch"), pitch)?;
+        }
+        if let (Some(n), Some(p)) = (t.negative_hard_stop, t.positive_hard_stop)
+            && n >= p
+        {
+            return Err(invalid(format!("{key}.travel"), "negative_hard_stop must be below positive_hard_stop"));
+        }
+        let inside = t.negative_hard_stop.is_none_or(|n| t.start_position > n)
+            && t.positive_hard_stop.is_none_or(|p| t.start_position < p);
+        if !inside {
+            return Err(invalid(format!("{key}.travel.start_position"), "must lie between the hard stops"));
+        }
+        let d = &self.drive_settings;
+        positive(&format!("{key}.drive_settings.rated_current_a"), d.rated_current_a)?;
+        positive(&format!("{key}.drive_settings.force_constant"), d.force_constant)?;
+        positive(&format!("{key}.drive_settings.end_stop_current_pct"), d.end_stop_current_pct)?;
+        positive(&format!("{key}.drive_settings.end_stop_time_ms"), d.end_stop_time_ms)?;
         Ok(())
     }
 }

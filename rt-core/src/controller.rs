@@ -49,11 +49,11 @@ pub fn run(config: MachineConfig, options: RunOptions) -> Result<RunReport, Cont
 
 fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, ControllerError> {
     let mut network = Network::new(&config.axes);
-    if let Err(e) = network.start() {
+    if let Err(e) = network.start(config.period_ns()) {
         tracing::error!("EtherCAT start-up stopped in {:?}: {e}", network.state());
     }
     let kernel = Kernel::new(&config, &network);
-    let machine = Machine { network, kernel, period_ns: config.period_ns() };
+    let machine = Machine::new(network, kernel, config.period_ns());
     let task_ids: Vec<u8> = config.tasks.iter().map(|t| t.id).collect();
 
     let control = Arc::new(RtControl::default());

@@ -20,6 +20,7 @@ use ipc::{CoreEndpoint, CoreIpcStats};
 
 use crate::dispatch;
 use crate::ecat::Network;
+use crate::master::{self, PdoForces};
 use crate::motion::Kernel;
 use crate::realtime::{self, Granted};
 
@@ -32,7 +33,14 @@ const SHUTDOWN_CYCLES: u64 = 500;
 pub struct Machine {
     pub network: Network,
     pub kernel: Kernel,
+    pub forces: PdoForces,
     pub period_ns: u64,
+}
+
+impl Machine {
+    pub fn new(network: Network, kernel: Kernel, period_ns: u64) -> Self {
+        Machine { network, kernel, forces: PdoForces::default(), period_ns }
+    }
 }
 
 /// Shared between the RT thread and the supervisor.
@@ -91,7 +99,9 @@ pub struct CycleWork {
 
 impl CycleWork {
     pub fn new(machine: Machine, endpoint: CoreEndpoint) -> Self {
-        let snapshot = Snapshot { period_ns: machine.period_ns, ..Snapshot::default() };
+        let mut snapshot = Snapshot { period_ns: machine.period_ns, ..Snapshot::default() };
+        master::describe_slaves(&machine.network, &mut snapshot);
+        snapshot.system_error = machine.network.start_error().is_some() as u32;
         CycleWork { machine, endpoint, snapshot, cycle: 0 }
     }
 
@@ -105,15 +115,17 @@ impl CycleWork {
         let cycle = self.cycle;
         let period = self.machine.period_ns;
         self.machine.network.exchange(period as f64 * 1e-9);
-        let kernel = &mut self.machine.kernel;
+        let machine = &mut self.machine;
         self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |_task, request, reply| {
-            dispatch::execute(kernel, request, reply);
+            dispatch::execute(machine, request, reply);
         });
         self.machine.kernel.step(cycle, &mut self.machine.network);
+        let (_, outputs) = self.machine.network.images_mut();
+        self.machine.forces.apply(outputs);
 
         self.snapshot.cycle = cycle;
         self.snapshot.time_in_ms = cycle * period / 1_000_000;
-        self.snapshot.ecat_state = self.machine.network.state().code() as u32;
+        master::update_slaves(&self.machine.network, &mut self.snapshot);
         self.machine.kernel.fill(&mut self.snapshot);
         self.endpoint.publish(&self.snapshot);
         self.endpoint.wake(cycle);

@@ -49,9 +49,9 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     rt_alloc::claim_pool_for_this_thread();
     let config = MachineConfig::default();
     let mut network = Network::new(&config.axes);
-    network.start().unwrap();
+    network.start(config.period_ns()).unwrap();
     let kernel = Kernel::new(&config, &network);
-    let machine = Machine { network, kernel, period_ns: config.period_ns() };
+    let machine = Machine::new(network, kernel, config.period_ns());
     let ns = Namespace::new(&format!("t{}-alloc", std::process::id())).unwrap();
     ipc::claim_namespace(&ns).unwrap();
     let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());

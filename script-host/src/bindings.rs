@@ -7,9 +7,9 @@ use std::io::Write;
 use std::rc::Rc;
 
 use api::constants::{CONSTANTS, Constant, error_ids};
-use api::{ArgType, Command, Func, FunctionSpec, Local, Query};
+use api::{ArgType, Command, Func, FunctionSpec, Local, Query, SdoAbort, ValueType};
 use ipc::TaskEndpoint;
-use ipc::messages::{MAX_ARGS, Request};
+use ipc::messages::Request;
 use ipc::query::{self, Words};
 use mlua::{Function, Lua, MultiValue, Value};
 
@@ -111,49 +111,99 @@ fn string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> ml
     }
 }
 
-/// Encodes the scalar arguments as the registry types them.
-fn words(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<([u64; MAX_ARGS], usize)> {
-    let mut words = [0u64; MAX_ARGS];
-    for (i, arg) in spec.args.iter().enumerate() {
-        words[i] = match arg.ty {
-            ArgType::Int => int_arg(lua, spec, args, i)? as u64,
-            ArgType::Double => double_arg(lua, spec, args, i)?.to_bits(),
-            ArgType::Str | ArgType::Func | ArgType::Rest => {
-                unreachable!("{}: only scalar arguments are encoded as words", spec.name)
-            }
-        };
+/// `uint8_t*` arguments: a table of integers 0..255, or a string.
+fn bytes_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<u8>> {
+    match args.get(i).cloned().unwrap_or(Value::Nil) {
+        Value::String(s) => Ok(s.as_bytes().to_vec()),
+        Value::Table(t) => t
+            .sequence_values::<Value>()
+            .map(|v| match v? {
+                Value::Integer(b) if (0..=255).contains(&b) => Ok(b as u8),
+                other => Err(bad_argument(lua, spec, i, "table of integers 0..255", &other)),
+            })
+            .collect(),
+        other => Err(bad_argument(lua, spec, i, "table of bytes or string", &other)),
     }
-    Ok((words, spec.args.len()))
 }
 
-/// A command: one round trip to the core; returns the HMPL return code.
+/// Encodes the arguments as the registry types them: scalars as words, bytes in the blob.
+fn encode(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, request: &mut Request) -> mlua::Result<()> {
+    for (i, arg) in spec.args.iter().enumerate() {
+        match arg.ty {
+            ArgType::Int => request.push_int(int_arg(lua, spec, args, i)?),
+            ArgType::Double => request.push_double(double_arg(lua, spec, args, i)?),
+            ArgType::Bytes => {
+                let bytes = bytes_arg(lua, spec, args, i)?;
+                if bytes.len() > request.blob.len() {
+                    return Err(error_here(lua, format!("{}: at most {} bytes", spec.name, request.blob.len())));
+                }
+                request.set_blob(&bytes);
+                request.push_int(bytes.len() as i64);
+            }
+            ArgType::Str | ArgType::Func | ArgType::Rest => {
+                unreachable!("{}: commands and queries take numbers and bytes", spec.name)
+            }
+        }
+    }
+    Ok(())
+}
+
+fn bytes_table(lua: &Lua, bytes: &[u8]) -> mlua::Result<Value> {
+    Ok(Value::Table(lua.create_sequence_from(bytes.iter().map(|&b| b as i64))?))
+}
+
+/// A command: one round trip to the core; returns what the registry says it returns.
 fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function> {
     let spec = command.spec();
     lua.create_function(move |lua, args: MultiValue| {
-        let (words, argc) = words(lua, spec, &args)?;
         let mut request = Request::new(command.id());
-        request.args = words;
-        request.argc = argc as u16;
+        encode(lua, spec, &args, &mut request)?;
         let reply = host.endpoint.borrow_mut().call(&mut request).map_err(mlua::Error::external)?;
-        Ok(reply.rc as i64)
+        let first = reply.values[0] as i64;
+        if first == -1 && reply.rc != 0 {
+            // Ch. 17 says only -1; say why, once, where the user sees it.
+            eprintln!("warning: {}: {}", spec.name, explain(reply.rc));
+        }
+        let mut results = MultiValue::new();
+        for (i, ty) in spec.returns.iter().enumerate() {
+            results.push_back(match ty {
+                ValueType::Bytes => bytes_table(lua, reply.blob())?,
+                _ => Value::Integer(reply.values[i] as i64),
+            });
+        }
+        Ok(results)
     })
+}
+
+/// Why a call failed, from its reply's `rc`: an SDO abort code or an HMPL error code.
+fn explain(rc: u32) -> String {
+    match SdoAbort::from_code(rc) {
+        Some(abort) => abort.to_string(),
+        None => api::errors::describe(rc),
+    }
 }
 
 /// A status query: read the local snapshot, no round trip.
 fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Function> {
     let spec = query.spec();
     lua.create_function(move |lua, args: MultiValue| {
-        let (words, argc) = words(lua, spec, &args)?;
-        let value = {
+        let mut request = Request::new(0);
+        encode(lua, spec, &args, &mut request)?;
+        let answer = {
             let mut endpoint = host.endpoint.borrow_mut();
-            query::evaluate(query, Words(&words[..argc]), endpoint.snapshot())
+            query::evaluate(query, Words(&request.args[..request.argc as usize]), endpoint.snapshot())
         };
-        match value {
-            Ok(query::Value::Bool(b)) => Ok(Value::Boolean(b)),
-            Ok(query::Value::Int(i)) => Ok(Value::Integer(i)),
-            Ok(query::Value::Double(d)) => Ok(Value::Number(d)),
-            Err(code) => Err(error_here(lua, format!("{}: {code}", spec.name))),
+        let query::Answer(first, second) = answer.map_err(|code| error_here(lua, format!("{}: {code}", spec.name)))?;
+        let mut results = MultiValue::new();
+        for value in std::iter::once(first).chain(second) {
+            results.push_back(match value {
+                query::Value::Bool(b) => Value::Boolean(b),
+                query::Value::Int(i) => Value::Integer(i),
+                query::Value::Double(d) => Value::Number(d),
+                query::Value::Bytes { data, len } => bytes_table(lua, &data[..len as usize])?,
+            });
         }
+        Ok(results)
     })
 }
 

@@ -7,8 +7,9 @@ use crate::cia402::{Command, State, controlword};
 /// A transition the controlword asks for: `(new state, CiA 402 transition number)`.
 /// "3+4" (Switch on + Enable operation from Ready to switch on) is reported as 4.
 ///
-/// Quick stop active only leaves on Disable voltage (12): HIWIN has no 0x605A, so
-/// transition 16 back to Operation enabled is not supported (docs/drive.md, choice 14).
+/// Quick stop active only leaves on Disable voltage (12), as the manual lists it: HIWIN has
+/// no 0x605A, so there is neither an automatic end of the quick stop nor transition 16 back
+/// to Operation enabled (docs/drive.md). The stopped motor stays energised.
 pub fn commanded(state: State, command: Command) -> Option<(State, u8)> {
     use Command::*;
     use State::*;
@@ -48,7 +49,7 @@ impl Fsa {
     }
 
     /// One cycle of the automaton. `stopped` tells whether the motor has come to rest,
-    /// which ends Quick stop active and Fault reaction active.
+    /// which ends Fault reaction active.
     pub fn step(&mut self, cw: u16, stopped: bool) -> Option<u8> {
         let reset_edge = cw & controlword::FAULT_RESET != 0 && !self.fault_reset_bit;
         self.fault_reset_bit = cw & controlword::FAULT_RESET != 0;
@@ -59,11 +60,6 @@ impl Fsa {
             State::FaultReactionActive => return None,
             State::Fault if reset_edge => (State::SwitchOnDisabled, 15),
             State::Fault => return None,
-            // CiA 402 quick-stop option 2 (the default): stop on the quick-stop ramp, then
-            // Switch on disabled.
-            State::QuickStopActive if stopped && Command::decode(cw) != Command::DisableVoltage => {
-                (State::SwitchOnDisabled, 12)
-            }
             state => commanded(state, Command::decode(cw))?,
         };
         self.state = next;

@@ -32,8 +32,16 @@ impl AlState {
 #[repr(u16)]
 pub enum AlStatusCode {
     InvalidRequestedStateChange = 0x0011,
-    InvalidOutputMapping = 0x0025,
     InvalidInputMapping = 0x0024,
+    InvalidOutputMapping = 0x0025,
+    InvalidDcSyncConfiguration = 0x0030,
+    InvalidSyncCycleTime = 0x0035,
+}
+
+impl AlStatusCode {
+    pub fn code(self) -> u16 {
+        self as u16
+    }
 }
 
 #[derive(Clone, Copy, Debug)]

@@ -2,9 +2,11 @@
 //! data, reached by the master only as a real master reaches real slaves.
 
 pub mod esm;
+pub mod mailbox;
 pub mod network;
 pub mod pdo;
 pub mod slave;
 
 pub use esm::{AlState, AlStatusCode};
+pub use mailbox::{SdoAbort, SdoError};
 pub use network::{Field, Network, StartError};

@@ -1,7 +1,7 @@
 //! PDO mapping (CoE manual 2.4, tables 2-4 and 4-3): the objects a PDO carries, in order,
 //! and where each sits in the slave's process data.
 
-use crate::drive::od::{self, DataType, ObjId};
+use crate::drive::od::{DataType, ObjId, ObjectStore};
 
 /// At most 7 entries and 20 bytes per PDO (CoE manual 2.4).
 pub const MAX_ENTRIES: usize = 7;
@@ -39,21 +39,41 @@ pub enum MappingError {
     TooLong,
     UnknownObject(PdoEntry),
     NotMappable(PdoEntry),
+    /// A read-only object in the RxPDO: the master could not write it.
+    NotWritable(PdoEntry),
     LengthMismatch(PdoEntry),
 }
 
-/// Resolves mapping entries against the dictionary and lays them out.
-pub fn layout(entries: &[PdoEntry]) -> Result<(Vec<Mapped>, usize), MappingError> {
+/// Which way a PDO carries its objects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// RxPDO 0x1600: master to slave.
+    Outputs,
+    /// TxPDO 0x1A00: slave to master.
+    Inputs,
+}
+
+/// Resolves mapping entries against a drive's dictionary and lays them out.
+pub fn layout(
+    store: &ObjectStore,
+    direction: Direction,
+    entries: &[PdoEntry],
+) -> Result<(Vec<Mapped>, usize), MappingError> {
     if entries.len() > MAX_ENTRIES {
         return Err(MappingError::TooManyEntries);
     }
     let mut mapped = Vec::with_capacity(entries.len());
     let mut offset = 0;
     for &entry in entries {
-        let obj = od::find(entry.index, entry.sub).ok_or(MappingError::UnknownObject(entry))?;
-        let def = od::ObjectStore::def(obj);
+        let obj = crate::drive::od::find(entry.index, entry.sub)
+            .filter(|&id| store.has(id))
+            .ok_or(MappingError::UnknownObject(entry))?;
+        let def = obj.def();
         if !def.pdo_mappable {
             return Err(MappingError::NotMappable(entry));
+        }
+        if direction == Direction::Outputs && def.access == crate::drive::od::Access::ReadOnly {
+            return Err(MappingError::NotWritable(entry));
         }
         if def.ty.bits() != entry.bits {
             return Err(MappingError::LengthMismatch(entry));
@@ -67,27 +87,14 @@ pub fn layout(entries: &[PdoEntry]) -> Result<(Vec<Mapped>, usize), MappingError
     Ok((mapped, offset))
 }
 
-/// Default RxPDO 0x1600: controlword, target position (6 bytes).
-pub const DEFAULT_RX: [PdoEntry; 2] = [PdoEntry::from_u32(0x6040_0010), PdoEntry::from_u32(0x607A_0020)];
-/// Default TxPDO 0x1A00: statusword, position actual, following error (10 bytes).
-pub const DEFAULT_TX: [PdoEntry; 3] =
-    [PdoEntry::from_u32(0x6041_0010), PdoEntry::from_u32(0x6064_0020), PdoEntry::from_u32(0x60F4_0020)];
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// CoE manual table 4-3: the default mappings and their sizes.
-    #[test]
-    fn default_mappings_are_6_and_10_bytes() {
-        assert_eq!(layout(&DEFAULT_RX).unwrap().1, 6);
-        assert_eq!(layout(&DEFAULT_TX).unwrap().1, 10);
-        assert_eq!(DEFAULT_TX[1].to_u32(), 0x6064_0020);
+/// The entries a mapping object (0x1600 or 0x1A00) holds: sub 0 is the count.
+pub fn entries(store: &ObjectStore, mapping_index: u16) -> ([PdoEntry; MAX_ENTRIES], usize) {
+    let count = crate::drive::od::find(mapping_index, 0).map_or(0, |id| store.get(id) as usize).min(MAX_ENTRIES);
+    let mut entries = [PdoEntry::from_u32(0); MAX_ENTRIES];
+    for (i, entry) in entries.iter_mut().enumerate().take(count) {
+        if let Some(id) = crate::drive::od::find(mapping_index, i as u8 + 1) {
+            *entry = PdoEntry::from_u32(store.get(id) as u32);
+        }
     }
-
-    #[test]
-    fn non_mappable_objects_are_refused() {
-        let entry = PdoEntry::from_u32(0x6063_0020);
-        assert_eq!(layout(&[entry]), Err(MappingError::NotMappable(entry)));
-    }
+    (entries, count)
 }

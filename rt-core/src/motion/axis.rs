@@ -8,7 +8,7 @@ use crate::cia402::State;
 use crate::config::AxisConfig;
 use crate::ecat::{Field, Network};
 use crate::motion::power::{Power, PowerEvent};
-use crate::motion::profile::{Kinematics, Limits, Trapezoid};
+use crate::profile::{Kinematics, Limits, Trapezoid};
 
 /// The process-data fields the axis uses. HMPL 5.2.1: enabling needs 0x6040/0x6041 mapped.
 #[derive(Clone, Copy, Debug)]

@@ -3,7 +3,6 @@
 
 pub mod axis;
 pub mod power;
-pub mod profile;
 
 use api::SystemError;
 use ipc::messages::Snapshot;

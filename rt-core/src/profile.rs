@@ -1,6 +1,7 @@
-//! The T-curve of HMPL 5.1 (fig. 5.1.2): a time-optimal trapezoidal velocity profile
-//! from any position and velocity to a target at rest, under a velocity limit and
-//! separate acceleration and deceleration limits.
+//! A time-optimal trapezoidal velocity profile from any position and velocity to a target
+//! at rest, under a velocity limit and separate acceleration and deceleration limits: the
+//! T-curve of HMPL 5.1 (fig. 5.1.2) for the kernel's axes, and the planner of the drives'
+//! profile modes (CoE manual 3.3).
 //!
 //! The plan is a list of constant-acceleration segments, sampled analytically, so that a
 //! sampled profile never exceeds its limits and ends exactly on its target.
@@ -103,6 +104,12 @@ impl Trapezoid {
         plan
     }
 
+    /// Decelerates to rest from `(pos, vel)` with `dec`, where the stop naturally falls.
+    pub fn stop(pos: f64, vel: f64, dec: f64) -> Self {
+        let target = pos + vel * vel.abs() / (2.0 * dec);
+        Trapezoid::plan(pos, vel, target, Limits { vel: vel.abs().max(f64::MIN_POSITIVE), acc: dec, dec })
+    }
+
     fn push(&mut self, pos: f64, vel: f64, acc: f64, duration: f64) {
         if duration <= 0.0 {
             return;
@@ -129,6 +136,18 @@ impl Trapezoid {
         let segment = self.segments[..self.count].iter().find(|s| t < s.end()).expect("t is within the plan");
         segment.at(t)
     }
+}
+
+/// One step of a velocity ramp toward `target`: `acc` while speeding up, `dec` while
+/// slowing down (and through zero). A rate of 0 means a step.
+pub fn ramp_velocity(v: f64, target: f64, acc: f64, dec: f64, dt: f64) -> f64 {
+    let speeding_up = target.abs() > v.abs() && (v == 0.0 || v.signum() == target.signum());
+    let rate = if speeding_up { acc } else { dec };
+    if rate <= 0.0 {
+        return target;
+    }
+    let dv = rate * dt;
+    if (target - v).abs() <= dv { target } else { v + dv * (target - v).signum() }
 }
 
 #[cfg(test)]
@@ -197,6 +216,23 @@ mod tests {
         assert!((plus.duration() - minus.duration()).abs() < 1e-12);
         assert!((plus.at(0.1).pos + minus.at(0.1).pos).abs() < 1e-12);
         check(10.0, -30.0, -500.0, LIMITS);
+    }
+
+    #[test]
+    fn a_stop_is_one_deceleration() {
+        let plan = check(0.0, 100.0, 5.0, LIMITS);
+        let stop = Trapezoid::stop(0.0, 100.0, 500.0);
+        assert!((stop.duration() - 0.2).abs() < 1e-12);
+        assert_eq!(stop.target(), 10.0);
+        assert!(plan.duration() > stop.duration());
+    }
+
+    #[test]
+    fn velocity_ramps_use_acc_up_and_dec_down() {
+        assert_eq!(ramp_velocity(0.0, 10.0, 100.0, 50.0, 0.01), 1.0);
+        assert_eq!(ramp_velocity(10.0, 0.0, 100.0, 50.0, 0.01), 9.5);
+        assert_eq!(ramp_velocity(1.0, -10.0, 100.0, 50.0, 0.01), 0.5, "through zero with dec");
+        assert_eq!(ramp_velocity(3.0, 7.0, 0.0, 0.0, 0.01), 7.0, "a rate of 0 is a step");
     }
 
     #[test]

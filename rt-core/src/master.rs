@@ -1,0 +1,127 @@
+//! The master's services beside the motion kernel: forced process-data values (HMPL
+//! 17.2.8/17.2.9) and what the snapshot shows of each slave.
+
+use ipc::messages::{MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot};
+
+use crate::drive::DriveModel;
+use crate::drive::od::DataType;
+use crate::ecat::pdo::Mapped;
+use crate::ecat::{Field, Network};
+
+/// How many objects may be forced at once.
+pub const MAX_FORCES: usize = 32;
+
+/// Forced RxPDO values: written after the kernel every cycle, so they win over it.
+#[derive(Clone, Debug, Default)]
+pub struct PdoForces {
+    slots: [Option<(Field, i64)>; MAX_FORCES],
+}
+
+impl PdoForces {
+    /// Forces a field; false when every slot is taken.
+    pub fn force(&mut self, field: Field, value: i64) -> bool {
+        if let Some(slot) = self.slots.iter_mut().flatten().find(|(f, _)| *f == field) {
+            slot.1 = value;
+            return true;
+        }
+        match self.slots.iter_mut().find(|s| s.is_none()) {
+            Some(slot) => {
+                *slot = Some((field, value));
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Releases a field; false when it was not forced.
+    pub fn release(&mut self, field: Field) -> bool {
+        match self.slots.iter_mut().find(|s| s.is_some_and(|(f, _)| f == field)) {
+            Some(slot) => {
+                *slot = None;
+                true
+            }
+            None => false,
+        }
+    }
+
+    pub fn apply(&self, outputs: &mut [u8]) {
+        for (field, value) in self.slots.iter().flatten() {
+            field.write(outputs, *value);
+        }
+    }
+}
+
+/// Digital inputs and outputs a drive model has (CoE manual fig. 4-2, table 4-19).
+fn channels(model: DriveModel) -> (u8, u8) {
+    match model {
+        // I1..I10, O1..O5.
+        DriveModel::D1N | DriveModel::D1 | DriveModel::D2 => (10, 5),
+        // The manual documents no inputs for abily.
+        DriveModel::Abily => (0, 5),
+    }
+}
+
+fn entries(mapping: &[Mapped]) -> ([PdoEntrySnapshot; MAX_PDO_ENTRIES], u8) {
+    let mut entries = [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES];
+    for (entry, m) in entries.iter_mut().zip(mapping) {
+        let def = m.obj.def();
+        *entry = PdoEntrySnapshot {
+            index: def.index,
+            sub: def.sub,
+            bits: def.ty.bits(),
+            offset: m.offset as u8,
+            signed: matches!(def.ty, DataType::Int8 | DataType::Int16 | DataType::Int32) as u8,
+        };
+    }
+    (entries, mapping.len().min(MAX_PDO_ENTRIES) as u8)
+}
+
+/// What does not change after start-up: slave count, mappings, channels.
+pub fn describe_slaves(network: &Network, snapshot: &mut Snapshot) {
+    snapshot.slave_count = network.slaves().len() as u32;
+    for (slot, slave) in snapshot.slaves.iter_mut().zip(network.slaves()) {
+        let (rx, rx_count) = entries(slave.rx_mapping());
+        let (tx, tx_count) = entries(slave.tx_mapping());
+        let (digital_inputs, digital_outputs) = channels(slave.drive().model());
+        *slot =
+            SlaveSnapshot { rx, rx_count, tx, tx_count, digital_inputs, digital_outputs, ..SlaveSnapshot::default() };
+    }
+}
+
+/// What changes every cycle: AL states and the process data.
+pub fn update_slaves(network: &Network, snapshot: &mut Snapshot) {
+    snapshot.ecat_state = network.state().code() as u32;
+    for (i, (slot, slave)) in snapshot.slaves.iter_mut().zip(network.slaves()).enumerate() {
+        slot.al_state = slave.esm().state().code();
+        slot.al_status_code = slave.esm().error().map_or(0, |c| c.code());
+        let (outputs, inputs) = network.slave_images(i);
+        let n = outputs.len().min(MAX_PDO_BYTES);
+        slot.outputs[..n].copy_from_slice(&outputs[..n]);
+        let n = inputs.len().min(MAX_PDO_BYTES);
+        slot.inputs[..n].copy_from_slice(&inputs[..n]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::AxisConfig;
+
+    #[test]
+    fn a_forced_value_is_written_until_released() {
+        let mut net = Network::new(&[AxisConfig::default()]);
+        net.start(1_000_000).unwrap();
+        let cw = net.output_field(0, 0x6040, 0).unwrap();
+        let mut forces = PdoForces::default();
+        assert!(forces.force(cw, 0x000F));
+        let (_, outputs) = net.images_mut();
+        cw.write(outputs, 0);
+        forces.apply(outputs);
+        assert_eq!(cw.read(outputs), 0x000F);
+        assert!(forces.release(cw));
+        assert!(!forces.release(cw), "released once");
+        cw.write(outputs, 6);
+        forces.apply(outputs);
+        assert_eq!(cw.read(outputs), 6);
+    }
+}
