@@ -1,8 +1,8 @@
 ---@meta luamotion
 -- Generated from the registry by `luamotion api lua`; do not edit.
 
---- Enables (servo on) the axis by walking the drive's CiA 402 state machine.
---- Returns at once; `Till(function() return IsEnabled(a) end)` waits for the drive.
+--- Enables (servo on) the axis by walking the drive's CiA 402 state machine; both axes
+--- of a gantry pair. Returns at once; `Till(function() return IsEnabled(a) end)` waits.
 ---HMPL 5.2.1 (command (round trip to the core))
 ---@param axis_id integer
 ---@return integer
@@ -14,41 +14,311 @@ function Enable(axis_id) end
 ---@return integer
 function Disable(axis_id) end
 
---- Moves to an absolute position (mm or deg) with the axis' velocity, acceleration and
---- deceleration. A move while moving re-plans to the new target.
+--- Leaves ErrorStop once the cause is gone (a drive fault is reset too).
+---HMPL 5.2.3 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function Reset(axis_id) end
+
+--- Moves to an absolute position (mm or deg) with the axis' profile. In buffer mode 0 a
+--- move under way is re-planned to the new target; in mode 1 it is queued.
 ---HMPL 5.2.4 (command (round trip to the core))
 ---@param axis_id integer
 ---@param pos number
 ---@return integer
 function MoveAbs(axis_id, pos) end
 
---- Moves by a distance relative to the current command position.
+--- Moves by a distance from the target under way (or from the reference at rest).
 ---HMPL 5.2.5 (command (round trip to the core))
 ---@param axis_id integer
 ---@param rel_dist number
 ---@return integer
 function MoveRel(axis_id, rel_dist) end
 
---- Sets the profile velocity (mm/s or deg/s, > 0).
+--- Moves at a constant velocity until stopped; the sign is the direction.
+---HMPL 5.2.6 (command (round trip to the core))
+---@param axis_id integer
+---@param vel number
+---@return integer
+function MoveVel(axis_id, vel) end
+
+--- Produces a constant torque (N·m) in cyclic synchronous torque mode (`SetOpMode(a, 10)`).
+---HMPL 5.2.7 (command (round trip to the core))
+---@param axis_id integer
+---@param torque_cmd number
+---@return integer
+function MoveTrq(axis_id, torque_cmd) end
+
+--- Moves through position-velocity-time points (times in ms from 0, at most 50 points),
+--- starting where the axis stands. The tables hold at least `num_pt` numbers each.
+---HMPL 5.2.8 (command (round trip to the core))
+---@param axis_id integer
+---@param time number[]
+---@param pos number[]
+---@param vel number[]
+---@param num_pt integer
+---@return integer
+function MovePVT(axis_id, time, pos, vel, num_pt) end
+
+--- Decelerates to a stop and clears the path planning.
+---HMPL 5.2.9 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function Stop(axis_id) end
+
+--- Pauses the motion (velocity to 0), keeping it for `Resume`.
+---HMPL 5.2.10 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function Halt(axis_id) end
+
+--- Continues a halted motion to its target.
+---HMPL 5.2.11 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function Resume(axis_id) end
+
+--- Sets the profile velocity (mm/s or deg/s, > 0, at most the machine file's `max_vel`).
 ---HMPL 5.3.2 (command (round trip to the core))
 ---@param axis_id integer
 ---@param vel number
 ---@return integer
 function SetVel(axis_id, vel) end
 
---- Sets the profile acceleration (mm/s² or deg/s², > 0).
+--- Sets the profile acceleration (mm/s² or deg/s², > 0, at most `max_acc`).
 ---HMPL 5.3.4 (command (round trip to the core))
 ---@param axis_id integer
 ---@param acc number
 ---@return integer
 function SetAcc(axis_id, acc) end
 
---- Sets the profile deceleration (mm/s² or deg/s², > 0).
+--- Sets the acceleration from a time (ms, > 0): acc = vel / time.
+---HMPL 5.3.5 (command (round trip to the core))
+---@param axis_id integer
+---@param acc_time number
+---@return integer
+function SetAccTime(axis_id, acc_time) end
+
+--- Sets the profile deceleration (> 0, at most `max_acc`).
 ---HMPL 5.3.7 (command (round trip to the core))
 ---@param axis_id integer
 ---@param dec number
 ---@return integer
 function SetDec(axis_id, dec) end
+
+--- Sets the deceleration from a time (ms, > 0).
+---HMPL 5.3.8 (command (round trip to the core))
+---@param axis_id integer
+---@param dec_time number
+---@return integer
+function SetDecTime(axis_id, dec_time) end
+
+--- Sets the kill deceleration of StopAll and error stops (> 0).
+---HMPL 5.3.10 (command (round trip to the core))
+---@param axis_id integer
+---@param kill_dec number
+---@return integer
+function SetKillDec(axis_id, kill_dec) end
+
+--- Sets the software right (positive) limit.
+---HMPL 5.3.12 (command (round trip to the core))
+---@param axis_id integer
+---@param right_limit_pos number
+---@return integer
+function SetSWRL(axis_id, right_limit_pos) end
+
+--- Sets the software left (negative) limit.
+---HMPL 5.3.14 (command (round trip to the core))
+---@param axis_id integer
+---@param left_limit_pos number
+---@return integer
+function SetSWLL(axis_id, left_limit_pos) end
+
+--- Sets the smooth time (0..500 ms) that turns the profile into an S-curve; not while moving.
+---HMPL 5.3.16 (command (round trip to the core))
+---@param axis_id integer
+---@param smooth_time number
+---@return integer
+function SetSMTime(axis_id, smooth_time) end
+
+--- Makes the present position read `pos` by moving the axis' origin; not while moving,
+--- synchronous, in a gantry or in error.
+---HMPL 5.3.19 (command (round trip to the core))
+---@param axis_id integer
+---@param pos number
+---@return integer
+function SetPos(axis_id, pos) end
+
+--- 1: ignore the hardware limits; 0: react to them (the default).
+---HMPL 5.3.33 (command (round trip to the core))
+---@param axis_id integer
+---@param cmd integer
+---@return integer
+function IgnoreHWL(axis_id, cmd) end
+
+--- 1: ignore the software limits; 0: react to them (the default).
+---HMPL 5.3.34 (command (round trip to the core))
+---@param axis_id integer
+---@param cmd integer
+---@return integer
+function IgnoreSWL(axis_id, cmd) end
+
+--- 1: ignore the position-error limit; 0: react to it (the default).
+---HMPL 5.3.35 (command (round trip to the core))
+---@param axis_id integer
+---@param cmd integer
+---@return integer
+function IgnorePE(axis_id, cmd) end
+
+--- Sets the velocity override, 0..100 %, applied to the move under way.
+---HMPL 5.3.37 (command (round trip to the core))
+---@param axis_id integer
+---@param vel_scale number
+---@return integer
+function SetVelScale(axis_id, vel_scale) end
+
+--- Sets the rollover length (> 0; 0 switches it off); only while disabled.
+---HMPL 5.3.39 (command (round trip to the core))
+---@param axis_id integer
+---@param rollover_val number
+---@return integer
+function SetRollover(axis_id, rollover_val) end
+
+--- Sets the drive mode: 8 cyclic synchronous position, 9 velocity, 10 torque.
+---HMPL 5.3.41 (command (round trip to the core))
+---@param axis_id integer
+---@param op_mode integer
+---@return integer
+function SetOpMode(axis_id, op_mode) end
+
+--- Sets the buffer mode: 0 a new move replaces the one under way, 1 moves queue up.
+---HMPL 5.3.42 (command (round trip to the core))
+---@param axis_id integer
+---@param buf_mode integer
+---@return integer
+function SetBufferMode(axis_id, buf_mode) end
+
+--- Sets the in-position window (> 0).
+---HMPL 5.3.45 (command (round trip to the core))
+---@param axis_id integer
+---@param pos_window number
+---@return integer
+function SetPosWindow(axis_id, pos_window) end
+
+--- Sets how long (ms, > 0) the feedback must stay in the window to be in position.
+---HMPL 5.3.47 (command (round trip to the core))
+---@param axis_id integer
+---@param pos_window_time number
+---@return integer
+function SetPosWindowTime(axis_id, pos_window_time) end
+
+--- Links a slave to a master; both must be enabled.
+---HMPL 6.2 (command (round trip to the core))
+---@param axis_master_id integer
+---@param axis_slave_id integer
+---@return integer
+function EnableGear(axis_master_id, axis_slave_id) end
+
+--- Removes the link (disengaging first).
+---HMPL 6.3 (command (round trip to the core))
+---@param axis_slave_id integer
+---@return integer
+function DisableGear(axis_slave_id) end
+
+--- Engages the linked slave at a ratio (negative allowed): it follows the master's travel.
+---HMPL 6.4 (command (round trip to the core))
+---@param axis_master_id integer
+---@param axis_slave_id integer
+---@param gear_ratio number
+---@return integer
+function GearIn(axis_master_id, axis_slave_id, gear_ratio) end
+
+--- Disengages the slave; it comes to rest with its deceleration.
+---HMPL 6.5 (command (round trip to the core))
+---@param axis_slave_id integer
+---@return integer
+function GearOut(axis_slave_id) end
+
+--- Pairs a right-hand (linear) and a left-hand (yaw) axis; both must be disabled.
+---HMPL 7.2 (command (round trip to the core))
+---@param rhs_axis_id integer
+---@param lhs_axis_id integer
+---@return integer
+function EnableGantryPair(rhs_axis_id, lhs_axis_id) end
+
+--- Splits the pair of an axis; both must be disabled.
+---HMPL 7.3 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function DisableGantryPair(axis_id) end
+
+--- Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
+--- 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
+---HMPL 20.2 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function MoveHome(axis_id) end
+
+--- Sets the homing method: 1, 2, 7-14, 17, 18, 23-30, 33, 34, 37 (default 33).
+---HMPL 20.3 (command (round trip to the core))
+---@param axis_id integer
+---@param method integer
+---@return integer
+function SetHomeMethod(axis_id, method) end
+
+--- Sets the fast homing speed, searching the switch (default 20).
+---HMPL 20.4 (command (round trip to the core))
+---@param axis_id integer
+---@param fast_vel number
+---@return integer
+function SetHomeSwitchVel(axis_id, fast_vel) end
+
+--- Sets the slow homing speed, searching the index (default 5).
+---HMPL 20.5 (command (round trip to the core))
+---@param axis_id integer
+---@param slow_vel number
+---@return integer
+function SetHomeZeroVel(axis_id, slow_vel) end
+
+--- Sets the homing acceleration (default 2000).
+---HMPL 20.6 (command (round trip to the core))
+---@param axis_id integer
+---@param acc number
+---@return integer
+function SetHomeAcc(axis_id, acc) end
+
+--- Sets the position the home reads after homing (default 0).
+---HMPL 20.7 (command (round trip to the core))
+---@param axis_id integer
+---@param offset number
+---@return integer
+function SetHomeOffset(axis_id, offset) end
+
+--- Sets the homing timeout, ms (default 120000).
+---HMPL 20.8 (command (round trip to the core))
+---@param axis_id integer
+---@param timeout integer
+---@return integer
+function SetHomeTimeout(axis_id, timeout) end
+
+--- Sets the homed flag by hand (for homing routines of one's own).
+---HMPL 20.9 (command (round trip to the core))
+---@param axis_id integer
+---@param is_homed integer
+---@return integer
+function SetHomedStatus(axis_id, is_homed) end
+
+--- Clears the axis' last error.
+---HMPL 18.4 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function ClearAxisLastErr(axis_id) end
+
+--- Clears a group's last error.
+---HMPL 18.6 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function ClearGrpLastErr(group_id) end
 
 --- Reads a drive object by SDO. Returns its value (sign-extended), or -1 on failure
 --- (ambiguous with a real -1, as in HMPL; use `ReadSDOEx` to tell them apart).
@@ -126,6 +396,179 @@ function ReleasePDO(slv_id, obj_index, obj_subindex) end
 ---@return integer
 function SimDriveFault(slv_id, error_code) end
 
+--- The profile velocity.
+---HMPL 5.3.1 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetVel(axis_id) end
+
+--- The profile acceleration.
+---HMPL 5.3.3 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetAcc(axis_id) end
+
+--- The profile deceleration.
+---HMPL 5.3.6 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetDec(axis_id) end
+
+--- The kill deceleration.
+---HMPL 5.3.9 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetKillDec(axis_id) end
+
+--- The software right limit.
+---HMPL 5.3.11 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetSWRL(axis_id) end
+
+--- The software left limit.
+---HMPL 5.3.13 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetSWLL(axis_id) end
+
+--- The smooth time, ms.
+---HMPL 5.3.15 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetSMTime(axis_id) end
+
+--- How long the last move took, ms.
+---HMPL 5.3.17 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetMoveTime(axis_id) end
+
+--- How long the last move took from its end to in position, ms.
+---HMPL 5.3.18 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetSettlingTime(axis_id) end
+
+--- Position feedback.
+---HMPL 5.3.20 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosFb(axis_id) end
+
+--- Position feedback with the compensation.
+---HMPL 5.3.21 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosFbComp(axis_id) end
+
+--- The offset `SetPos` put between the axis and the drive.
+---HMPL 5.3.22 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosOffset(axis_id) end
+
+--- Position error: output minus feedback.
+---HMPL 5.3.23 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosErr(axis_id) end
+
+--- Velocity feedback.
+---HMPL 5.3.24 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetVelFb(axis_id) end
+
+--- Velocity error.
+---HMPL 5.3.25 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetVelErr(axis_id) end
+
+--- Current feedback, A (needs 0x6077 mapped).
+---HMPL 5.3.26 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetCurrFb(axis_id) end
+
+--- Reference position: the profile generator's output.
+---HMPL 5.3.27 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetRefPos(axis_id) end
+
+--- Reference velocity.
+---HMPL 5.3.28 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetRefVel(axis_id) end
+
+--- Reference acceleration.
+---HMPL 5.3.29 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetRefAcc(axis_id) end
+
+--- Position output: reference plus compensation.
+---HMPL 5.3.30 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosOut(axis_id) end
+
+--- Velocity output.
+---HMPL 5.3.31 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetVelOut(axis_id) end
+
+--- Acceleration output.
+---HMPL 5.3.32 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetAccOut(axis_id) end
+
+--- The number of axes.
+---HMPL 5.3.36 (query (local snapshot))
+---@return integer
+function GetAxisNum() end
+
+--- The velocity override, %.
+---HMPL 5.3.38 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetVelScale(axis_id) end
+
+--- Whole turns counted in rollover mode.
+---HMPL 5.3.40 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetRolloverTurns(axis_id) end
+
+--- The buffer mode, 0 or 1.
+---HMPL 5.3.43 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetBufferMode(axis_id) end
+
+--- Moves waiting in the queue.
+---HMPL 5.3.44 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetCmdNum(axis_id) end
+
+--- The in-position window.
+---HMPL 5.3.46 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosWindow(axis_id) end
+
+--- The in-position time, ms.
+---HMPL 5.3.48 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetPosWindowTime(axis_id) end
+
 --- True when the axis is enabled (drive in Operation enabled).
 ---HMPL 5.4.1 (query (local snapshot))
 ---@param axis_id integer
@@ -144,23 +587,155 @@ function IsMoving(axis_id) end
 ---@return boolean
 function IsInPos(axis_id) end
 
---- Position feedback (mm or deg).
----HMPL 5.3.20 (query (local snapshot))
+--- True in ErrorStop.
+---HMPL 5.4.4 (query (local snapshot))
 ---@param axis_id integer
----@return number
-function GetPosFb(axis_id) end
+---@return boolean
+function IsErrorStop(axis_id) end
 
---- Reference position: the profile generator's output (mm or deg).
----HMPL 5.3.27 (query (local snapshot))
+--- True for an axis of a gantry pair.
+---HMPL 5.4.5 (query (local snapshot))
 ---@param axis_id integer
+---@return boolean
+function IsGantry(axis_id) end
+
+--- True for an axis in a group.
+---HMPL 5.4.6 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsGrouped(axis_id) end
+
+--- True when the axis follows a master (gear slave or group).
+---HMPL 5.4.7 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsSync(axis_id) end
+
+--- True while the hardware left (negative) limit is active (0x60FD bit 0).
+---HMPL 5.4.8 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsHWLL(axis_id) end
+
+--- True while the hardware right (positive) limit is active (0x60FD bit 1).
+---HMPL 5.4.9 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsHWRL(axis_id) end
+
+--- True once the software left limit stopped the axis.
+---HMPL 5.4.10 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsSWLL(axis_id) end
+
+--- True once the software right limit stopped the axis.
+---HMPL 5.4.11 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsSWRL(axis_id) end
+
+--- True when the drive reports a fault.
+---HMPL 5.4.12 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsDriveErr(axis_id) end
+
+--- True once the position error exceeded its limit.
+---HMPL 5.4.13 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsPosErr(axis_id) end
+
+--- True when error compensation is active on the axis.
+---HMPL 5.4.14 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsCompActive(axis_id) end
+
+--- True while the axis accelerates.
+---HMPL 5.4.15 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsAcc(axis_id) end
+
+--- The engaged gear ratio (0 when not engaged).
+---HMPL 6.6 (query (local snapshot))
+---@param axis_slave_id integer
 ---@return number
-function GetRefPos(axis_id) end
+function GetGearRatio(axis_slave_id) end
+
+--- True when the slave is engaged.
+---HMPL 6.7 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsInGear(axis_id) end
+
+--- True when the axis is a gear master.
+---HMPL 6.8 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsGearMaster(axis_id) end
+
+--- True when the axis is a gear slave.
+---HMPL 6.9 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsGearSlave(axis_id) end
+
+--- The gantry pair's id, -1 when not in a pair.
+---HMPL 7.4 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetGantryPairID(axis_id) end
+
+--- True when the two axes form a pair.
+---HMPL 7.5 (query (local snapshot))
+---@param axis_id_1 integer
+---@param axis_id_2 integer
+---@return boolean
+function IsGantryPair(axis_id_1, axis_id_2) end
+
+--- True once homing completed (or `SetHomedStatus(a, 1)`).
+---HMPL 20.10 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsHomed(axis_id) end
+
+--- True while homing runs.
+---HMPL 20.11 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsHoming(axis_id) end
+
+--- True while the home switch is active (0x60FD bit 2).
+---HMPL 20.12 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsHomeSwitch(axis_id) end
+
+--- The last system error code (0x0000EEEE; 0: none).
+---HMPL 18.2 (query (local snapshot))
+---@return integer
+function GetSystemLastErr() end
 
 --- The axis' last error as a 32-bit code `0x83IIEEEE` (0: none).
 ---HMPL 18.3 (query (local snapshot))
 ---@param axis_id integer
 ---@return integer
 function GetAxisLastErr(axis_id) end
+
+--- A group's last error `0x82IIEEEE` (0: none).
+---HMPL 18.5 (query (local snapshot))
+---@param group_id integer
+---@return integer
+function GetGrpLastErr(group_id) end
+
+--- The drive's own error code (0x603F).
+---HMPL 18.7 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetDriveErr(axis_id) end
 
 --- Reads an object mapped in the process data (TxPDO or RxPDO). Returns its value, or -1
 --- when it is not mapped.
@@ -270,6 +845,45 @@ HMPL_SLOT_1 = 65536 -- HMPL 9.1 (value: luamotion)
 HMPL_SLOT_2 = 131072 -- HMPL 9.1 (value: luamotion)
 HMPL_SLOT_3 = 196608 -- HMPL 9.1 (value: luamotion)
 HMPL_SLOT_4 = 262144 -- HMPL 9.1 (value: luamotion)
+HOME_METHOD_1 = 1
+HOME_METHOD_2 = 2
+HOME_METHOD_7 = 7
+HOME_METHOD_8 = 8
+HOME_METHOD_9 = 9
+HOME_METHOD_10 = 10
+HOME_METHOD_11 = 11
+HOME_METHOD_12 = 12
+HOME_METHOD_13 = 13
+HOME_METHOD_14 = 14
+HOME_METHOD_17 = 17
+HOME_METHOD_18 = 18
+HOME_METHOD_23 = 23
+HOME_METHOD_24 = 24
+HOME_METHOD_25 = 25
+HOME_METHOD_26 = 26
+HOME_METHOD_27 = 27
+HOME_METHOD_28 = 28
+HOME_METHOD_29 = 29
+HOME_METHOD_30 = 30
+HOME_METHOD_33 = 33
+HOME_METHOD_34 = 34
+HOME_METHOD_37 = 37
+HMPL_AXIS_0 = 0
+HMPL_AXIS_1 = 1
+HMPL_AXIS_2 = 2
+HMPL_AXIS_3 = 3
+HMPL_AXIS_4 = 4
+HMPL_AXIS_5 = 5
+HMPL_AXIS_6 = 6
+HMPL_AXIS_7 = 7
+HMPL_AXIS_8 = 8
+HMPL_AXIS_9 = 9
+HMPL_AXIS_10 = 10
+HMPL_AXIS_11 = 11
+HMPL_AXIS_12 = 12
+HMPL_AXIS_13 = 13
+HMPL_AXIS_14 = 14
+HMPL_AXIS_15 = 15
 eERR_HCV_ID_NOT_FOUND = 0x0001
 eERR_DATA_EXCEEDED = 0x0002
 eERR_HCV_IS_READ_ONLY = 0x0003

@@ -23,6 +23,14 @@ pub const CONSTANTS: &[(&str, Constant, &str)] = &[
     ("HMPL_SLOT_4", Constant::Int(4 << 16), "HMPL 9.1 (value: luamotion)"),
 ];
 
+/// `HOME_METHOD_n` (HMPL 20.1) and `HMPL_AXIS_n` (HMPL 23) as globals.
+pub fn numbered() -> impl Iterator<Item = (String, i64)> {
+    let methods = [1, 2, 7, 8, 9, 10, 11, 12, 13, 14, 17, 18, 23, 24, 25, 26, 27, 28, 29, 30, 33, 34, 37];
+    let homes = methods.into_iter().map(|m| (format!("HOME_METHOD_{m}"), m));
+    let axes = (0..16).map(|a| (format!("HMPL_AXIS_{a}"), a));
+    homes.chain(axes)
+}
+
 /// `slv_slot_id`: the slave id in the low 16 bits, `HMPL_SLOT_n` = n << 16 above them.
 pub fn split_slave_slot(slv_slot_id: i64) -> (i64, i64) {
     (slv_slot_id & 0xFFFF, slv_slot_id >> 16)

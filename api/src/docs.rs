@@ -4,7 +4,7 @@
 
 use std::fmt::Write;
 
-use crate::constants::{CONSTANTS, Constant, error_ids};
+use crate::constants::{CONSTANTS, Constant, error_ids, numbered};
 use crate::registry::{ArgType, FunctionSpec, Kind, ValueType, all};
 
 fn lua_type(v: ValueType) -> &'static str {
@@ -71,6 +71,7 @@ pub fn markdown() -> String {
         };
         let _ = writeln!(out, "| `{name}` | `{value}` | {source} |");
     }
+    out.push_str("\n`HOME_METHOD_n` (HMPL 20.1) and `HMPL_AXIS_n` (0..15) are constants too.\n");
     out.push_str("\nEvery error name of HMPL ch. 18 is also a constant holding its error id (`EEEE`), ");
     out.push_str("e.g. `GetAxisLastErr(0) & 0xFFFF == eERR_AXIS_CMD_INVALID_DISABLED`.\n");
     out
@@ -95,6 +96,7 @@ pub fn lua_meta() -> String {
                 ArgType::Str => (a.name, "string"),
                 ArgType::Func => (a.name, "fun(): any"),
                 ArgType::Bytes => (a.name, "integer[]|string"),
+                ArgType::Doubles => (a.name, "number[]"),
                 ArgType::Rest => ("...", "any"),
             };
             let _ = writeln!(out, "---@param {name} {ty}");
@@ -113,6 +115,9 @@ pub fn lua_meta() -> String {
             Constant::Str(s) => format!("{s:?}"),
         };
         let _ = writeln!(out, "{name} = {value} -- {source}");
+    }
+    for (name, value) in numbered() {
+        let _ = writeln!(out, "{name} = {value}");
     }
     for (name, id) in error_ids() {
         let _ = writeln!(out, "{name} = 0x{id:04X}");

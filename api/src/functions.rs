@@ -7,22 +7,114 @@ use crate::registry::declare_functions;
 declare_functions! {
     Command, COMMANDS;
 
-    /// Enables (servo on) the axis by walking the drive's CiA 402 state machine.
-    /// Returns at once; `Till(function() return IsEnabled(a) end)` waits for the drive.
+    // HMPL 5.2: axis motion control.
+    /// Enables (servo on) the axis by walking the drive's CiA 402 state machine; both axes
+    /// of a gantry pair. Returns at once; `Till(function() return IsEnabled(a) end)` waits.
     ["HMPL 5.2.1", ascii] fn Enable(axis_id: Int) -> Int;
     /// Disables (servo off) the axis and clears its path planning.
     ["HMPL 5.2.2", ascii] fn Disable(axis_id: Int) -> Int;
-    /// Moves to an absolute position (mm or deg) with the axis' velocity, acceleration and
-    /// deceleration. A move while moving re-plans to the new target.
+    /// Leaves ErrorStop once the cause is gone (a drive fault is reset too).
+    ["HMPL 5.2.3", ascii] fn Reset(axis_id: Int) -> Int;
+    /// Moves to an absolute position (mm or deg) with the axis' profile. In buffer mode 0 a
+    /// move under way is re-planned to the new target; in mode 1 it is queued.
     ["HMPL 5.2.4", ascii] fn MoveAbs(axis_id: Int, pos: Double) -> Int;
-    /// Moves by a distance relative to the current command position.
+    /// Moves by a distance from the target under way (or from the reference at rest).
     ["HMPL 5.2.5", ascii] fn MoveRel(axis_id: Int, rel_dist: Double) -> Int;
-    /// Sets the profile velocity (mm/s or deg/s, > 0).
+    /// Moves at a constant velocity until stopped; the sign is the direction.
+    ["HMPL 5.2.6", ascii] fn MoveVel(axis_id: Int, vel: Double) -> Int;
+    /// Produces a constant torque (N·m) in cyclic synchronous torque mode (`SetOpMode(a, 10)`).
+    ["HMPL 5.2.7", ascii] fn MoveTrq(axis_id: Int, torque_cmd: Double) -> Int;
+    /// Moves through position-velocity-time points (times in ms from 0, at most 50 points),
+    /// starting where the axis stands. The tables hold at least `num_pt` numbers each.
+    ["HMPL 5.2.8"] fn MovePVT(axis_id: Int, time: Doubles, pos: Doubles, vel: Doubles, num_pt: Int) -> Int;
+    /// Decelerates to a stop and clears the path planning.
+    ["HMPL 5.2.9", ascii] fn Stop(axis_id: Int) -> Int;
+    /// Pauses the motion (velocity to 0), keeping it for `Resume`.
+    ["HMPL 5.2.10", ascii] fn Halt(axis_id: Int) -> Int;
+    /// Continues a halted motion to its target.
+    ["HMPL 5.2.11", ascii] fn Resume(axis_id: Int) -> Int;
+
+    // HMPL 5.3: axis settings.
+    /// Sets the profile velocity (mm/s or deg/s, > 0, at most the machine file's `max_vel`).
     ["HMPL 5.3.2", ascii] fn SetVel(axis_id: Int, vel: Double) -> Int;
-    /// Sets the profile acceleration (mm/s² or deg/s², > 0).
+    /// Sets the profile acceleration (mm/s² or deg/s², > 0, at most `max_acc`).
     ["HMPL 5.3.4", ascii] fn SetAcc(axis_id: Int, acc: Double) -> Int;
-    /// Sets the profile deceleration (mm/s² or deg/s², > 0).
+    /// Sets the acceleration from a time (ms, > 0): acc = vel / time.
+    ["HMPL 5.3.5", ascii] fn SetAccTime(axis_id: Int, acc_time: Double) -> Int;
+    /// Sets the profile deceleration (> 0, at most `max_acc`).
     ["HMPL 5.3.7", ascii] fn SetDec(axis_id: Int, dec: Double) -> Int;
+    /// Sets the deceleration from a time (ms, > 0).
+    ["HMPL 5.3.8", ascii] fn SetDecTime(axis_id: Int, dec_time: Double) -> Int;
+    /// Sets the kill deceleration of StopAll and error stops (> 0).
+    ["HMPL 5.3.10", ascii] fn SetKillDec(axis_id: Int, kill_dec: Double) -> Int;
+    /// Sets the software right (positive) limit.
+    ["HMPL 5.3.12", ascii] fn SetSWRL(axis_id: Int, right_limit_pos: Double) -> Int;
+    /// Sets the software left (negative) limit.
+    ["HMPL 5.3.14", ascii] fn SetSWLL(axis_id: Int, left_limit_pos: Double) -> Int;
+    /// Sets the smooth time (0..500 ms) that turns the profile into an S-curve; not while moving.
+    ["HMPL 5.3.16", ascii] fn SetSMTime(axis_id: Int, smooth_time: Double) -> Int;
+    /// Makes the present position read `pos` by moving the axis' origin; not while moving,
+    /// synchronous, in a gantry or in error.
+    ["HMPL 5.3.19", ascii] fn SetPos(axis_id: Int, pos: Double) -> Int;
+    /// 1: ignore the hardware limits; 0: react to them (the default).
+    ["HMPL 5.3.33", ascii] fn IgnoreHWL(axis_id: Int, cmd: Int) -> Int;
+    /// 1: ignore the software limits; 0: react to them (the default).
+    ["HMPL 5.3.34", ascii] fn IgnoreSWL(axis_id: Int, cmd: Int) -> Int;
+    /// 1: ignore the position-error limit; 0: react to it (the default).
+    ["HMPL 5.3.35", ascii] fn IgnorePE(axis_id: Int, cmd: Int) -> Int;
+    /// Sets the velocity override, 0..100 %, applied to the move under way.
+    ["HMPL 5.3.37", ascii] fn SetVelScale(axis_id: Int, vel_scale: Double) -> Int;
+    /// Sets the rollover length (> 0; 0 switches it off); only while disabled.
+    ["HMPL 5.3.39", ascii] fn SetRollover(axis_id: Int, rollover_val: Double) -> Int;
+    /// Sets the drive mode: 8 cyclic synchronous position, 9 velocity, 10 torque.
+    ["HMPL 5.3.41", ascii] fn SetOpMode(axis_id: Int, op_mode: Int) -> Int;
+    /// Sets the buffer mode: 0 a new move replaces the one under way, 1 moves queue up.
+    ["HMPL 5.3.42", ascii] fn SetBufferMode(axis_id: Int, buf_mode: Int) -> Int;
+    /// Sets the in-position window (> 0).
+    ["HMPL 5.3.45", ascii] fn SetPosWindow(axis_id: Int, pos_window: Double) -> Int;
+    /// Sets how long (ms, > 0) the feedback must stay in the window to be in position.
+    ["HMPL 5.3.47", ascii] fn SetPosWindowTime(axis_id: Int, pos_window_time: Double) -> Int;
+
+    // HMPL ch. 6: electronic gear.
+    /// Links a slave to a master; both must be enabled.
+    ["HMPL 6.2", ascii] fn EnableGear(axis_master_id: Int, axis_slave_id: Int) -> Int;
+    /// Removes the link (disengaging first).
+    ["HMPL 6.3", ascii] fn DisableGear(axis_slave_id: Int) -> Int;
+    /// Engages the linked slave at a ratio (negative allowed): it follows the master's travel.
+    ["HMPL 6.4", ascii] fn GearIn(axis_master_id: Int, axis_slave_id: Int, gear_ratio: Double) -> Int;
+    /// Disengages the slave; it comes to rest with its deceleration.
+    ["HMPL 6.5", ascii] fn GearOut(axis_slave_id: Int) -> Int;
+
+    // HMPL ch. 7: gantry.
+    /// Pairs a right-hand (linear) and a left-hand (yaw) axis; both must be disabled.
+    ["HMPL 7.2", ascii] fn EnableGantryPair(rhs_axis_id: Int, lhs_axis_id: Int) -> Int;
+    /// Splits the pair of an axis; both must be disabled.
+    ["HMPL 7.3", ascii] fn DisableGantryPair(axis_id: Int) -> Int;
+
+    // HMPL ch. 20: homing.
+    /// Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
+    /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
+    ["HMPL 20.2", ascii] fn MoveHome(axis_id: Int) -> Int;
+    /// Sets the homing method: 1, 2, 7-14, 17, 18, 23-30, 33, 34, 37 (default 33).
+    ["HMPL 20.3", ascii] fn SetHomeMethod(axis_id: Int, method: Int) -> Int;
+    /// Sets the fast homing speed, searching the switch (default 20).
+    ["HMPL 20.4", ascii] fn SetHomeSwitchVel(axis_id: Int, fast_vel: Double) -> Int;
+    /// Sets the slow homing speed, searching the index (default 5).
+    ["HMPL 20.5", ascii] fn SetHomeZeroVel(axis_id: Int, slow_vel: Double) -> Int;
+    /// Sets the homing acceleration (default 2000).
+    ["HMPL 20.6", ascii] fn SetHomeAcc(axis_id: Int, acc: Double) -> Int;
+    /// Sets the position the home reads after homing (default 0).
+    ["HMPL 20.7", ascii] fn SetHomeOffset(axis_id: Int, offset: Double) -> Int;
+    /// Sets the homing timeout, ms (default 120000).
+    ["HMPL 20.8", ascii] fn SetHomeTimeout(axis_id: Int, timeout: Int) -> Int;
+    /// Sets the homed flag by hand (for homing routines of one's own).
+    ["HMPL 20.9", ascii] fn SetHomedStatus(axis_id: Int, is_homed: Int) -> Int;
+
+    // HMPL ch. 18: errors.
+    /// Clears the axis' last error.
+    ["HMPL 18.4", ascii] fn ClearAxisLastErr(axis_id: Int) -> Int;
+    /// Clears a group's last error.
+    ["HMPL 18.6", ascii] fn ClearGrpLastErr(group_id: Int) -> Int;
 
     /// Reads a drive object by SDO. Returns its value (sign-extended), or -1 on failure
     /// (ambiguous with a real -1, as in HMPL; use `ReadSDOEx` to tell them apart).
@@ -50,18 +142,125 @@ declare_functions! {
 declare_functions! {
     Query, QUERIES;
 
+    // HMPL 5.3: axis settings and variables (mm or deg, s, ms).
+    /// The profile velocity.
+    ["HMPL 5.3.1", ascii] fn GetVel(axis_id: Int) -> Double;
+    /// The profile acceleration.
+    ["HMPL 5.3.3", ascii] fn GetAcc(axis_id: Int) -> Double;
+    /// The profile deceleration.
+    ["HMPL 5.3.6", ascii] fn GetDec(axis_id: Int) -> Double;
+    /// The kill deceleration.
+    ["HMPL 5.3.9", ascii] fn GetKillDec(axis_id: Int) -> Double;
+    /// The software right limit.
+    ["HMPL 5.3.11", ascii] fn GetSWRL(axis_id: Int) -> Double;
+    /// The software left limit.
+    ["HMPL 5.3.13", ascii] fn GetSWLL(axis_id: Int) -> Double;
+    /// The smooth time, ms.
+    ["HMPL 5.3.15", ascii] fn GetSMTime(axis_id: Int) -> Double;
+    /// How long the last move took, ms.
+    ["HMPL 5.3.17", ascii] fn GetMoveTime(axis_id: Int) -> Double;
+    /// How long the last move took from its end to in position, ms.
+    ["HMPL 5.3.18", ascii] fn GetSettlingTime(axis_id: Int) -> Double;
+    /// Position feedback.
+    ["HMPL 5.3.20", ascii] fn GetPosFb(axis_id: Int) -> Double;
+    /// Position feedback with the compensation.
+    ["HMPL 5.3.21", ascii] fn GetPosFbComp(axis_id: Int) -> Double;
+    /// The offset `SetPos` put between the axis and the drive.
+    ["HMPL 5.3.22", ascii] fn GetPosOffset(axis_id: Int) -> Double;
+    /// Position error: output minus feedback.
+    ["HMPL 5.3.23", ascii] fn GetPosErr(axis_id: Int) -> Double;
+    /// Velocity feedback.
+    ["HMPL 5.3.24", ascii] fn GetVelFb(axis_id: Int) -> Double;
+    /// Velocity error.
+    ["HMPL 5.3.25", ascii] fn GetVelErr(axis_id: Int) -> Double;
+    /// Current feedback, A (needs 0x6077 mapped).
+    ["HMPL 5.3.26", ascii] fn GetCurrFb(axis_id: Int) -> Double;
+    /// Reference position: the profile generator's output.
+    ["HMPL 5.3.27", ascii] fn GetRefPos(axis_id: Int) -> Double;
+    /// Reference velocity.
+    ["HMPL 5.3.28", ascii] fn GetRefVel(axis_id: Int) -> Double;
+    /// Reference acceleration.
+    ["HMPL 5.3.29", ascii] fn GetRefAcc(axis_id: Int) -> Double;
+    /// Position output: reference plus compensation.
+    ["HMPL 5.3.30", ascii] fn GetPosOut(axis_id: Int) -> Double;
+    /// Velocity output.
+    ["HMPL 5.3.31", ascii] fn GetVelOut(axis_id: Int) -> Double;
+    /// Acceleration output.
+    ["HMPL 5.3.32", ascii] fn GetAccOut(axis_id: Int) -> Double;
+    /// The number of axes.
+    ["HMPL 5.3.36", ascii] fn GetAxisNum() -> Int;
+    /// The velocity override, %.
+    ["HMPL 5.3.38", ascii] fn GetVelScale(axis_id: Int) -> Double;
+    /// Whole turns counted in rollover mode.
+    ["HMPL 5.3.40", ascii] fn GetRolloverTurns(axis_id: Int) -> Int;
+    /// The buffer mode, 0 or 1.
+    ["HMPL 5.3.43", ascii] fn GetBufferMode(axis_id: Int) -> Int;
+    /// Moves waiting in the queue.
+    ["HMPL 5.3.44", ascii] fn GetCmdNum(axis_id: Int) -> Int;
+    /// The in-position window.
+    ["HMPL 5.3.46", ascii] fn GetPosWindow(axis_id: Int) -> Double;
+    /// The in-position time, ms.
+    ["HMPL 5.3.48", ascii] fn GetPosWindowTime(axis_id: Int) -> Double;
+
+    // HMPL 5.4: axis status.
     /// True when the axis is enabled (drive in Operation enabled).
     ["HMPL 5.4.1", ascii] fn IsEnabled(axis_id: Int) -> Bool;
     /// True while the profile generator still emits new positions.
     ["HMPL 5.4.2", ascii] fn IsMoving(axis_id: Int) -> Bool;
     /// True when the feedback has stayed within the position window for the window time.
     ["HMPL 5.4.3", ascii] fn IsInPos(axis_id: Int) -> Bool;
-    /// Position feedback (mm or deg).
-    ["HMPL 5.3.20", ascii] fn GetPosFb(axis_id: Int) -> Double;
-    /// Reference position: the profile generator's output (mm or deg).
-    ["HMPL 5.3.27", ascii] fn GetRefPos(axis_id: Int) -> Double;
+    /// True in ErrorStop.
+    ["HMPL 5.4.4", ascii] fn IsErrorStop(axis_id: Int) -> Bool;
+    /// True for an axis of a gantry pair.
+    ["HMPL 5.4.5", ascii] fn IsGantry(axis_id: Int) -> Bool;
+    /// True for an axis in a group.
+    ["HMPL 5.4.6", ascii] fn IsGrouped(axis_id: Int) -> Bool;
+    /// True when the axis follows a master (gear slave or group).
+    ["HMPL 5.4.7", ascii] fn IsSync(axis_id: Int) -> Bool;
+    /// True while the hardware left (negative) limit is active (0x60FD bit 0).
+    ["HMPL 5.4.8", ascii] fn IsHWLL(axis_id: Int) -> Bool;
+    /// True while the hardware right (positive) limit is active (0x60FD bit 1).
+    ["HMPL 5.4.9", ascii] fn IsHWRL(axis_id: Int) -> Bool;
+    /// True once the software left limit stopped the axis.
+    ["HMPL 5.4.10", ascii] fn IsSWLL(axis_id: Int) -> Bool;
+    /// True once the software right limit stopped the axis.
+    ["HMPL 5.4.11", ascii] fn IsSWRL(axis_id: Int) -> Bool;
+    /// True when the drive reports a fault.
+    ["HMPL 5.4.12", ascii] fn IsDriveErr(axis_id: Int) -> Bool;
+    /// True once the position error exceeded its limit.
+    ["HMPL 5.4.13", ascii] fn IsPosErr(axis_id: Int) -> Bool;
+    /// True when error compensation is active on the axis.
+    ["HMPL 5.4.14", ascii] fn IsCompActive(axis_id: Int) -> Bool;
+    /// True while the axis accelerates.
+    ["HMPL 5.4.15", ascii] fn IsAcc(axis_id: Int) -> Bool;
+
+    // HMPL ch. 6, 7, 20, 18.
+    /// The engaged gear ratio (0 when not engaged).
+    ["HMPL 6.6", ascii] fn GetGearRatio(axis_slave_id: Int) -> Double;
+    /// True when the slave is engaged.
+    ["HMPL 6.7", ascii] fn IsInGear(axis_id: Int) -> Bool;
+    /// True when the axis is a gear master.
+    ["HMPL 6.8", ascii] fn IsGearMaster(axis_id: Int) -> Bool;
+    /// True when the axis is a gear slave.
+    ["HMPL 6.9", ascii] fn IsGearSlave(axis_id: Int) -> Bool;
+    /// The gantry pair's id, -1 when not in a pair.
+    ["HMPL 7.4", ascii] fn GetGantryPairID(axis_id: Int) -> Int;
+    /// True when the two axes form a pair.
+    ["HMPL 7.5", ascii] fn IsGantryPair(axis_id_1: Int, axis_id_2: Int) -> Bool;
+    /// True once homing completed (or `SetHomedStatus(a, 1)`).
+    ["HMPL 20.10", ascii] fn IsHomed(axis_id: Int) -> Bool;
+    /// True while homing runs.
+    ["HMPL 20.11", ascii] fn IsHoming(axis_id: Int) -> Bool;
+    /// True while the home switch is active (0x60FD bit 2).
+    ["HMPL 20.12", ascii] fn IsHomeSwitch(axis_id: Int) -> Bool;
+    /// The last system error code (0x0000EEEE; 0: none).
+    ["HMPL 18.2", ascii] fn GetSystemLastErr() -> Int;
     /// The axis' last error as a 32-bit code `0x83IIEEEE` (0: none).
     ["HMPL 18.3", ascii] fn GetAxisLastErr(axis_id: Int) -> Int;
+    /// A group's last error `0x82IIEEEE` (0: none).
+    ["HMPL 18.5", ascii] fn GetGrpLastErr(group_id: Int) -> Int;
+    /// The drive's own error code (0x603F).
+    ["HMPL 18.7", ascii] fn GetDriveErr(axis_id: Int) -> Int;
 
     /// Reads an object mapped in the process data (TxPDO or RxPDO). Returns its value, or -1
     /// when it is not mapped.

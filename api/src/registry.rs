@@ -32,6 +32,8 @@ pub enum ArgType {
     Func,
     /// `uint8_t*`: a table of integers 0..255, or a string.
     Bytes,
+    /// `double*`: a table of numbers.
+    Doubles,
     /// `...` of a printf-style function: any number of values.
     Rest,
 }
@@ -97,6 +99,7 @@ impl FunctionSpec {
                 ArgType::Str => format!("char *{}", a.name),
                 ArgType::Func => format!("condition {}", a.name),
                 ArgType::Bytes => format!("uint8_t *{}", a.name),
+                ArgType::Doubles => format!("double *{}", a.name),
                 ArgType::Rest => "...".to_string(),
             })
             .collect();

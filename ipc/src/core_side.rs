@@ -16,6 +16,22 @@ use crate::{IpcError, Namespace};
 /// Name of the controller's node; a live node of this name owns the namespace.
 pub const CORE_NODE_NAME: &str = "luamotion-core";
 
+/// What the core does with a request it has taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Disposition {
+    /// The reply is complete: send it now.
+    Reply,
+    /// The call blocks (e.g. `MoveHome`): keep it and answer when `resume` says it is done.
+    Defer,
+}
+
+/// A call kept until it completes, with the process it came from.
+struct Deferred {
+    request: Request,
+    reply: Reply,
+    pid: u32,
+}
+
 struct TaskChannel {
     id: u8,
     requests: RequestSubscriber,
@@ -24,6 +40,7 @@ struct TaskChannel {
     /// Sequence number of the last wait request this task was woken for.
     last_woken_wait: Option<u16>,
     replied: bool,
+    deferred: Option<Deferred>,
 }
 
 /// Counters the soak test and the logs read.
@@ -68,7 +85,15 @@ impl CoreEndpoint {
                 .notifier_builder()
                 .create()
                 .map_err(|e| failed(&format!("task {id} notifier"), e))?;
-            tasks.push(TaskChannel { id, requests, replies, notifier, last_woken_wait: None, replied: false });
+            tasks.push(TaskChannel {
+                id,
+                requests,
+                replies,
+                notifier,
+                last_woken_wait: None,
+                replied: false,
+                deferred: None,
+            });
         }
         let table = Region::<TaskTable>::create(ns, "tasks")?;
         Ok(CoreEndpoint { state, tasks, table, stats: CoreIpcStats::default(), _node: node })
@@ -83,26 +108,63 @@ impl CoreEndpoint {
     }
 
     /// Takes up to `max_per_task` pending requests of every task and answers each with
-    /// `handle(task, request, reply)`. The reply is sent at once; the task is woken by
-    /// `wake`, after the snapshot that shows the command's effect is published.
-    pub fn serve(&mut self, cycle: u64, max_per_task: usize, mut handle: impl FnMut(u8, &Request, &mut Reply)) {
+    /// `handle(task, request, reply)`. A reply is sent at once unless the handler defers
+    /// it; the task is woken by `wake`, after the snapshot that shows the command's effect
+    /// is published. A task with a deferred call sends nothing else until it is answered.
+    pub fn serve(
+        &mut self,
+        cycle: u64,
+        max_per_task: usize,
+        mut handle: impl FnMut(u8, &Request, &mut Reply) -> Disposition,
+    ) {
         for task in &mut self.tasks {
             for _ in 0..max_per_task {
+                if task.deferred.is_some() {
+                    break;
+                }
                 let Ok(Some(request)) = task.requests.receive() else { break };
                 let received_ns = monotonic_ns();
                 self.stats.requests += 1;
                 let mut reply = Reply::to(request.payload());
                 reply.received_ns = received_ns;
                 reply.cycle = cycle;
-                handle(task.id, request.payload(), &mut reply);
-                reply.sent_ns = monotonic_ns();
-                match task.replies.send_copy(reply) {
-                    Ok(_) => self.stats.replies += 1,
-                    Err(_) => self.stats.send_failures += 1,
+                match handle(task.id, request.payload(), &mut reply) {
+                    Disposition::Reply => Self::send(task, &mut self.stats, reply),
+                    Disposition::Defer => {
+                        let pid = self.table.slots[task.id as usize].pid();
+                        task.deferred = Some(Deferred { request: *request.payload(), reply, pid });
+                    }
                 }
-                task.replied = true;
             }
         }
+    }
+
+    /// Answers the deferred calls `done(task, request, reply)` says are complete. A call
+    /// whose process is gone is dropped.
+    pub fn resume(&mut self, cycle: u64, mut done: impl FnMut(u8, &Request, &mut Reply) -> bool) {
+        for task in &mut self.tasks {
+            let Some(deferred) = &mut task.deferred else { continue };
+            let slot = &self.table.slots[task.id as usize];
+            if slot.pid() != deferred.pid || matches!(slot.state(), RunState::Idle | RunState::Finished) {
+                task.deferred = None;
+                continue;
+            }
+            if done(task.id, &deferred.request, &mut deferred.reply) {
+                let mut reply = deferred.reply;
+                reply.cycle = cycle;
+                task.deferred = None;
+                Self::send(task, &mut self.stats, reply);
+            }
+        }
+    }
+
+    fn send(task: &mut TaskChannel, stats: &mut CoreIpcStats, mut reply: Reply) {
+        reply.sent_ns = monotonic_ns();
+        match task.replies.send_copy(reply) {
+            Ok(_) => stats.replies += 1,
+            Err(_) => stats.send_failures += 1,
+        }
+        task.replied = true;
     }
 
     /// Publishes the cycle's snapshot. A failure is counted, not formatted: this runs on

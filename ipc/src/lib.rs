@@ -20,7 +20,7 @@ pub mod task_table;
 use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;
 
-pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats};
+pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats, Disposition};
 pub use namespace::Namespace;
 pub use task_side::TaskEndpoint;
 

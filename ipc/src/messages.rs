@@ -5,6 +5,8 @@ use iceoryx2::prelude::ZeroCopySend;
 
 /// 32 drives + 64 virtual axes (DXMC), more than HMPL's 16.
 pub const MAX_AXES: usize = 96;
+/// Group ids HMPL addresses (0x00..0x0f).
+pub const MAX_GROUPS: usize = 16;
 /// HMPL task ids 0..63 (HMPL ch. 16).
 pub const MAX_TASKS: usize = 64;
 /// Scalar arguments of one call; no HMPL function has more.
@@ -65,6 +67,15 @@ impl Request {
         let n = bytes.len().min(BLOB_SIZE);
         self.blob[..n].copy_from_slice(&bytes[..n]);
         self.blob_len = n as u32;
+    }
+
+    /// Appends bytes after what the blob holds; false when they do not fit.
+    pub fn append_blob(&mut self, bytes: &[u8]) -> bool {
+        let start = self.blob_len as usize;
+        let Some(end) = start.checked_add(bytes.len()).filter(|&e| e <= BLOB_SIZE) else { return false };
+        self.blob[start..end].copy_from_slice(bytes);
+        self.blob_len = end as u32;
+        true
     }
 }
 
@@ -152,25 +163,56 @@ pub mod fault_status {
     pub const SW_LEFT_LIMIT: u32 = 1 << 6;
 }
 
-/// One axis as the kernel saw it at the end of a cycle (HMPL tables 5.1.1.1 to 5.1.1.6).
+/// One axis as the kernel saw it at the end of a cycle (HMPL tables 5.1.1.1 to 5.1.1.6):
+/// the variables and settings the status and `Get*` functions read.
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
 #[repr(C)]
 pub struct AxisSnapshot {
     pub motion_status: u32,
     pub fault_status: u32,
     pub last_err: u32,
+    /// The drive's own error code, 0x603F (HMPL 18.7).
+    pub drive_err: u32,
     pub coe_controlword: u16,
     pub coe_statusword: u16,
+    pub cmd_num: u32,
+    pub buffer_mode: u32,
+    pub rollover_turns: i32,
+    /// -1 when not in a gantry pair.
+    pub gantry_pair_id: i32,
+    pub gear_master: u32,
+    pub in_gear: u32,
+    /// 8 csp, 9 csv, 10 cst.
+    pub op_mode: u32,
     pub ref_pos: f64,
     pub ref_vel: f64,
     pub ref_acc: f64,
     pub pos_out: f64,
+    pub vel_out: f64,
+    pub acc_out: f64,
+    pub pos_offset: f64,
     pub pos_fb: f64,
     pub vel_fb: f64,
     pub pos_err: f64,
+    pub vel_err: f64,
+    /// Current feedback, A (HMPL 5.3.26, from 0x6077).
+    pub curr_fb: f64,
     pub vel: f64,
     pub acc: f64,
     pub dec: f64,
+    pub kill_dec: f64,
+    /// Smooth time, ms.
+    pub sm_time: f64,
+    pub swrl: f64,
+    pub swll: f64,
+    /// ms.
+    pub move_time: f64,
+    pub settling_time: f64,
+    /// Percent.
+    pub vel_scale: f64,
+    pub pos_window: f64,
+    pub pos_window_time: f64,
+    pub gear_ratio: f64,
 }
 
 /// Entries and bytes of one PDO (CoE manual 2.4: at most 7 entries, 20 bytes).
@@ -227,7 +269,11 @@ pub struct Snapshot {
     pub ecat_state: u32,
     /// The system is in error (HMPL 2.4): EtherCAT start-up stopped short of Op.
     pub system_error: u32,
+    /// The last system error code (HMPL 18.2).
+    pub system_last_err: u32,
     pub slave_count: u32,
+    /// Each group's last error (HMPL 18.5).
+    pub group_last_err: [u32; MAX_GROUPS],
     pub axes: [AxisSnapshot; MAX_AXES],
     pub slaves: [SlaveSnapshot; MAX_SLAVES],
 }
@@ -242,9 +288,57 @@ impl Default for Snapshot {
             axis_count: 0,
             ecat_state: 0,
             system_error: 0,
+            system_last_err: 0,
             slave_count: 0,
+            group_last_err: [0; MAX_GROUPS],
             axes: [AxisSnapshot::default(); MAX_AXES],
             slaves: [SlaveSnapshot::default(); MAX_SLAVES],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{fault_status, motion_status};
+
+    /// HMPL Part 6 fact 50, HMPL table 5.1.1.5: one row per `motion_status` bit.
+    #[test]
+    fn motion_status_bits() {
+        let table: [(&str, u32, u32); 14] = [
+            ("Enabled", motion_status::ENABLED, 0x0001),
+            ("Moving", motion_status::MOVING, 0x0002),
+            ("InPos", motion_status::IN_POSITION, 0x0004),
+            ("Sync", motion_status::SYNCHRONOUS, 0x0008),
+            ("Group", motion_status::GROUP, 0x0010),
+            ("Gantry", motion_status::GANTRY, 0x0020),
+            ("InputShape", motion_status::INPUT_SHAPE, 0x0040),
+            ("VSF", motion_status::VSF, 0x0080),
+            ("Gear", motion_status::GEAR, 0x0100),
+            ("Cam", motion_status::CAM, 0x0200),
+            ("Acc", motion_status::ACCELERATING, 0x0400),
+            ("Homed", motion_status::HOMED, 0x0800),
+            ("Homing", motion_status::HOMING, 0x1000),
+            ("HomeSwitch", motion_status::HOME_SWITCH, 0x2000),
+        ];
+        for (name, bit, literal) in table {
+            assert_eq!(bit, literal, "motion_status {name}");
+        }
+    }
+
+    /// HMPL Part 6 fact 50, HMPL table 5.1.1.4: one row per `fault_status` bit.
+    #[test]
+    fn fault_status_bits() {
+        let table: [(&str, u32, u32); 7] = [
+            ("ErrorStop", fault_status::ERROR_STOP, 0x01),
+            ("DriveFault", fault_status::DRIVE_FAULT, 0x02),
+            ("PosErr", fault_status::POSITION_ERROR, 0x04),
+            ("HWRL", fault_status::HW_RIGHT_LIMIT, 0x08),
+            ("HWLL", fault_status::HW_LEFT_LIMIT, 0x10),
+            ("SWRL", fault_status::SW_RIGHT_LIMIT, 0x20),
+            ("SWLL", fault_status::SW_LEFT_LIMIT, 0x40),
+        ];
+        for (name, bit, literal) in table {
+            assert_eq!(bit, literal, "fault_status {name}");
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use api::{ErrorCode, Query, SystemError};
 
-use crate::messages::{AxisSnapshot, PdoEntrySnapshot, Snapshot, motion_status};
+use crate::messages::{AxisSnapshot, PdoEntrySnapshot, Snapshot, fault_status, motion_status};
 
 /// A query's answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,15 +49,76 @@ const ECAT_OP: u32 = 8;
 
 pub fn evaluate(query: Query, args: Words, s: &Snapshot) -> Result<Answer, ErrorCode> {
     let axis = || axis(s, args.int(0));
-    let status = |bit| axis().map(|a| Value::Bool(a.motion_status & bit != 0));
+    let status = |bit| axis().map(|a| Value::Bool(a.motion_status & bit != 0).into());
+    let fault = |bit| axis().map(|a| Value::Bool(a.fault_status & bit != 0).into());
+    let double = |f: fn(&AxisSnapshot) -> f64| axis().map(|a| Value::Double(f(a)).into());
+    let int = |f: fn(&AxisSnapshot) -> i64| axis().map(|a| Value::Int(f(a)).into());
     let slave = |id: i64| usize::try_from(id).ok().filter(|&i| i < s.slave_count as usize).map(|i| &s.slaves[i]);
     Ok(match query {
-        Query::IsEnabled => status(motion_status::ENABLED)?.into(),
-        Query::IsMoving => status(motion_status::MOVING)?.into(),
-        Query::IsInPos => status(motion_status::IN_POSITION)?.into(),
-        Query::GetPosFb => Value::Double(axis()?.pos_fb).into(),
-        Query::GetRefPos => Value::Double(axis()?.ref_pos).into(),
-        Query::GetAxisLastErr => Value::Int(axis()?.last_err as i64).into(),
+        Query::GetVel => double(|a| a.vel)?,
+        Query::GetAcc => double(|a| a.acc)?,
+        Query::GetDec => double(|a| a.dec)?,
+        Query::GetKillDec => double(|a| a.kill_dec)?,
+        Query::GetSWRL => double(|a| a.swrl)?,
+        Query::GetSWLL => double(|a| a.swll)?,
+        Query::GetSMTime => double(|a| a.sm_time)?,
+        Query::GetMoveTime => double(|a| a.move_time)?,
+        Query::GetSettlingTime => double(|a| a.settling_time)?,
+        // No compensation is configured: the compensated feedback is the feedback.
+        Query::GetPosFb | Query::GetPosFbComp => double(|a| a.pos_fb)?,
+        Query::GetPosOffset => double(|a| a.pos_offset)?,
+        Query::GetPosErr => double(|a| a.pos_err)?,
+        Query::GetVelFb => double(|a| a.vel_fb)?,
+        Query::GetVelErr => double(|a| a.vel_err)?,
+        Query::GetCurrFb => double(|a| a.curr_fb)?,
+        Query::GetRefPos => double(|a| a.ref_pos)?,
+        Query::GetRefVel => double(|a| a.ref_vel)?,
+        Query::GetRefAcc => double(|a| a.ref_acc)?,
+        Query::GetPosOut => double(|a| a.pos_out)?,
+        Query::GetVelOut => double(|a| a.vel_out)?,
+        Query::GetAccOut => double(|a| a.acc_out)?,
+        Query::GetAxisNum => Value::Int(s.axis_count as i64).into(),
+        Query::GetVelScale => double(|a| a.vel_scale)?,
+        Query::GetRolloverTurns => int(|a| a.rollover_turns as i64)?,
+        Query::GetBufferMode => int(|a| a.buffer_mode as i64)?,
+        Query::GetCmdNum => int(|a| a.cmd_num as i64)?,
+        Query::GetPosWindow => double(|a| a.pos_window)?,
+        Query::GetPosWindowTime => double(|a| a.pos_window_time)?,
+        Query::IsEnabled => status(motion_status::ENABLED)?,
+        Query::IsMoving => status(motion_status::MOVING)?,
+        Query::IsInPos => status(motion_status::IN_POSITION)?,
+        Query::IsErrorStop => fault(fault_status::ERROR_STOP)?,
+        Query::IsGantry => status(motion_status::GANTRY)?,
+        Query::IsGrouped => status(motion_status::GROUP)?,
+        Query::IsSync => status(motion_status::SYNCHRONOUS)?,
+        Query::IsHWLL => fault(fault_status::HW_LEFT_LIMIT)?,
+        Query::IsHWRL => fault(fault_status::HW_RIGHT_LIMIT)?,
+        Query::IsSWLL => fault(fault_status::SW_LEFT_LIMIT)?,
+        Query::IsSWRL => fault(fault_status::SW_RIGHT_LIMIT)?,
+        Query::IsDriveErr => fault(fault_status::DRIVE_FAULT)?,
+        Query::IsPosErr => fault(fault_status::POSITION_ERROR)?,
+        // Compensation (HMPL ch. 14) has no functions here, so it is never active.
+        Query::IsCompActive => axis().map(|_| Value::Bool(false).into())?,
+        Query::IsAcc => status(motion_status::ACCELERATING)?,
+        Query::GetGearRatio => double(|a| a.gear_ratio)?,
+        Query::IsInGear => axis().map(|a| Value::Bool(a.in_gear != 0).into())?,
+        Query::IsGearMaster => axis().map(|a| Value::Bool(a.gear_master != 0).into())?,
+        Query::IsGearSlave => status(motion_status::GEAR)?,
+        Query::GetGantryPairID => int(|a| a.gantry_pair_id as i64)?,
+        Query::IsGantryPair => {
+            let (a, b) = (axis()?, self::axis(s, args.int(1))?);
+            Value::Bool(a.gantry_pair_id >= 0 && a.gantry_pair_id == b.gantry_pair_id).into()
+        }
+        Query::IsHomed => status(motion_status::HOMED)?,
+        Query::IsHoming => status(motion_status::HOMING)?,
+        Query::IsHomeSwitch => status(motion_status::HOME_SWITCH)?,
+        Query::GetSystemLastErr => Value::Int(s.system_last_err as i64).into(),
+        Query::GetAxisLastErr => int(|a| a.last_err as i64)?,
+        Query::GetGrpLastErr => {
+            let g = usize::try_from(args.int(0)).ok().filter(|&g| g < s.group_last_err.len());
+            Value::Int(s.group_last_err[g.ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))?] as i64).into()
+        }
+        Query::GetDriveErr => int(|a| a.drive_err as i64)?,
         Query::ReadPDO => match read_pdo(s, args) {
             Some((value, _)) => Value::Int(value).into(),
             None => Value::Int(-1).into(),

@@ -57,7 +57,9 @@ impl TaskEndpoint {
         let mut endpoint = TaskEndpoint {
             task,
             controller_pid,
-            seq: 0,
+            // Sequence numbers start from the pid: a reply meant for an earlier process of
+            // this task can never match one of ours.
+            seq: (std::process::id() as u64) << 32,
             wait_seq,
             latest: None,
             state,
@@ -137,7 +139,9 @@ impl TaskEndpoint {
         }
         loop {
             match self.replies.receive() {
-                Ok(Some(reply)) => return Ok(*reply.payload()),
+                Ok(Some(reply)) if reply.payload().seq == request.seq => return Ok(*reply.payload()),
+                // A reply to an earlier call (one this process gave up on): skip it.
+                Ok(Some(_)) => continue,
                 Ok(None) => {}
                 Err(e) => return Err(IpcError::Service(format!("receive reply: {e:?}"))),
             }

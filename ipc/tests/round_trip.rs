@@ -25,6 +25,7 @@ fn run_core(ns: Namespace, stop: Arc<AtomicBool>, ready: Arc<AtomicBool>) {
             reply.rc = 0;
             reply.values[0] = (request.int(0) * 2) as u64;
             reply.valuec = 1;
+            ipc::Disposition::Reply
         });
         core.publish(&snapshot);
         core.wake(snapshot.cycle);

@@ -30,6 +30,15 @@ fn invalid(key: impl Into<String>, message: impl Into<String>) -> ConfigError {
     ConfigError::Invalid { key: key.into(), message: message.into() }
 }
 
+/// The mapping the master writes unless the machine file gives one: the objects the HMPL
+/// functions use, within 7 entries and 20 bytes per PDO (CoE manual 2.4). Out:
+/// controlword, target position, mode, target velocity, target torque (13 bytes). In:
+/// statusword, position actual, following error, digital inputs, mode display, error
+/// code, torque actual (19 bytes).
+pub const BUILT_IN_RX_PDO: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x6060_0008, 0x60FF_0020, 0x6071_0010];
+pub const BUILT_IN_TX_PDO: [u32; 7] =
+    [0x6041_0010, 0x6064_0020, 0x60F4_0020, 0x60FD_0020, 0x6061_0008, 0x603F_0010, 0x6077_0010];
+
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MachineConfig {
@@ -79,8 +88,8 @@ pub struct AxisConfig {
     pub plant: PlantConfig,
     pub travel: TravelConfig,
     pub drive_settings: DriveSettings,
-    /// Custom PDO mapping entries (`0xIIIISSLL`) the master writes in PreOp; none: the
-    /// drive's defaults (CoE manual table 4-3).
+    /// PDO mapping entries (`0xIIIISSLL`) the master writes in PreOp; by default the
+    /// built-in mapping. `None` leaves the drive's defaults (CoE manual table 4-3).
     pub rx_pdo: Option<Vec<u32>>,
     pub tx_pdo: Option<Vec<u32>>,
 }
@@ -243,8 +252,8 @@ impl Default for AxisConfig {
             plant: PlantConfig::default(),
             travel: TravelConfig::default(),
             drive_settings: DriveSettings::default(),
-            rx_pdo: None,
-            tx_pdo: None,
+            rx_pdo: Some(BUILT_IN_RX_PDO.to_vec()),
+            tx_pdo: Some(BUILT_IN_TX_PDO.to_vec()),
         }
     }
 }

@@ -117,9 +117,11 @@ impl CycleWork {
         self.machine.network.exchange(period as f64 * 1e-9);
         let machine = &mut self.machine;
         self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |_task, request, reply| {
-            dispatch::execute(machine, request, reply);
+            dispatch::execute(machine, request, reply)
         });
         self.machine.kernel.step(cycle, &mut self.machine.network);
+        let machine = &mut self.machine;
+        self.endpoint.resume(cycle, |_task, request, reply| dispatch::resume(machine, request, reply));
         let (_, outputs) = self.machine.network.images_mut();
         self.machine.forces.apply(outputs);
 

@@ -1,12 +1,14 @@
 //! Carries out the commands scripts send: one match over `api::Command`, so that the
 //! compiler holds every command of the registry to an implementation.
 
-use api::{Command, ErrorCode, FunctionSpec, SdoAbort, SystemError};
+use api::{AxisError, Command, ErrorCode, FunctionSpec, SdoAbort, SystemError};
+use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
 use crate::cycle::Machine;
 use crate::ecat::{AlState, Field, SdoError};
-use crate::motion::axis::Axis;
+use crate::motion::axis::{Axis, Ignore};
+use crate::motion::pvt::{MAX_POINTS, PvtPoint};
 
 /// How a command failed, in the return convention of its chapter.
 enum Failure {
@@ -22,6 +24,12 @@ impl From<ErrorCode> for Failure {
     }
 }
 
+impl From<SystemError> for Failure {
+    fn from(e: SystemError) -> Self {
+        Failure::Code(e.into())
+    }
+}
+
 impl From<SdoError> for Failure {
     fn from(e: SdoError) -> Self {
         Failure::MinusOne(match e {
@@ -32,18 +40,50 @@ impl From<SdoError> for Failure {
     }
 }
 
+/// What a command did: finished, or started something that answers when it completes.
+enum Done {
+    Now,
+    Later,
+}
+
 /// Applies one request to the machine and fills its reply: the function's return values,
 /// and `rc` 0 or the reason it failed.
-pub fn execute(machine: &mut Machine, request: &Request, reply: &mut Reply) {
+pub fn execute(machine: &mut Machine, request: &Request, reply: &mut Reply) -> Disposition {
     let result = match Command::from_id(request.func) {
-        None => Err(ErrorCode::System(SystemError::HmplNotSupported).into()),
+        None => Err(SystemError::HmplNotSupported.into()),
         Some(command) if !arguments_fit(command.spec(), request) => Err(SystemError::HmplInvalidArg.into()),
         Some(command) => run(machine, command, request, reply),
     };
     match result {
+        Ok(Done::Later) => return Disposition::Defer,
+        Ok(Done::Now) => finish(machine, reply, Ok(())),
+        Err(failure) => finish(machine, reply, Err(failure)),
+    }
+    Disposition::Reply
+}
+
+/// Completes a deferred call once its operation is over; false while it still runs.
+pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bool {
+    let Some(Command::MoveHome) = Command::from_id(request.func) else { return true };
+    let Ok(axis) = machine.kernel.axis_mut(request.int(0)) else { return true };
+    let id = axis.id();
+    match axis.take_home_result() {
+        None => false,
+        Some(result) => {
+            finish(machine, reply, result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))));
+            true
+        }
+    }
+}
+
+fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>) {
+    match result {
         Ok(()) if reply.valuec == 0 => reply.push_int(0),
         Ok(()) => {}
         Err(Failure::Code(code)) => {
+            if let ErrorCode::System(_) = code {
+                machine.kernel.record_system_error(code.code());
+            }
             reply.rc = code.code();
             reply.valuec = 0;
             reply.push_int(code.code() as i64);
@@ -56,40 +96,101 @@ pub fn execute(machine: &mut Machine, request: &Request, reply: &mut Reply) {
     }
 }
 
-impl From<SystemError> for Failure {
-    fn from(e: SystemError) -> Self {
-        Failure::Code(e.into())
-    }
-}
-
 fn arguments_fit(spec: &FunctionSpec, request: &Request) -> bool {
     request.argc as usize == spec.args.len() && request.blob_len as usize <= request.blob.len()
 }
 
-fn run(m: &mut Machine, command: Command, r: &Request, reply: &mut Reply) -> Result<(), Failure> {
+type Outcome = Result<Done, Failure>;
+
+fn now(result: Result<(), impl Into<Failure>>) -> Outcome {
+    result.map(|()| Done::Now).map_err(Into::into)
+}
+
+fn run(m: &mut Machine, command: Command, r: &Request, reply: &mut Reply) -> Outcome {
+    let (a, x) = (r.int(0), r.double(1));
     match command {
-        Command::Enable => on_axis(m, r, |a| a.enable()),
-        Command::Disable => on_axis(m, r, |a| a.disable()),
-        Command::MoveAbs => on_axis(m, r, |a| a.move_abs(r.double(1))),
-        Command::MoveRel => on_axis(m, r, |a| a.move_rel(r.double(1))),
-        Command::SetVel => on_axis(m, r, |a| a.set_vel(r.double(1))),
-        Command::SetAcc => on_axis(m, r, |a| a.set_acc(r.double(1))),
-        Command::SetDec => on_axis(m, r, |a| a.set_dec(r.double(1))),
+        // HMPL 5.2: motion.
+        Command::Enable => motion(m, |m| now(m.kernel.enable(a))),
+        Command::Disable => motion(m, |m| now(m.kernel.disable(a))),
+        Command::Reset => axis(m, r, |ax| ax.reset()),
+        Command::MoveAbs => axis(m, r, |ax| ax.move_abs(x)),
+        Command::MoveRel => axis(m, r, |ax| ax.move_rel(x)),
+        Command::MoveVel => axis(m, r, |ax| ax.move_vel(x)),
+        Command::MoveTrq => axis(m, r, |ax| ax.move_trq(x)),
+        Command::MovePVT => {
+            let (points, count) = pvt_points(r)?;
+            axis(m, r, |ax| ax.move_pvt(&points[..count]))
+        }
+        Command::Stop => axis(m, r, |ax| ax.stop()),
+        Command::Halt => axis(m, r, |ax| ax.halt()),
+        Command::Resume => axis(m, r, |ax| ax.resume()),
+        // HMPL 5.3: settings.
+        Command::SetVel => axis(m, r, |ax| ax.set_vel(x)),
+        Command::SetAcc => axis(m, r, |ax| ax.set_acc(x)),
+        Command::SetAccTime => axis(m, r, |ax| ax.set_acc_time(x)),
+        Command::SetDec => axis(m, r, |ax| ax.set_dec(x)),
+        Command::SetDecTime => axis(m, r, |ax| ax.set_dec_time(x)),
+        Command::SetKillDec => axis(m, r, |ax| ax.set_kill_dec(x)),
+        Command::SetSWRL => axis(m, r, |ax| ax.set_swrl(x)),
+        Command::SetSWLL => axis(m, r, |ax| ax.set_swll(x)),
+        Command::SetSMTime => axis(m, r, |ax| ax.set_sm_time(x)),
+        Command::SetPos => axis(m, r, |ax| ax.set_pos(x)),
+        Command::IgnoreHWL => axis(m, r, |ax| ax.set_ignore(Ignore::HardwareLimits, r.int(1) != 0)),
+        Command::IgnoreSWL => axis(m, r, |ax| ax.set_ignore(Ignore::SoftwareLimits, r.int(1) != 0)),
+        Command::IgnorePE => axis(m, r, |ax| ax.set_ignore(Ignore::PositionError, r.int(1) != 0)),
+        Command::SetVelScale => axis(m, r, |ax| ax.set_vel_scale(x)),
+        Command::SetRollover => axis(m, r, |ax| ax.set_rollover(x)),
+        Command::SetOpMode => axis(m, r, |ax| ax.set_op_mode(r.int(1))),
+        Command::SetBufferMode => axis(m, r, |ax| ax.set_buffer_mode(r.int(1))),
+        Command::SetPosWindow => axis(m, r, |ax| ax.set_pos_window(x)),
+        Command::SetPosWindowTime => axis(m, r, |ax| ax.set_pos_window_time(x)),
+        // HMPL ch. 6 and 7: gear and gantry.
+        Command::EnableGear => motion(m, |m| now(m.kernel.enable_gear(a, r.int(1)))),
+        Command::DisableGear => motion(m, |m| now(m.kernel.disable_gear(a))),
+        Command::GearIn => motion(m, |m| now(m.kernel.gear_in(a, r.int(1), r.double(2)))),
+        Command::GearOut => motion(m, |m| now(m.kernel.gear_out(a))),
+        Command::EnableGantryPair => motion(m, |m| now(m.kernel.enable_gantry_pair(a, r.int(1)))),
+        Command::DisableGantryPair => motion(m, |m| now(m.kernel.disable_gantry_pair(a))),
+        // HMPL ch. 20: homing.
+        Command::MoveHome => motion(m, |m| {
+            let Machine { kernel, network, .. } = m;
+            let ax = kernel.axis_mut(a)?;
+            let id = ax.id();
+            ax.start_homing(network).map_err(|e| ErrorCode::axis(id, e))?;
+            Ok(Done::Later)
+        }),
+        Command::SetHomeMethod => axis(m, r, |ax| ax.set_home(|h| h.set_method(r.int(1)))),
+        Command::SetHomeSwitchVel => axis(m, r, |ax| ax.set_home(|h| h.set_switch_vel(x))),
+        Command::SetHomeZeroVel => axis(m, r, |ax| ax.set_home(|h| h.set_zero_vel(x))),
+        Command::SetHomeAcc => axis(m, r, |ax| ax.set_home(|h| h.set_acc(x))),
+        Command::SetHomeOffset => axis(m, r, |ax| ax.set_home(|h| h.set_offset(x))),
+        Command::SetHomeTimeout => axis(m, r, |ax| ax.set_home(|h| h.set_timeout(r.int(1)))),
+        Command::SetHomedStatus => axis(m, r, |ax| {
+            ax.set_homed(r.int(1) != 0);
+            Ok(())
+        }),
+        // HMPL ch. 18: errors.
+        Command::ClearAxisLastErr => axis(m, r, |ax| {
+            ax.clear_last_err();
+            Ok(())
+        }),
+        Command::ClearGrpLastErr => now(m.kernel.clear_group_last_err(a)),
+        // HMPL ch. 17: drive variables.
         Command::ReadSDO => {
             let (value, _) = sdo_read(m, r)?;
             reply.push_int(value);
-            Ok(())
+            Ok(Done::Now)
         }
         Command::ReadSDOEx => {
             let (value, len) = sdo_read(m, r)?;
             reply.push_int(0);
             reply.set_blob(&value.to_le_bytes()[..len]);
-            Ok(())
+            Ok(Done::Now)
         }
         Command::WriteSDO => {
             let len = length(r.int(3))?;
             let value = r.int(4).to_le_bytes();
-            Ok(m.network.sdo_write(slave(r)?, object(r.int(1))?, sub(r.int(2))?, &value[..len])?)
+            now(m.network.sdo_write(slave(r)?, object(r.int(1))?, sub(r.int(2))?, &value[..len]))
         }
         Command::WriteSDOEx => {
             let len = length(r.int(3))?;
@@ -97,42 +198,70 @@ fn run(m: &mut Machine, command: Command, r: &Request, reply: &mut Reply) -> Res
             if data.len() != len {
                 return Err(Failure::MinusOne(SdoAbort::LengthMismatch.code()));
             }
-            Ok(m.network.sdo_write(slave(r)?, object(r.int(1))?, sub(r.int(2))?, data)?)
+            now(m.network.sdo_write(slave(r)?, object(r.int(1))?, sub(r.int(2))?, data))
         }
         Command::WritePDO => {
             let field = output_field(m, r)?;
             let (_, outputs) = m.network.images_mut();
             field.write(outputs, r.int(3));
-            Ok(())
+            Ok(Done::Now)
         }
         Command::ForceWritePDO => {
             let field = output_field(m, r)?;
-            if m.forces.force(field, r.int(3)) { Ok(()) } else { Err(Failure::MinusOne(0)) }
+            if m.forces.force(field, r.int(3)) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
         }
         Command::ReleasePDO => {
             let field = output_field(m, r)?;
-            if m.forces.release(field) { Ok(()) } else { Err(Failure::MinusOne(0)) }
+            if m.forces.release(field) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
         }
         Command::SimDriveFault => {
             let code = u16::try_from(r.int(1)).map_err(|_| Failure::MinusOne(0))?;
-            m.network.inject_fault(slave(r)?, code).map_err(|_| Failure::MinusOne(0))
+            m.network.inject_fault(slave(r)?, code).map_err(|_| Failure::MinusOne(0))?;
+            Ok(Done::Now)
         }
     }
 }
 
-/// Runs an axis command on the axis named by argument 0. Motion needs EtherCAT in Op
-/// (HMPL 2.2; `eERR_HMPL_NOT_IN_OP_MODE`).
-fn on_axis(
-    m: &mut Machine,
-    r: &Request,
-    f: impl FnOnce(&mut Axis) -> Result<(), api::AxisError>,
-) -> Result<(), Failure> {
+/// A motion command needs EtherCAT in Op (HMPL 2.2; `eERR_HMPL_NOT_IN_OP_MODE`).
+fn motion(m: &mut Machine, f: impl FnOnce(&mut Machine) -> Outcome) -> Outcome {
     if m.network.state() != AlState::Op {
         return Err(SystemError::HmplNotInOpMode.into());
     }
-    let axis = m.kernel.axis_mut(r.int(0))?;
-    let id = axis.id();
-    f(axis).map_err(|e| Failure::Code(ErrorCode::axis(id, e)))
+    f(m)
+}
+
+/// Runs an axis command on the axis named by argument 0.
+fn axis(m: &mut Machine, r: &Request, f: impl FnOnce(&mut Axis) -> Result<(), AxisError>) -> Outcome {
+    motion(m, |m| {
+        let ax = m.kernel.axis_mut(r.int(0))?;
+        let id = ax.id();
+        now(f(ax).map_err(|e| ErrorCode::axis(id, e)))
+    })
+}
+
+/// MovePVT's three arrays follow each other in the blob; argument words 1..3 hold their
+/// lengths, word 4 the number of points.
+fn pvt_points(r: &Request) -> Result<([PvtPoint; MAX_POINTS + 1], usize), Failure> {
+    let count = usize::try_from(r.int(4)).map_err(|_| SystemError::HmplArgOutOfRange)?;
+    let lens = [r.int(1), r.int(2), r.int(3)].map(|l| usize::try_from(l).unwrap_or(0));
+    if lens.iter().any(|&l| l < count) {
+        return Err(SystemError::HmplArgOutOfRange.into());
+    }
+    let mut points = [PvtPoint::default(); MAX_POINTS + 1];
+    // One more than allowed lets the axis refuse a table that is too long.
+    let count = count.min(MAX_POINTS + 1);
+    let blob = r.blob();
+    let number = |array: usize, i: usize| {
+        let offset = (lens[..array].iter().sum::<usize>() + i) * 8;
+        blob.get(offset..offset + 8).map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+    };
+    for (i, point) in points.iter_mut().enumerate().take(count) {
+        match (number(0, i), number(1, i), number(2, i)) {
+            (Some(ms), Some(pos), Some(vel)) => *point = PvtPoint { t: ms / 1000.0, pos, vel },
+            _ => return Err(SystemError::HmplInvalidArg.into()),
+        }
+    }
+    Ok((points, count))
 }
 
 fn out_of_range() -> Failure {

@@ -18,7 +18,7 @@ fn abort(result: Result<impl std::fmt::Debug, SdoError>) -> SdoAbort {
 /// Facts 1 and 2: Init has no mailbox; the ESM goes up one level at a time.
 #[test]
 fn esm_from_power_up() {
-    let mut net = Bench::unstarted(AxisConfig::default());
+    let mut net = Bench::unstarted(bench::drive_defaults());
     assert_eq!(net.state(), AlState::Init, "fact 1: Init after power-up");
     assert_eq!(net.sdo_read(0, 0x1000, 0), Err(SdoError::NoMailbox), "fact 2: no SDO in Init");
     assert!(net.request_state(0, AlState::Op).is_err(), "fact 1: Init -> Op refused");
@@ -86,7 +86,7 @@ fn identity_and_defaults() {
 #[test]
 fn product_codes() {
     for (model, code) in [(DriveModel::D1N, 1), (DriveModel::D1, 2), (DriveModel::D2, 3), (DriveModel::Abily, 4)] {
-        let b = Bench::with(AxisConfig { drive: model, ..AxisConfig::default() });
+        let b = Bench::with(AxisConfig { drive: model, ..bench::drive_defaults() });
         assert_eq!(b.read(0x1018, 2), code, "{model:?}");
     }
 }
@@ -114,7 +114,7 @@ fn default_pdo_mapping() {
 }
 
 fn pre_op() -> rt_core::ecat::Network {
-    let mut net = Bench::unstarted(AxisConfig::default());
+    let mut net = Bench::unstarted(bench::drive_defaults());
     net.request_state(0, AlState::PreOp).unwrap();
     net
 }
@@ -175,7 +175,7 @@ fn a_custom_mapping_from_the_machine_file() {
     let axis = AxisConfig {
         rx_pdo: Some(vec![0x6040_0010, 0x60B8_0010, 0x6060_0008, 0x607A_0020]),
         tx_pdo: Some(vec![0x6041_0010, 0x60BA_0020, 0x60FD_0020, 0x60B9_0010, 0x6061_0008, 0x6064_0020]),
-        ..AxisConfig::default()
+        ..bench::drive_defaults()
     };
     let b = Bench::with(axis);
     assert_eq!(b.net.slaves()[0].pdo_lengths(), (9, 17));
@@ -284,7 +284,7 @@ fn fault_codes_and_event_bits() {
         (DriveModel::D1, 0xFF04, 0x2101, 17, true, "HFLT on D1: 0x2101 bit 17"),
     ];
     for (model, code, events, bit, supported, what) in rows {
-        let mut b = Bench::with(AxisConfig { drive: model, ..AxisConfig::default() });
+        let mut b = Bench::with(AxisConfig { drive: model, ..bench::drive_defaults() });
         b.enable();
         let injected = b.net.inject_fault(0, code);
         assert_eq!(injected.is_ok(), supported, "{what}");

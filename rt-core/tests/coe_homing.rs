@@ -49,7 +49,7 @@ fn homing(model: DriveModel, travel: TravelConfig, start: f64, method: i64) -> B
         counts_per_unit: CPU,
         travel,
         drive_settings: settings,
-        ..AxisConfig::default()
+        ..bench::drive_defaults()
     });
     b.write(0x6060, 0, 6);
     b.write(0x6098, 0, method);

@@ -161,7 +161,7 @@ fn pp_software_limits() {
 #[test]
 fn pp_hardware_limit() {
     let travel = TravelConfig { positive_limit: Some(1.0), ..TravelConfig::default() };
-    let mut b = Bench::with(AxisConfig { counts_per_unit: CPU, travel, ..AxisConfig::default() });
+    let mut b = Bench::with(AxisConfig { counts_per_unit: CPU, travel, ..bench::drive_defaults() });
     b.write(0x6060, 0, 1);
     for (index, value) in
         [(0x6081, 100_000), (0x6083, 1_000_000), (0x6084, 1_000_000), (0x60C5, 1_000_000), (0x60C6, 1_000_000)]
@@ -235,7 +235,7 @@ fn profile_velocity() {
 #[test]
 fn profile_velocity_limits() {
     let travel = TravelConfig { positive_limit: Some(2.0), ..TravelConfig::default() };
-    let mut b = Bench::with(AxisConfig { counts_per_unit: CPU, travel, ..AxisConfig::default() });
+    let mut b = Bench::with(AxisConfig { counts_per_unit: CPU, travel, ..bench::drive_defaults() });
     b.write(0x2041, 0, 1);
     b.write(0x607D, 2, 5_000);
     b.write(0x6060, 0, 3);

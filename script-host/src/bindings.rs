@@ -6,7 +6,7 @@ use std::cell::RefCell;
 use std::io::Write;
 use std::rc::Rc;
 
-use api::constants::{CONSTANTS, Constant, error_ids};
+use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::{ArgType, Command, Func, FunctionSpec, Local, Query, SdoAbort, ValueType};
 use ipc::TaskEndpoint;
 use ipc::messages::Request;
@@ -58,6 +58,9 @@ pub fn install(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
     }
     for (name, id) in error_ids() {
         globals.set(name, id as i64)?;
+    }
+    for (name, value) in numbered() {
+        globals.set(name, value)?;
     }
     Ok(())
 }
@@ -126,7 +129,23 @@ fn bytes_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlu
     }
 }
 
-/// Encodes the arguments as the registry types them: scalars as words, bytes in the blob.
+/// `double*` arguments: a table of numbers.
+fn doubles_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<f64>> {
+    match args.get(i).cloned().unwrap_or(Value::Nil) {
+        Value::Table(t) => t
+            .sequence_values::<Value>()
+            .map(|v| match v? {
+                Value::Integer(n) => Ok(n as f64),
+                Value::Number(n) => Ok(n),
+                other => Err(bad_argument(lua, spec, i, "table of numbers", &other)),
+            })
+            .collect(),
+        other => Err(bad_argument(lua, spec, i, "table of numbers", &other)),
+    }
+}
+
+/// Encodes the arguments as the registry types them: scalars as words, bytes and arrays in
+/// the blob, one after the other, with their lengths as words.
 fn encode(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, request: &mut Request) -> mlua::Result<()> {
     for (i, arg) in spec.args.iter().enumerate() {
         match arg.ty {
@@ -134,16 +153,26 @@ fn encode(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, request: &mut Reque
             ArgType::Double => request.push_double(double_arg(lua, spec, args, i)?),
             ArgType::Bytes => {
                 let bytes = bytes_arg(lua, spec, args, i)?;
-                if bytes.len() > request.blob.len() {
-                    return Err(error_here(lua, format!("{}: at most {} bytes", spec.name, request.blob.len())));
-                }
-                request.set_blob(&bytes);
+                append(lua, spec, request, &bytes)?;
                 request.push_int(bytes.len() as i64);
+            }
+            ArgType::Doubles => {
+                let numbers = doubles_arg(lua, spec, args, i)?;
+                let bytes: Vec<u8> = numbers.iter().flat_map(|n| n.to_le_bytes()).collect();
+                append(lua, spec, request, &bytes)?;
+                request.push_int(numbers.len() as i64);
             }
             ArgType::Str | ArgType::Func | ArgType::Rest => {
                 unreachable!("{}: commands and queries take numbers and bytes", spec.name)
             }
         }
+    }
+    Ok(())
+}
+
+fn append(lua: &Lua, spec: &FunctionSpec, request: &mut Request, bytes: &[u8]) -> mlua::Result<()> {
+    if !request.append_blob(bytes) {
+        return Err(error_here(lua, format!("{}: the arguments exceed {} bytes", spec.name, request.blob.len())));
     }
     Ok(())
 }
@@ -299,6 +328,26 @@ pub fn write_line(text: &str) {
         let _ = out.write_all(b"\n");
     }
     let _ = out.flush();
+}
+
+/// HMPL 23.2: `system_fclk` (cycles) and `system_timeInMs`, read from the newest snapshot
+/// whenever a script names them.
+pub fn install_system_variables(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
+    let globals = lua.globals();
+    let meta = lua.create_table()?;
+    meta.set(
+        "__index",
+        lua.create_function(move |_, (_, name): (Value, mlua::LuaString)| {
+            let mut endpoint = host.endpoint.borrow_mut();
+            let snapshot = endpoint.snapshot();
+            Ok(match &*name.to_str()? {
+                "system_fclk" => Value::Integer(snapshot.cycle as i64),
+                "system_timeInMs" => Value::Integer(snapshot.time_in_ms as i64),
+                _ => Value::Nil,
+            })
+        })?,
+    )?;
+    globals.set_metatable(Some(meta))
 }
 
 /// Lua's own `print`, through the same output.

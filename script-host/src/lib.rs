@@ -60,7 +60,8 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     let memory_limit = args.memory_limit_mib as usize * 1024 * 1024;
     let lua = sandbox::new_vm(memory_limit).map_err(|e| ScriptError::lua(e.to_string()))?;
     let host = Rc::new(Host { endpoint: std::cell::RefCell::new(endpoint) });
-    bindings::install(&lua, host).map_err(|e| ScriptError::lua(e.to_string()))?;
+    bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
+    bindings::install_system_variables(&lua, host).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_print(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
 
     let name = args.program.display().to_string();

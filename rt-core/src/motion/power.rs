@@ -9,9 +9,18 @@ use crate::cia402::{State, controlword};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Power {
     Disabled,
-    Enabling { since: u64 },
+    Enabling {
+        since: u64,
+    },
     Enabled,
-    Disabling { since: u64 },
+    Disabling {
+        since: u64,
+    },
+    /// Clearing a drive fault: controlword bit 7 low, then its rising edge (CoE manual 3.1).
+    Resetting {
+        since: u64,
+        edge_sent: bool,
+    },
 }
 
 /// What one step of the sequence found.
@@ -28,6 +37,8 @@ pub enum PowerEvent {
     DriveFault,
     /// The drive left Operation enabled without being asked.
     AbnormalDisable,
+    /// The drive's fault is cleared (Switch on disabled after the reset edge).
+    FaultCleared,
 }
 
 impl Power {
@@ -38,6 +49,22 @@ impl Power {
     /// One cycle: reads the drive's state, returns the controlword to send and what happened.
     pub fn step(&mut self, drive: Option<State>, cycle: u64, timeout_cycles: u64) -> (u16, PowerEvent) {
         use controlword::*;
+        if let Power::Resetting { since, edge_sent } = *self {
+            return match drive {
+                Some(State::Fault | State::FaultReactionActive) if cycle.saturating_sub(since) > timeout_cycles => {
+                    *self = Power::Disabled;
+                    (DISABLE_VOLTAGE, PowerEvent::Timeout)
+                }
+                Some(State::Fault | State::FaultReactionActive) => {
+                    *self = Power::Resetting { since, edge_sent: !edge_sent };
+                    (if edge_sent { DISABLE_VOLTAGE } else { FAULT_RESET }, PowerEvent::None)
+                }
+                _ => {
+                    *self = Power::Disabled;
+                    (SHUTDOWN, PowerEvent::FaultCleared)
+                }
+            };
+        }
         if matches!(drive, Some(State::Fault | State::FaultReactionActive)) {
             let event = if *self == Power::Disabled { PowerEvent::None } else { PowerEvent::DriveFault };
             *self = Power::Disabled;
@@ -45,6 +72,7 @@ impl Power {
         }
         match *self {
             Power::Disabled => (SHUTDOWN, PowerEvent::None),
+            Power::Resetting { .. } => unreachable!("handled above"),
             Power::Enabling { since } => {
                 let cw = match drive {
                     Some(State::OperationEnabled) => {
@@ -110,6 +138,25 @@ mod tests {
         let cycles = enabled_at.expect("enabled");
         assert!(cycles >= 3, "takes several cycles, took {cycles}");
         assert_eq!(fsa.state(), State::OperationEnabled);
+    }
+
+    #[test]
+    fn a_fault_is_cleared_by_the_rising_edge_of_bit_7() {
+        let mut fsa = Fsa::default();
+        fsa.step(0, true);
+        fsa.fault();
+        let mut power = Power::Resetting { since: 0, edge_sent: false };
+        let mut cw = 0;
+        for cycle in 0..10 {
+            fsa.step(cw, true);
+            let (next, event) = power.step(Some(fsa.state()), cycle, 100);
+            cw = next;
+            if event == PowerEvent::FaultCleared {
+                assert_eq!(fsa.state(), State::SwitchOnDisabled);
+                return;
+            }
+        }
+        panic!("the fault was not cleared: {:?}", fsa.state());
     }
 
     #[test]

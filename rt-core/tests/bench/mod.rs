@@ -21,13 +21,18 @@ pub struct Bench {
     statusword: Option<Field>,
 }
 
+/// An axis whose drive keeps its default PDO mapping (CoE manual table 4-3).
+pub fn drive_defaults() -> AxisConfig {
+    AxisConfig { rx_pdo: None, tx_pdo: None, ..AxisConfig::default() }
+}
+
 impl Bench {
     pub fn new() -> Self {
-        Self::with(AxisConfig { counts_per_unit: CPU, ..AxisConfig::default() })
+        Self::with(AxisConfig { counts_per_unit: CPU, ..drive_defaults() })
     }
 
     pub fn with_travel(travel: TravelConfig) -> Self {
-        Self::with(AxisConfig { counts_per_unit: CPU, travel, ..AxisConfig::default() })
+        Self::with(AxisConfig { counts_per_unit: CPU, travel, ..drive_defaults() })
     }
 
     /// A network of one slave, not yet started (in Init).

@@ -1,0 +1,62 @@
+//! An axis' limits (HMPL table 5.1.1.4 and its default reactions): software limits
+//! stop the motion before the limit, hardware limits stop it, a position error beyond
+//! the limit disables the axis; the Ignore* switches suppress each.
+
+use api::AxisError;
+use ipc::messages::fault_status;
+
+use super::Axis;
+
+impl Axis {
+    /// Before the generator steps: if the move would pass a software limit, stop it with
+    /// the kill deceleration so that it ends at or before the limit (HMPL 5.3.11, fact 43).
+    pub(super) fn guard_software_limits(&mut self) {
+        if self.settings.ignore_swl || self.settings.rollover > 0.0 || !self.generator.is_moving() {
+            return;
+        }
+        let raw = self.generator.raw();
+        let v = raw.vel;
+        let reach = raw.pos + v * self.period_s + v * v.abs() / (2.0 * self.settings.kill_dec);
+        let hit = if v > 0.0 && reach > self.settings.swrl {
+            Some((fault_status::SW_RIGHT_LIMIT, AxisError::Swrl))
+        } else if v < 0.0 && reach < self.settings.swll {
+            Some((fault_status::SW_LEFT_LIMIT, AxisError::Swll))
+        } else {
+            None
+        };
+        if let Some((bit, error)) = hit
+            && !self.generator.is_stopping()
+        {
+            self.generator.stop_with(self.settings.kill_dec);
+            self.error_stop = true;
+            self.faults |= bit;
+            self.fail(error);
+        }
+    }
+
+    /// 3. Limits, position error and status from this cycle's feedback and reference.
+    pub fn monitor(&mut self) {
+        if let Some(inputs) = self.feedback.digital_inputs {
+            // 0x60FD bit 0: negative (left) limit, bit 1: positive (right) limit.
+            for (bit, flag, error) in
+                [(1, fault_status::HW_RIGHT_LIMIT, AxisError::Hwrl), (0, fault_status::HW_LEFT_LIMIT, AxisError::Hwll)]
+            {
+                let active = inputs & (1 << bit) != 0 && !self.settings.ignore_hwl;
+                if active && self.faults & flag == 0 {
+                    self.kill_stop();
+                    self.error_stop = true;
+                    self.fail(error);
+                }
+                if active { self.faults |= flag } else { self.faults &= !flag }
+            }
+        }
+        let error = self.pos_out() - self.pos_fb;
+        if self.link.is_enabled() && !self.settings.ignore_pe && error.abs() > self.settings.max_pos_err {
+            self.faults |= fault_status::POSITION_ERROR;
+            self.error_stop = true;
+            self.fail(AxisError::Perr);
+            let _ = self.disable();
+        }
+        self.track_in_position();
+    }
+}

@@ -1,0 +1,723 @@
+//! One HMPL axis (ch. 5, 18, 20): its settings, power, profile generator, limits and
+//! status, following the manual's pipeline (fig. 5.1.1): command -> profile generator ->
+//! reference position + compensation -> position output + offset -> counts to the drive.
+//! Gear and gantry couplings are the kernel's (`motion/mod.rs`); the axis takes their
+//! results through `follow` and `set_drive_position`. Limits live in `limits.rs`, what
+//! the axis shows in `status.rs`.
+
+mod limits;
+mod status;
+
+use api::AxisError;
+use ipc::messages::fault_status;
+
+use crate::cia402::State;
+use crate::config::AxisConfig;
+use crate::ecat::Network;
+use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
+use crate::motion::generator::{Generator, Move};
+use crate::motion::homing::Homing;
+use crate::motion::power::PowerEvent;
+use crate::motion::pvt::{Pvt, PvtError, PvtPoint};
+use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, positive_up_to, rate_from_time};
+use crate::profile::Kinematics;
+
+/// An engaged gear: slave = slave origin + ratio x (master - master origin) (HMPL 6.1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Engagement {
+    pub ratio: f64,
+    pub master_origin: f64,
+    pub slave_origin: f64,
+}
+
+/// A gear slave's link to its master (HMPL 6.2 to 6.5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GearLink {
+    pub master: u8,
+    pub engaged: Option<Engagement>,
+}
+
+pub struct Axis {
+    id: u8,
+    link: DriveLink,
+    settings: Settings,
+    generator: Generator,
+    period_s: f64,
+    cycle: u64,
+    /// The reference (profile generator output, or the gear's), axis coordinates.
+    reference: Kinematics,
+    /// HMPL 5.3.19: `SetPos` moves the origin; drive position = axis position + offset.
+    pos_offset: f64,
+    feedback: Feedback,
+    /// The drive's position in units before the offset (a gantry replaces it).
+    drive_position: f64,
+    pos_fb: f64,
+    vel_fb: f64,
+    op_mode: i64,
+    /// MoveTrq's command, per mille of rated torque (cst).
+    torque: f64,
+    error_stop: bool,
+    /// fault_status bits other than ErrorStop.
+    faults: u32,
+    last_err: Option<AxisError>,
+    drive_err: u16,
+    homing: Homing,
+    homed: bool,
+    home_result: Option<Result<(), AxisError>>,
+    pub gear: Option<GearLink>,
+    pub gear_master: bool,
+    /// Gantry pair id and whether this is the right-hand (linear) axis.
+    pub gantry: Option<(u8, bool)>,
+    /// Smoothing is off while a gear slave comes to rest after GearOut.
+    smoothing_suspended: bool,
+    /// A Stop (not a Halt) is decelerating: other motion is refused (0x83II008C).
+    stopping: bool,
+    enabled_pending: bool,
+    in_window_cycles: u64,
+    moving_since: Option<u64>,
+    settled_at: Option<u64>,
+    move_time_ms: f64,
+    settling_time_ms: f64,
+}
+
+impl Axis {
+    pub fn new(id: u8, config: &AxisConfig, network: &Network, period_s: f64) -> Self {
+        let settings = Settings::new(config);
+        let max_samples = (MAX_SMOOTH_TIME_MS / 1000.0 / period_s).round() as usize + 1;
+        let mut axis = Axis {
+            id,
+            link: DriveLink::new(id as usize, config, network),
+            generator: Generator::new(period_s, settings.profile(), max_samples),
+            settings,
+            period_s,
+            cycle: 0,
+            reference: Kinematics::default(),
+            pos_offset: 0.0,
+            feedback: Feedback::default(),
+            drive_position: 0.0,
+            pos_fb: 0.0,
+            vel_fb: 0.0,
+            op_mode: MODE_CSP,
+            torque: 0.0,
+            error_stop: false,
+            faults: 0,
+            last_err: None,
+            drive_err: 0,
+            homing: Homing::Idle,
+            homed: false,
+            home_result: None,
+            gear: None,
+            gear_master: false,
+            gantry: None,
+            smoothing_suspended: false,
+            stopping: false,
+            enabled_pending: false,
+            in_window_cycles: 0,
+            moving_since: None,
+            settled_at: None,
+            move_time_ms: 0.0,
+            settling_time_ms: 0.0,
+        };
+        axis.generator.reset(0.0);
+        axis
+    }
+
+    pub fn id(&self) -> u8 {
+        self.id
+    }
+
+    pub fn link(&self) -> &DriveLink {
+        &self.link
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    pub fn is_enabled(&self) -> bool {
+        self.link.is_enabled()
+    }
+
+    pub fn is_disabled(&self) -> bool {
+        self.link.is_disabled()
+    }
+
+    pub fn is_moving(&self) -> bool {
+        match self.gear {
+            Some(GearLink { engaged: Some(_), .. }) => self.reference.vel != 0.0,
+            _ => self.generator.is_moving(),
+        }
+    }
+
+    pub fn is_error_stop(&self) -> bool {
+        self.error_stop
+    }
+
+    pub fn is_gear_slave(&self) -> bool {
+        self.gear.is_some()
+    }
+
+    pub fn reference(&self) -> Kinematics {
+        self.reference
+    }
+
+    pub fn pos_fb(&self) -> f64 {
+        self.pos_fb
+    }
+
+    /// The drive's position before the axis' offset (the gantry transform works on it).
+    pub fn drive_position(&self) -> f64 {
+        self.drive_position
+    }
+
+    /// Records a rejection or a fault as the axis' last error (HMPL 18.3) and returns it.
+    pub fn fail(&mut self, error: AxisError) -> AxisError {
+        self.last_err = Some(error);
+        error
+    }
+
+    fn check<T>(&mut self, result: Result<T, AxisError>) -> Result<T, AxisError> {
+        result.map_err(|e| self.fail(e))
+    }
+
+    pub fn clear_last_err(&mut self) {
+        self.last_err = None;
+    }
+
+    fn cycles(&self, ms: f64) -> u64 {
+        (ms / 1000.0 / self.period_s).ceil() as u64
+    }
+
+    // --- power (HMPL 5.2.1 to 5.2.3) ---
+
+    pub fn enable(&mut self) -> Result<(), AxisError> {
+        if !self.link.can_enable() {
+            return Err(self.fail(AxisError::CmdInvalidNoSpecificPdo));
+        }
+        if self.error_stop {
+            return Err(self.fail(AxisError::CmdInvalidErrorState));
+        }
+        self.link.enable(self.cycle);
+        Ok(())
+    }
+
+    /// Disables and clears the path planning (HMPL 5.2.2).
+    pub fn disable(&mut self) -> Result<(), AxisError> {
+        self.generator.reset(self.reference.pos);
+        self.homing.abort(&mut self.link);
+        self.stopping = false;
+        self.link.disable(self.cycle);
+        Ok(())
+    }
+
+    /// Leaves ErrorStop (HMPL 5.2.3); a drive fault is reset too. The axis stays disabled.
+    pub fn reset(&mut self) -> Result<(), AxisError> {
+        if self.error_stop {
+            if matches!(
+                State::from_statusword(self.feedback.statusword),
+                Some(State::Fault | State::FaultReactionActive)
+            ) {
+                self.link.reset_fault(self.cycle);
+            }
+            self.error_stop = false;
+            self.faults &= fault_status::HW_LEFT_LIMIT | fault_status::HW_RIGHT_LIMIT;
+        }
+        Ok(())
+    }
+
+    // --- motion (HMPL 5.2) ---
+
+    fn check_can_move(&mut self) -> Result<(), AxisError> {
+        let refused = if self.error_stop {
+            Some(AxisError::CmdInvalidErrorState)
+        } else if !self.link.is_enabled() {
+            Some(AxisError::CmdInvalidDisabled)
+        } else if self.gear.is_some() {
+            Some(AxisError::CmdInvalidInSync)
+        } else if self.homing.in_progress() {
+            Some(AxisError::CmdInvalidState)
+        } else if self.stopping {
+            Some(AxisError::CmdInvalidStopping)
+        } else if self.op_mode == MODE_CST {
+            Some(AxisError::CmdInvalidControlMode)
+        } else {
+            None
+        };
+        match refused {
+            Some(e) => Err(self.fail(e)),
+            None => Ok(()),
+        }
+    }
+
+    fn finite_position(&mut self, pos: f64) -> Result<f64, AxisError> {
+        let ok = pos.is_finite() && self.link.counts(pos + self.pos_offset).abs() <= i32::MAX as f64;
+        if ok { Ok(pos) } else { Err(self.fail(AxisError::CmdInvalidPos)) }
+    }
+
+    fn command(&mut self, m: Move) -> Result<(), AxisError> {
+        let buffered = self.settings.buffer_mode == 1;
+        self.generator.command(m, buffered).map_err(|_| self.fail(AxisError::CmdQueueFull))?;
+        self.moving_since.get_or_insert(self.cycle);
+        Ok(())
+    }
+
+    pub fn move_abs(&mut self, pos: f64) -> Result<(), AxisError> {
+        self.check_can_move()?;
+        let pos = self.finite_position(pos)?;
+        let target = if self.settings.rollover > 0.0 { self.shortest_way_to(pos) } else { pos };
+        self.command(Move::Absolute(target))
+    }
+
+    /// Rollover (HMPL 5.3.39): an absolute target within a turn, reached the shortest way.
+    fn shortest_way_to(&self, pos: f64) -> f64 {
+        let r = self.settings.rollover;
+        let from = self.generator.target().unwrap_or(self.reference.pos);
+        let mut delta = pos.rem_euclid(r) - from.rem_euclid(r);
+        if delta > r / 2.0 {
+            delta -= r;
+        } else if delta < -r / 2.0 {
+            delta += r;
+        }
+        from + delta
+    }
+
+    /// Relative to the target under way, else to the reference, so that two quick
+    /// `MoveRel(a, 10)` add up to 20.
+    pub fn move_rel(&mut self, distance: f64) -> Result<(), AxisError> {
+        self.check_can_move()?;
+        let base = self.generator.target().unwrap_or(self.reference.pos);
+        self.finite_position(base + distance)?;
+        self.command(Move::Relative(distance))
+    }
+
+    /// HMPL 5.2.6: a velocity move, sign for direction, at most the axis' velocity limit.
+    pub fn move_vel(&mut self, vel: f64) -> Result<(), AxisError> {
+        self.check_can_move()?;
+        if !(vel.is_finite() && vel.abs() <= self.settings.max_vel) {
+            return Err(self.fail(AxisError::CmdInvalidVel));
+        }
+        self.command(Move::Velocity(vel))
+    }
+
+    /// HMPL 5.2.8: PVT points (times in ms from 0), starting where the axis stands.
+    pub fn move_pvt(&mut self, points: &[PvtPoint]) -> Result<(), AxisError> {
+        self.check_can_move()?;
+        let pvt = Pvt::new(points, self.settings.max_vel, self.settings.max_acc).map_err(|e| {
+            self.fail(match e {
+                PvtError::InvalidTime => AxisError::PvtMotionInvalidTime,
+                PvtError::VelocityLimit => AxisError::PvtMotionVelLimit,
+                PvtError::AccelerationLimit => AxisError::PvtMotionAccLimit,
+                PvtError::Points => AxisError::CmdInvalidParameter,
+            })
+        })?;
+        let start = self.generator.target().filter(|_| self.settings.buffer_mode == 1).unwrap_or(self.reference.pos);
+        if (pvt.first().pos - start).abs() > self.settings.pos_window {
+            return Err(self.fail(AxisError::CmdInvalidPos));
+        }
+        self.command(Move::Pvt(pvt))
+    }
+
+    /// HMPL 5.2.7: a constant torque (N·m), in cst (`SetOpMode(a, 10)`), with 0x6071 mapped;
+    /// clamped to the rated (continuous) torque.
+    pub fn move_trq(&mut self, torque: f64) -> Result<(), AxisError> {
+        if self.error_stop {
+            return Err(self.fail(AxisError::CmdInvalidErrorState));
+        }
+        if !self.link.is_enabled() {
+            return Err(self.fail(AxisError::CmdInvalidDisabled));
+        }
+        if self.op_mode != MODE_CST {
+            return Err(self.fail(AxisError::CmdInvalidControlMode));
+        }
+        let per_mille = self.link.per_mille_per_nm;
+        if !(per_mille.is_finite() && per_mille > 0.0) {
+            return Err(self.fail(AxisError::CmdInvalidForceconstTrqmode));
+        }
+        if !torque.is_finite() {
+            return Err(self.fail(AxisError::CmdInvalidParameter));
+        }
+        self.torque = (torque * per_mille).clamp(-1000.0, 1000.0);
+        Ok(())
+    }
+
+    /// HMPL 5.2.9: decelerate and clear the path planning.
+    pub fn stop(&mut self) -> Result<(), AxisError> {
+        self.stop_with(self.settings.dec);
+        Ok(())
+    }
+
+    /// StopAll, errors: stop with the kill deceleration (HMPL 2.8, 5.3.10).
+    pub fn kill_stop(&mut self) {
+        self.stop_with(self.settings.kill_dec);
+    }
+
+    fn stop_with(&mut self, dec: f64) {
+        self.torque = 0.0;
+        if self.generator.is_moving() {
+            self.generator.stop_with(dec);
+            self.stopping = true;
+        }
+    }
+
+    pub fn halt(&mut self) -> Result<(), AxisError> {
+        if self.error_stop {
+            return Err(self.fail(AxisError::CmdInvalidErrorState));
+        }
+        self.generator.halt();
+        Ok(())
+    }
+
+    pub fn resume(&mut self) -> Result<(), AxisError> {
+        if self.error_stop {
+            return Err(self.fail(AxisError::CmdInvalidErrorState));
+        }
+        self.generator.resume();
+        Ok(())
+    }
+
+    // --- settings (HMPL 5.3) ---
+
+    pub fn set_vel(&mut self, vel: f64) -> Result<(), AxisError> {
+        self.settings.vel = self.check(positive_up_to(vel, self.settings.max_vel, AxisError::CmdInvalidVel))?;
+        self.generator.set_profile(self.settings.profile());
+        Ok(())
+    }
+
+    pub fn set_acc(&mut self, acc: f64) -> Result<(), AxisError> {
+        self.settings.acc = self.check(positive_up_to(acc, self.settings.max_acc, AxisError::CmdInvalidAcc))?;
+        self.generator.set_profile(self.settings.profile());
+        Ok(())
+    }
+
+    pub fn set_dec(&mut self, dec: f64) -> Result<(), AxisError> {
+        self.settings.dec = self.check(positive_up_to(dec, self.settings.max_acc, AxisError::CmdInvalidDec))?;
+        self.generator.set_profile(self.settings.profile());
+        Ok(())
+    }
+
+    /// HMPL 5.3.5: acceleration from a time: acc = vel / time.
+    pub fn set_acc_time(&mut self, ms: f64) -> Result<(), AxisError> {
+        let acc = self.check(rate_from_time(self.settings.vel, ms, self.settings.max_acc, AxisError::CmdInvalidAcc))?;
+        self.set_acc(acc)
+    }
+
+    pub fn set_dec_time(&mut self, ms: f64) -> Result<(), AxisError> {
+        let dec = self.check(rate_from_time(self.settings.vel, ms, self.settings.max_acc, AxisError::CmdInvalidDec))?;
+        self.set_dec(dec)
+    }
+
+    pub fn set_kill_dec(&mut self, kill_dec: f64) -> Result<(), AxisError> {
+        self.settings.kill_dec = self.check(positive_up_to(kill_dec, f64::MAX, AxisError::CmdInvalidKillDec))?;
+        Ok(())
+    }
+
+    pub fn set_swrl(&mut self, pos: f64) -> Result<(), AxisError> {
+        if !(pos.is_finite() && pos > self.settings.swll) {
+            return Err(self.fail(AxisError::CmdInvalidPos));
+        }
+        self.settings.swrl = pos;
+        Ok(())
+    }
+
+    pub fn set_swll(&mut self, pos: f64) -> Result<(), AxisError> {
+        if !(pos.is_finite() && pos < self.settings.swrl) {
+            return Err(self.fail(AxisError::CmdInvalidPos));
+        }
+        self.settings.swll = pos;
+        Ok(())
+    }
+
+    /// HMPL 5.3.16: 0..500 ms, not while moving.
+    pub fn set_sm_time(&mut self, ms: f64) -> Result<(), AxisError> {
+        if !(0.0..=MAX_SMOOTH_TIME_MS).contains(&ms) {
+            return Err(self.fail(AxisError::CmdInvalidSmTime));
+        }
+        if self.is_moving() {
+            return Err(self.fail(AxisError::CmdInvalidMoving));
+        }
+        self.settings.sm_time_ms = ms;
+        self.generator.set_smooth_samples(self.smooth_samples());
+        Ok(())
+    }
+
+    fn smooth_samples(&self) -> usize {
+        (self.settings.sm_time_ms / 1000.0 / self.period_s).round().max(1.0) as usize
+    }
+
+    /// HMPL 5.3.19: the present position becomes `pos` by moving the origin (`pos_offset`).
+    pub fn set_pos(&mut self, pos: f64) -> Result<(), AxisError> {
+        let refused = if self.gear.is_some() {
+            Some(AxisError::CmdInvalidInSync)
+        } else if self.gantry.is_some() {
+            Some(AxisError::CmdInvalidGantryMode)
+        } else if self.error_stop {
+            Some(AxisError::CmdInvalidErrorState)
+        } else if self.is_moving() {
+            Some(AxisError::CmdInvalidMoving)
+        } else if !pos.is_finite() {
+            Some(AxisError::CmdInvalidPos)
+        } else {
+            None
+        };
+        if let Some(e) = refused {
+            return Err(self.fail(e));
+        }
+        let shift = self.reference.pos - pos;
+        self.pos_offset += shift;
+        self.pos_fb -= shift;
+        self.reference.pos = pos;
+        self.generator.reset(pos);
+        Ok(())
+    }
+
+    pub fn set_ignore(&mut self, which: Ignore, on: bool) -> Result<(), AxisError> {
+        match which {
+            Ignore::HardwareLimits => self.settings.ignore_hwl = on,
+            Ignore::SoftwareLimits => self.settings.ignore_swl = on,
+            Ignore::PositionError => self.settings.ignore_pe = on,
+        }
+        Ok(())
+    }
+
+    /// HMPL 5.3.37: 0..100 %, applied to the move under way.
+    pub fn set_vel_scale(&mut self, percent: f64) -> Result<(), AxisError> {
+        if !(0.0..=100.0).contains(&percent) {
+            return Err(self.fail(AxisError::CmdInvalidVelScale));
+        }
+        self.settings.vel_scale = percent;
+        self.generator.set_scale(percent / 100.0);
+        Ok(())
+    }
+
+    /// HMPL 5.3.39: rollover length (> 0; 0 switches it off), only while disabled.
+    pub fn set_rollover(&mut self, value: f64) -> Result<(), AxisError> {
+        if !(value >= 0.0 && value.is_finite()) {
+            return Err(self.fail(AxisError::CmdInvalidRolloverPos));
+        }
+        if !self.link.is_disabled() {
+            return Err(self.fail(AxisError::CmdInvalidEnabled));
+        }
+        self.settings.rollover = value;
+        Ok(())
+    }
+
+    /// HMPL 5.3.41: 8 csp, 9 csv, 10 cst; the target of the mode must be mapped.
+    pub fn set_op_mode(&mut self, mode: i64) -> Result<(), AxisError> {
+        if !matches!(mode, MODE_CSP | MODE_CSV | MODE_CST) {
+            return Err(self.fail(AxisError::CmdInvalidOpMode));
+        }
+        if self.is_moving() {
+            return Err(self.fail(AxisError::CmdInvalidMoving));
+        }
+        let mapped = self.link.can_run(mode);
+        self.check(mapped)?;
+        self.op_mode = mode;
+        self.torque = 0.0;
+        self.link.set_mode(mode);
+        Ok(())
+    }
+
+    /// HMPL 5.3.42: 0 immediate, 1 buffered; not while commands wait.
+    pub fn set_buffer_mode(&mut self, mode: i64) -> Result<(), AxisError> {
+        if !matches!(mode, 0 | 1) {
+            return Err(self.fail(AxisError::CmdInvalidBufferMode));
+        }
+        if self.generator.cmd_num() > 0 {
+            return Err(self.fail(AxisError::CmdInvalidSetbuffermode));
+        }
+        self.settings.buffer_mode = mode;
+        Ok(())
+    }
+
+    pub fn set_pos_window(&mut self, window: f64) -> Result<(), AxisError> {
+        self.settings.pos_window = self.check(positive_up_to(window, f64::MAX, AxisError::CmdInvalidParameter))?;
+        Ok(())
+    }
+
+    pub fn set_pos_window_time(&mut self, ms: f64) -> Result<(), AxisError> {
+        self.settings.pos_window_time_ms = self.check(positive_up_to(ms, f64::MAX, AxisError::CmdInvalidParameter))?;
+        Ok(())
+    }
+
+    // --- homing (HMPL ch. 20) ---
+
+    /// Applies one of the homing setters (HMPL 20.3 to 20.8), recording a refusal.
+    pub fn set_home(&mut self, f: impl FnOnce(&mut HomeSettings) -> Result<(), AxisError>) -> Result<(), AxisError> {
+        let result = f(&mut self.settings.home);
+        self.check(result)
+    }
+
+    pub fn set_homed(&mut self, homed: bool) {
+        self.homed = homed;
+    }
+
+    /// HMPL 20.2: writes the homing objects by SDO and starts the drive's homing.
+    pub fn start_homing(&mut self, network: &mut Network) -> Result<(), AxisError> {
+        self.check_can_move()?;
+        if !self.link.can_home() {
+            return Err(self.fail(AxisError::CmdInvalidNoSpecificPdo));
+        }
+        let home = self.settings.home;
+        let counts = |units: f64| self.link.counts(units).round() as i64;
+        let writes: [(u16, u8, i64, usize); 5] = [
+            (0x6098, 0, home.method, 1),
+            (0x6099, 1, counts(home.switch_vel), 4),
+            (0x6099, 2, counts(home.zero_vel), 4),
+            (0x609A, 0, counts(home.acc), 4),
+            (0x607C, 0, counts(home.offset), 4),
+        ];
+        for (index, sub, value, len) in writes {
+            if network.sdo_write(self.link.slave(), index, sub, &value.to_le_bytes()[..len]).is_err() {
+                return Err(self.fail(AxisError::DriveHomeFailed));
+            }
+        }
+        self.homed = false;
+        self.home_result = None;
+        self.homing = Homing::start(&mut self.link, self.cycle);
+        Ok(())
+    }
+
+    pub fn is_homing(&self) -> bool {
+        self.homing.in_progress()
+    }
+
+    /// The result of the last homing run, once, when it is over.
+    pub fn take_home_result(&mut self) -> Option<Result<(), AxisError>> {
+        self.home_result.take()
+    }
+
+    // --- the cycle ---
+
+    /// 1. Reads the drive and steps the power sequence.
+    pub fn sense(&mut self, network: &mut Network, cycle: u64) {
+        self.cycle = cycle;
+        let (inputs, _) = network.images_mut();
+        self.feedback = self.link.read(inputs);
+        self.drive_position = self.feedback.position;
+        let timeout = self.cycles(self.settings.enable_timeout_ms);
+        let event = self.link.sequence(self.feedback.statusword, cycle, timeout);
+        self.on_power_event(event, network);
+    }
+
+    /// The kernel's gantry transform replaces the drive position with a pair's.
+    pub fn set_drive_position(&mut self, position: f64) {
+        self.drive_position = position;
+    }
+
+    fn on_power_event(&mut self, event: PowerEvent, network: &mut Network) {
+        match event {
+            PowerEvent::None | PowerEvent::Disabled | PowerEvent::FaultCleared => {}
+            PowerEvent::Enabled => self.enabled_pending = true,
+            PowerEvent::Timeout => {
+                let enabling =
+                    !State::from_statusword(self.feedback.statusword).is_some_and(|s| s == State::OperationEnabled);
+                self.fail(if enabling { AxisError::DriveEnableTout } else { AxisError::DriveDisableTout });
+            }
+            PowerEvent::DriveFault => {
+                self.error_stop = true;
+                self.faults |= fault_status::DRIVE_FAULT;
+                self.drive_err = match self.feedback.error_code {
+                    Some(code) => code,
+                    None => network.sdo_read(self.link.slave(), 0x603F, 0).map_or(0, |(v, _)| v as u16),
+                };
+                self.homing.abort(&mut self.link);
+                self.fail(AxisError::DriveFault);
+            }
+            PowerEvent::AbnormalDisable => {
+                self.error_stop = true;
+                self.fail(AxisError::DriveAbnormalDisable);
+            }
+        }
+    }
+
+    /// 2. Advances the motion: homing, the profile generator, or a standstill.
+    pub fn plan(&mut self) {
+        let fb = self.drive_position - self.pos_offset;
+        self.vel_fb = (fb - self.pos_fb) / self.period_s;
+        self.pos_fb = fb;
+        if std::mem::take(&mut self.enabled_pending) {
+            self.generator.reset(self.pos_fb);
+        }
+        if self.homing.in_progress() {
+            let timeout = self.cycles(self.settings.home.timeout_ms as f64);
+            if let Some(result) = self.homing.step(&mut self.link, &self.feedback, self.cycle, timeout) {
+                self.finish_homing(result);
+            }
+        }
+        if !self.link.is_enabled() || self.homing.in_progress() || self.op_mode == MODE_CST {
+            self.generator.reset(self.pos_fb);
+            self.reference = Kinematics { pos: self.pos_fb, vel: 0.0, acc: 0.0 };
+        } else if self.gear.is_none() {
+            self.guard_software_limits();
+            self.reference = self.generator.step();
+        }
+        if self.stopping && !self.generator.is_moving() {
+            self.stopping = false;
+        }
+        if self.smoothing_suspended && !self.generator.is_moving() {
+            self.smoothing_suspended = false;
+            self.generator.set_smooth_samples(self.smooth_samples());
+        }
+    }
+
+    fn finish_homing(&mut self, result: Result<(), AxisError>) {
+        match result {
+            Ok(()) => {
+                // The home defines the coordinates: the drive reads the home offset there.
+                self.homed = true;
+                self.pos_offset = 0.0;
+            }
+            Err(e) => {
+                self.fail(e);
+            }
+        }
+        self.home_result = Some(result);
+    }
+
+    /// A gear slave's reference from its master's (HMPL 6.1).
+    pub fn follow(&mut self, master: Kinematics) {
+        if let Some(GearLink { engaged: Some(e), .. }) = self.gear {
+            self.reference = Kinematics {
+                pos: e.slave_origin + e.ratio * (master.pos - e.master_origin),
+                vel: e.ratio * master.vel,
+                acc: e.ratio * master.acc,
+            };
+        }
+    }
+
+    /// GearOut: the slave comes to rest from where the gear left it, without smoothing.
+    pub fn disengage(&mut self) {
+        if let Some(link) = &mut self.gear {
+            link.engaged = None;
+        }
+        self.generator.set_smooth_samples(1);
+        self.generator.take_over(self.reference);
+        self.generator.stop_with(self.settings.dec);
+        self.smoothing_suspended = true;
+    }
+
+    /// HMPL 5.1.1: position output = reference + compensation (none configured: 0).
+    pub fn pos_out(&self) -> f64 {
+        self.reference.pos
+    }
+
+    /// The drive's position command before the gantry transform: output + offset.
+    pub fn drive_command(&self) -> f64 {
+        self.pos_out() + self.pos_offset
+    }
+
+    /// 4. Writes the drive: `position` is the drive command (after any gantry transform).
+    pub fn actuate(&mut self, network: &mut Network, position: f64) {
+        let velocity = if self.op_mode == MODE_CSV { self.reference.vel } else { 0.0 };
+        let torque = if self.op_mode == MODE_CST && self.link.is_enabled() { self.torque } else { 0.0 };
+        self.link.write(network, Output { position, velocity, torque });
+    }
+}
+
+/// The three notifications a user may switch off (HMPL 5.3.33 to 5.3.35).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ignore {
+    HardwareLimits,
+    SoftwareLimits,
+    PositionError,
+}

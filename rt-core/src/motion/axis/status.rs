@@ -1,0 +1,118 @@
+//! What an axis shows (HMPL 5.1.1, 5.3.17/18, 5.4): in position, move and settling
+//! times, and the snapshot with `motion_status` and `fault_status` (tables 5.1.1.4/5).
+
+use ipc::messages::{AxisSnapshot, fault_status, motion_status};
+
+use super::Axis;
+use crate::cia402::State;
+
+impl Axis {
+    /// In position: within the window, at rest, for the window time (HMPL 5.3.45-48).
+    pub(super) fn track_in_position(&mut self) {
+        let moving = self.is_moving();
+        let in_window = (self.pos_out() - self.pos_fb).abs() <= self.settings.pos_window;
+        self.in_window_cycles =
+            if in_window && !moving && self.link.is_enabled() { self.in_window_cycles + 1 } else { 0 };
+        if moving {
+            self.moving_since.get_or_insert(self.cycle);
+            self.settled_at = None;
+        } else if let Some(since) = self.moving_since.take() {
+            self.move_time_ms = (self.cycle - since) as f64 * self.period_s * 1000.0;
+            self.settled_at = Some(self.cycle);
+        }
+        if self.in_position()
+            && let Some(stopped) = self.settled_at.take()
+        {
+            self.settling_time_ms = (self.cycle - stopped) as f64 * self.period_s * 1000.0;
+        }
+    }
+
+    pub(super) fn in_position(&self) -> bool {
+        self.in_window_cycles >= self.cycles(self.settings.pos_window_time_ms).max(1)
+    }
+
+    fn wrap(&self, pos: f64) -> f64 {
+        if self.settings.rollover > 0.0 { pos.rem_euclid(self.settings.rollover) } else { pos }
+    }
+
+    /// The axis as the scope and the status functions see it (HMPL tables 5.1.1.1 to 5.1.1.6).
+    pub fn snapshot(&self) -> AxisSnapshot {
+        let mut motion = 0;
+        if self.link.drive_enabled() {
+            motion |= motion_status::ENABLED;
+            if self.in_position() {
+                motion |= motion_status::IN_POSITION;
+            }
+        }
+        if self.is_moving() {
+            motion |= motion_status::MOVING;
+        }
+        if self.reference.acc * self.reference.vel > 0.0 {
+            motion |= motion_status::ACCELERATING;
+        }
+        if self.gear.is_some() {
+            motion |= motion_status::SYNCHRONOUS | motion_status::GEAR;
+        }
+        if self.gantry.is_some() {
+            motion |= motion_status::GANTRY;
+        }
+        if self.homed {
+            motion |= motion_status::HOMED;
+        }
+        if self.homing.in_progress() {
+            motion |= motion_status::HOMING;
+        }
+        if self.feedback.digital_inputs.is_some_and(|i| i & 0b100 != 0) {
+            motion |= motion_status::HOME_SWITCH;
+        }
+        let mut fault = self.faults;
+        if self.error_stop {
+            fault |= fault_status::ERROR_STOP;
+        }
+        if matches!(State::from_statusword(self.feedback.statusword), Some(State::Fault | State::FaultReactionActive)) {
+            fault |= fault_status::DRIVE_FAULT;
+        }
+        let s = &self.settings;
+        let rollover_turns = if s.rollover > 0.0 { (self.pos_fb / s.rollover).floor() as i32 } else { 0 };
+        AxisSnapshot {
+            motion_status: motion,
+            fault_status: fault,
+            last_err: self.last_err.map_or(0, |e| api::ErrorCode::axis(self.id, e).code()),
+            drive_err: self.drive_err as u32,
+            coe_controlword: self.link.controlword(),
+            coe_statusword: self.feedback.statusword,
+            cmd_num: self.generator.cmd_num() as u32,
+            buffer_mode: s.buffer_mode as u32,
+            rollover_turns,
+            gantry_pair_id: self.gantry.map_or(-1, |(id, _)| id as i32),
+            gear_master: self.gear_master as u32,
+            in_gear: self.gear.is_some_and(|g| g.engaged.is_some()) as u32,
+            op_mode: self.op_mode as u32,
+            ref_pos: self.wrap(self.reference.pos),
+            ref_vel: self.reference.vel,
+            ref_acc: self.reference.acc,
+            pos_out: self.wrap(self.pos_out()),
+            vel_out: self.reference.vel,
+            acc_out: self.reference.acc,
+            pos_offset: self.pos_offset,
+            pos_fb: self.wrap(self.pos_fb),
+            vel_fb: self.vel_fb,
+            pos_err: self.pos_out() - self.pos_fb,
+            vel_err: self.reference.vel - self.vel_fb,
+            curr_fb: self.feedback.torque.map_or(0.0, |t| t / 1000.0 * self.link.rated_current_a),
+            vel: s.vel,
+            acc: s.acc,
+            dec: s.dec,
+            kill_dec: s.kill_dec,
+            sm_time: s.sm_time_ms,
+            swrl: s.swrl,
+            swll: s.swll,
+            move_time: self.move_time_ms,
+            settling_time: self.settling_time_ms,
+            vel_scale: s.vel_scale,
+            pos_window: s.pos_window,
+            pos_window_time: s.pos_window_time_ms,
+            gear_ratio: self.gear.and_then(|g| g.engaged).map_or(0.0, |e| e.ratio),
+        }
+    }
+}

@@ -1,0 +1,97 @@
+//! HMPL homing (ch. 20) through the drive's homing mode (CoE manual 3.2): the master
+//! writes method, speeds, acceleration and offset by SDO, switches the drive to mode 6,
+//! raises controlword bit 4, and watches statusword bits 13, 12, 10 until the homing is
+//! attained, fails, or takes longer than the timeout.
+
+use api::AxisError;
+
+use crate::cia402::controlword::NEW_SET_POINT;
+use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_HOMING};
+
+/// Table 3-7, `sw & 0x3400`.
+const ATTAINED: u16 = 0x1400;
+const ERROR: u16 = 0x2000;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Homing {
+    Idle,
+    /// Waiting for 0x6061 to show homing mode.
+    Entering {
+        since: u64,
+    },
+    Running {
+        since: u64,
+    },
+    /// Back to csp, with the result to report once there.
+    Leaving {
+        result: Result<(), AxisError>,
+    },
+}
+
+impl Homing {
+    pub fn start(link: &mut DriveLink, cycle: u64) -> Self {
+        link.set_extra_bits(0);
+        link.set_mode(MODE_HOMING);
+        Homing::Entering { since: cycle }
+    }
+
+    pub fn in_progress(&self) -> bool {
+        *self != Homing::Idle
+    }
+
+    /// Ends the run early (the axis was disabled or faulted): back to csp.
+    pub fn abort(&mut self, link: &mut DriveLink) {
+        if self.in_progress() {
+            link.set_extra_bits(0);
+            link.set_mode(MODE_CSP);
+            *self = Homing::Idle;
+        }
+    }
+
+    /// One cycle; the result when the run is over.
+    pub fn step(
+        &mut self,
+        link: &mut DriveLink,
+        fb: &Feedback,
+        cycle: u64,
+        timeout_cycles: u64,
+    ) -> Option<Result<(), AxisError>> {
+        let status = fb.statusword & 0x3400;
+        match *self {
+            Homing::Idle => None,
+            Homing::Entering { since } => {
+                if fb.mode_display == Some(MODE_HOMING) {
+                    link.set_extra_bits(NEW_SET_POINT);
+                    *self = Homing::Running { since };
+                } else if cycle.saturating_sub(since) > timeout_cycles {
+                    self.leave(link, Err(AxisError::DriveHomeTout));
+                }
+                None
+            }
+            Homing::Running { since } => {
+                if status == ATTAINED {
+                    self.leave(link, Ok(()));
+                } else if status & ERROR != 0 {
+                    self.leave(link, Err(AxisError::DriveHomeFailed));
+                } else if cycle.saturating_sub(since) > timeout_cycles {
+                    self.leave(link, Err(AxisError::DriveHomeTout));
+                }
+                None
+            }
+            Homing::Leaving { result } => {
+                if fb.mode_display.is_none_or(|m| m == MODE_CSP) {
+                    *self = Homing::Idle;
+                    Some(result)
+                } else {
+                    None
+                }
+            }
+        }
+    }
+
+    fn leave(&mut self, link: &mut DriveLink, result: Result<(), AxisError>) {
+        link.set_extra_bits(0);
+        link.set_mode(MODE_CSP);
+        *self = Homing::Leaving { result };
+    }
+}

@@ -1,0 +1,201 @@
+//! An axis' settings (HMPL 5.3) and the ranges the setters enforce, with the error code
+//! each refusal records (HMPL table 18.1.2.1).
+
+use api::AxisError;
+
+use crate::config::AxisConfig;
+use crate::motion::generator::Profile;
+
+/// Smooth time range (HMPL table 5.1.1.2), ms.
+pub const MAX_SMOOTH_TIME_MS: f64 = 500.0;
+
+/// HMPL 20: homing defaults: method 33, fast 20, slow 5, acc 2000, offset 0, 120 s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HomeSettings {
+    pub method: i64,
+    pub switch_vel: f64,
+    pub zero_vel: f64,
+    pub acc: f64,
+    pub offset: f64,
+    pub timeout_ms: i64,
+}
+
+impl Default for HomeSettings {
+    fn default() -> Self {
+        HomeSettings { method: 33, switch_vel: 20.0, zero_vel: 5.0, acc: 2000.0, offset: 0.0, timeout_ms: 120_000 }
+    }
+}
+
+/// HMPL 20.3: the methods `SetHomeMethod` accepts (what the drive supports is its business).
+pub fn valid_home_method(method: i64) -> bool {
+    matches!(method, 1 | 2 | 7..=14 | 17 | 18 | 23..=30 | 33 | 34 | 37)
+}
+
+/// The setters of HMPL 20.3 to 20.8, each with the code of its refusal.
+impl HomeSettings {
+    pub fn set_method(&mut self, method: i64) -> Result<(), AxisError> {
+        if !valid_home_method(method) {
+            return Err(AxisError::CmdInvalidParameter);
+        }
+        self.method = method;
+        Ok(())
+    }
+
+    pub fn set_switch_vel(&mut self, vel: f64) -> Result<(), AxisError> {
+        self.switch_vel = positive_up_to(vel, f64::MAX, AxisError::CmdInvalidVel)?;
+        Ok(())
+    }
+
+    pub fn set_zero_vel(&mut self, vel: f64) -> Result<(), AxisError> {
+        self.zero_vel = positive_up_to(vel, f64::MAX, AxisError::CmdInvalidVel)?;
+        Ok(())
+    }
+
+    pub fn set_acc(&mut self, acc: f64) -> Result<(), AxisError> {
+        self.acc = positive_up_to(acc, f64::MAX, AxisError::CmdInvalidAcc)?;
+        Ok(())
+    }
+
+    pub fn set_offset(&mut self, offset: f64) -> Result<(), AxisError> {
+        if !offset.is_finite() {
+            return Err(AxisError::CmdInvalidPos);
+        }
+        self.offset = offset;
+        Ok(())
+    }
+
+    pub fn set_timeout(&mut self, ms: i64) -> Result<(), AxisError> {
+        if ms <= 0 {
+            return Err(AxisError::CmdInvalidParameter);
+        }
+        self.timeout_ms = ms;
+        Ok(())
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// The machine file's limits: the most `SetVel`/`SetAcc`/`SetDec` accept.
+    pub max_vel: f64,
+    pub max_acc: f64,
+    pub vel: f64,
+    pub acc: f64,
+    pub dec: f64,
+    pub kill_dec: f64,
+    pub sm_time_ms: f64,
+    /// Software limits (HMPL 5.3.11-14): right (positive) and left (negative).
+    pub swrl: f64,
+    pub swll: f64,
+    /// In-position window and its debounce time (HMPL 5.1, 5.3.45-48).
+    pub pos_window: f64,
+    pub pos_window_time_ms: f64,
+    /// `HCV_ID_max_pos_err`: position error that disables the axis.
+    pub max_pos_err: f64,
+    /// `HCV_ID_en_delay`: how long the drive may take to enable or disable.
+    pub enable_timeout_ms: f64,
+    /// Velocity override, percent (HMPL 5.3.37).
+    pub vel_scale: f64,
+    pub ignore_hwl: bool,
+    pub ignore_swl: bool,
+    pub ignore_pe: bool,
+    /// 0: immediate (a new command replaces the running one), 1: buffered (HMPL 5.3.42).
+    pub buffer_mode: i64,
+    /// Rollover length (0: off), HMPL 5.3.39.
+    pub rollover: f64,
+    pub home: HomeSettings,
+}
+
+impl Settings {
+    pub fn new(config: &AxisConfig) -> Self {
+        Settings {
+            max_vel: config.max_vel,
+            max_acc: config.max_acc,
+            vel: config.vel,
+            acc: config.acc,
+            dec: config.dec,
+            kill_dec: config.max_acc,
+            sm_time_ms: 0.0,
+            swrl: f64::INFINITY,
+            swll: f64::NEG_INFINITY,
+            pos_window: 0.005,
+            pos_window_time_ms: 5.0,
+            max_pos_err: 5.0,
+            enable_timeout_ms: 1000.0,
+            vel_scale: 100.0,
+            ignore_hwl: false,
+            ignore_swl: false,
+            ignore_pe: false,
+            buffer_mode: 0,
+            rollover: 0.0,
+            home: HomeSettings::default(),
+        }
+    }
+
+    pub fn profile(&self) -> Profile {
+        Profile { vel: self.vel, acc: self.acc, dec: self.dec }
+    }
+}
+
+/// `value > 0` and at most `max`: the rule of most setters ("non-zero positive").
+pub fn positive_up_to(value: f64, max: f64, error: AxisError) -> Result<f64, AxisError> {
+    if value > 0.0 && value <= max { Ok(value) } else { Err(error) }
+}
+
+/// A time in ms (acceleration or deceleration time) turned into a rate: vel / time. A time
+/// of 0, a negative one or NaN gives a rate `positive_up_to` refuses.
+pub fn rate_from_time(vel: f64, time_ms: f64, max: f64, error: AxisError) -> Result<f64, AxisError> {
+    positive_up_to(vel / (time_ms / 1000.0), max, error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// HMPL 20 and fact 93: the defaults.
+    #[test]
+    fn home_defaults() {
+        let h = HomeSettings::default();
+        assert_eq!(
+            (h.method, h.switch_vel, h.zero_vel, h.acc, h.offset, h.timeout_ms),
+            (33, 20.0, 5.0, 2000.0, 0.0, 120_000)
+        );
+    }
+
+    /// HMPL 20.3 to 20.8: what the setters refuse, and that a refusal keeps the value.
+    #[test]
+    fn home_setters() {
+        let mut h = HomeSettings::default();
+        assert_eq!(h.set_method(3), Err(AxisError::CmdInvalidParameter));
+        assert_eq!(h.set_switch_vel(0.0), Err(AxisError::CmdInvalidVel));
+        assert_eq!(h.set_zero_vel(f64::NAN), Err(AxisError::CmdInvalidVel));
+        assert_eq!(h.set_acc(-1.0), Err(AxisError::CmdInvalidAcc));
+        assert_eq!(h.set_offset(f64::INFINITY), Err(AxisError::CmdInvalidPos));
+        assert_eq!(h.set_timeout(0), Err(AxisError::CmdInvalidParameter));
+        assert_eq!(h, HomeSettings::default());
+        assert_eq!(h.set_offset(-2.5), Ok(()));
+        assert_eq!(h.offset, -2.5);
+    }
+
+    /// HMPL 20.3 and fact 94: the methods SetHomeMethod accepts.
+    #[test]
+    fn home_methods() {
+        for m in [1, 2, 7, 14, 17, 18, 23, 30, 33, 34, 37] {
+            assert!(valid_home_method(m), "{m}");
+        }
+        for m in [0, 3, 6, 15, 16, 19, 22, 31, 32, 35, 36, 38, -1] {
+            assert!(!valid_home_method(m), "{m}");
+        }
+    }
+
+    #[test]
+    fn rates_from_times() {
+        assert_eq!(rate_from_time(100.0, 100.0, 1e6, AxisError::CmdInvalidAcc), Ok(1000.0));
+        for bad in [0.0, -0.0, -5.0, f64::NAN, f64::INFINITY] {
+            assert_eq!(
+                rate_from_time(100.0, bad, 1e6, AxisError::CmdInvalidAcc),
+                Err(AxisError::CmdInvalidAcc),
+                "{bad}"
+            );
+        }
+    }
+}
