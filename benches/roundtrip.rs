@@ -1,9 +1,9 @@
 //! How long a script waits for `MoveAbs`, and what a status query (`GetPosFb`) costs,
 //! measured from Lua against a real controller process.
 //!
-//! `cargo bench --bench roundtrip` starts `luamotion run` with a task slot that has no
-//! process, then plays that task itself: a sandboxed VM with the real bindings, plus one
-//! extra global, `clock_ns()`, to time the calls.
+//! `cargo bench --bench roundtrip` starts `luamotion run` with an external task slot (the
+//! controller starts no process for it), then plays that task itself: a sandboxed VM with
+//! the real bindings, plus one extra global, `clock_ns()`, to time the calls.
 
 use std::cell::RefCell;
 use std::process::{Command, Stdio};
@@ -51,10 +51,12 @@ fn main() {
     let idle = dir.path().join("idle.lua");
     std::fs::write(&idle, "").unwrap();
     let config = dir.path().join("machine.toml");
-    std::fs::write(&config, "[[axes]]\n[[tasks]]\nid = 0\nprogram = \"idle.lua\"\nautorun = false\n").unwrap();
+    std::fs::write(&config, "[[axes]]\n[[tasks]]\nid = 0\nprogram = \"idle.lua\"\nexternal = true\n").unwrap();
     let ns = format!("bench-{}", std::process::id());
     let mut controller = Command::new(env!("CARGO_BIN_EXE_luamotion"))
         .args(["run", "--ns", &ns, "--config", config.to_str().unwrap()])
+        .arg("--data-dir")
+        .arg(dir.path())
         .stdout(Stdio::null())
         .spawn()
         .expect("start the controller");
@@ -73,7 +75,7 @@ fn main() {
     let random = Rc::new(RefCell::new(Histogram::<u64>::new(3).unwrap()));
     let queries = Rc::new(RefCell::new((0u64, 0u64)));
     let lua = script_host::sandbox::new_vm(64 << 20).unwrap();
-    bindings::install(&lua, Rc::new(Host { endpoint: RefCell::new(endpoint) })).unwrap();
+    bindings::install(&lua, Rc::new(Host::new(endpoint, &ns, dir.path().to_path_buf()).unwrap())).unwrap();
     let g = lua.globals();
     g.set("MOVES", MOVES).unwrap();
     g.set("QUERIES", QUERIES).unwrap();

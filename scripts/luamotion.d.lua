@@ -1,6 +1,12 @@
 ---@meta luamotion
 -- Generated from the registry by `luamotion api lua`; do not edit.
 
+---A timer for TON and TOF (HMPL 2.24).
+---@class Timer
+---@field Q boolean
+---@field ET integer
+---@field IN boolean
+
 --- Enables (servo on) the axis by walking the drive's CiA 402 state machine; both axes
 --- of a gantry pair. Returns at once; `Till(function() return IsEnabled(a) end)` waits.
 ---HMPL 5.2.1 (command (round trip to the core))
@@ -395,6 +401,94 @@ function ReleasePDO(slv_id, obj_index, obj_subindex) end
 ---@param error_code integer
 ---@return integer
 function SimDriveFault(slv_id, error_code) end
+
+--- Simulator only: the electrical level of controller input `gpi_idx` (1..8), before
+--- inversion, as a switch wired to it would set it. Returns 0 or -1.
+---luamotion sim (command (round trip to the core))
+---@param gpi_idx integer
+---@param on_off integer
+---@return integer
+function SimSetGPI(gpi_idx, on_off) end
+
+--- Disables every axis and clears its path planning.
+---HMPL 2.7 (command (round trip to the core))
+---@return integer
+function DisableAll() end
+
+--- Stops every axis with its kill deceleration; they stay enabled; the plans are cleared.
+---HMPL 2.8 (command (round trip to the core))
+---@return integer
+function StopAll() end
+
+--- Emergency stop: stops every task (the caller too: the call never returns) and
+--- disables every axis. Motion commands then fail with 0x0064 until the axis is enabled again.
+---HMPL 2.9 (command (round trip to the core))
+function EStop() end
+
+--- Sets output `gpo_idx` on (1) or off (0).
+---HMPL 9.2.1 (command (round trip to the core))
+---@param gpo_idx integer
+---@param on_off integer
+---@return integer
+function SetGPO(gpo_idx, on_off) end
+
+--- Toggles output `gpo_idx`.
+---HMPL 9.2.2 (command (round trip to the core))
+---@param gpo_idx integer
+---@return integer
+function ToggleGPO(gpo_idx) end
+
+--- Sets all outputs from a bitmask (bit 0 is pin 1).
+---HMPL 9.2.3 (command (round trip to the core))
+---@param all_gpo_state integer
+---@return integer
+function SetAllGPO(all_gpo_state) end
+
+--- Inverts input `gpi_idx` (1) or not (0).
+---HMPL 9.2.4 (command (round trip to the core))
+---@param gpi_idx integer
+---@param invert integer
+---@return integer
+function SetGPIInvert(gpi_idx, invert) end
+
+--- Inverts output `gpo_idx` (1) or not (0).
+---HMPL 9.2.5 (command (round trip to the core))
+---@param gpo_idx integer
+---@param invert integer
+---@return integer
+function SetGPOInvert(gpo_idx, invert) end
+
+--- Chooses the input whose rising edge is the E-stop (default 8; 0: none).
+---HMPL 9.2.6 (command (round trip to the core))
+---@param gpi_idx integer
+---@return integer
+function BindEMO(gpi_idx) end
+
+--- Starts a task's program in its own process; returns once it runs. 0x0107 no such
+--- task id, 0x0108 already running, 0x010A no program configured.
+---HMPL 16.2 (command (round trip to the core))
+---@param task_id integer
+---@return integer
+function StartTask(task_id) end
+
+--- Starts a task at a function of its program: the program's top level runs first (it
+--- should only declare), then `func_name()`. 0x0109 when the program has no such function.
+---HMPL 16.3 (command (round trip to the core))
+---@param task_id integer
+---@param func_name string
+---@return integer
+function StartTaskFunc(task_id, func_name) end
+
+--- Stops a task: its motion reacts as its fault reaction says, its mutexes are released,
+--- its process ends. 0x010B when it is not running.
+---HMPL 16.4 (command (round trip to the core))
+---@param task_id integer
+---@return integer
+function StopTask(task_id) end
+
+--- Stops every task, the caller too: the call never returns.
+---HMPL 16.5 (command (round trip to the core))
+function StopAllTask() end
 
 --- The profile velocity.
 ---HMPL 5.3.1 (query (local snapshot))
@@ -805,6 +899,44 @@ function GetSlvChNum(slv_slot_id, ch_type) end
 ---@return integer
 function GetSlvSlotNum(slv_id) end
 
+--- Controller input `gpi_idx` (1..8) after inversion: 1 on, 0 off, -1 no such input.
+---HMPL 9.4.1 (query (local snapshot))
+---@param gpi_idx integer
+---@return integer
+function GetGPI(gpi_idx) end
+
+--- Controller output `gpo_idx`: 1 on, 0 off, -1 no such output.
+---HMPL 9.4.2 (query (local snapshot))
+---@param gpo_idx integer
+---@return integer
+function GetGPO(gpo_idx) end
+
+--- All inputs as a bitmask (inputs 1 and 4 on: 9).
+---HMPL 9.4.3 (query (local snapshot))
+---@return integer
+function GetAllGPI() end
+
+--- All outputs as a bitmask (outputs 2 and 3 on: 6).
+---HMPL 9.4.4 (query (local snapshot))
+---@return integer
+function GetAllGPO() end
+
+--- The inverted inputs as a bitmask.
+---HMPL 9.4.5 (query (local snapshot))
+---@return integer
+function GetAllGPIInvertSt() end
+
+--- The inverted outputs as a bitmask.
+---HMPL 9.4.6 (query (local snapshot))
+---@return integer
+function GetAllGPOInvertSt() end
+
+--- True unless the task is starting or running.
+---HMPL 16.6 (query (local snapshot))
+---@param task_id integer
+---@return boolean
+function IsTaskStop(task_id) end
+
 --- Suspends the task for `ms` milliseconds of controller time.
 ---HMPL 2.18 (script process)
 ---@param ms integer
@@ -833,6 +965,103 @@ function my_print(text) end
 ---DXMC 8.3 DRL (script process)
 ---@param seconds number
 function DELAY(seconds) end
+
+--- Sends event `evt_id` (0..65535) to the tools following the event stream. Blocks
+--- while the task sends faster than 1000 per second on average. Returns 0.
+---HMPL 2.19 (script process)
+---@param evt_id integer
+---@return integer
+function SendEvent(evt_id) end
+
+--- Sends a formatted message (as `Print`, at most 128 characters; longer ones are
+--- refused with 0x138D) to the event stream; throttled like `SendEvent`.
+---HMPL 2.20 (script process)
+---@param format string
+---@param ... any
+---@return integer
+function SendMsgEvent(format, ...) end
+
+--- Gives the processor to other programs for a moment.
+---HMPL 2.21 (script process)
+function RunScheduler() end
+
+--- Takes mutex `mutex_id` (0..7), waiting while another task holds it. Taking it twice
+--- stops the task with 0x13EC. A task that stops releases its mutexes.
+---HMPL 2.22 (script process)
+---@param mutex_id integer
+function MutexLock(mutex_id) end
+
+--- Releases mutex `mutex_id` if this task holds it; otherwise does nothing.
+---HMPL 2.23 (script process)
+---@param mutex_id integer
+function MutexUnlock(mutex_id) end
+
+--- A new timer for `TON` and `TOF` (HMPL's `Timer t = TimerInit`); also resets one.
+---HMPL 2.24 (script process)
+---@return Timer
+function TimerInit() end
+
+--- On-delay timer on controller time: true once `IN` has been true for `PT` ms; false
+--- again when `IN` falls. `IN` is a boolean or a number (0 is false).
+---HMPL 2.24 (script process)
+---@param timer Timer
+---@param IN boolean|number
+---@param PT integer
+---@return boolean
+function TON(timer, IN, PT) end
+
+--- Off-delay timer on controller time: true as soon as `IN` is true; false `PT` ms after
+--- `IN` falls.
+---HMPL 2.25 (script process)
+---@param timer Timer
+---@param IN boolean|number
+---@param PT integer
+---@return boolean
+function TOF(timer, IN, PT) end
+
+--- Writes `num_data` values from the table `input` at `start_idx`. 0 or 0x138F.
+---HMPL 11.2 (script process)
+---@param start_idx integer
+---@param num_data integer
+---@param input number[]
+---@return integer
+function SetUserTable(start_idx, num_data, input) end
+
+--- Reads `num_data` values at `start_idx`: `rc, values`.
+---HMPL 11.3 (script process)
+---@param start_idx integer
+---@param num_data integer
+---@return integer
+---@return number[]
+function GetUserTable(start_idx, num_data) end
+
+--- Writes one value. 0 or 0x138F.
+---HMPL 11.4 (script process)
+---@param index integer
+---@param value number
+---@return integer
+function SetTableValue(index, value) end
+
+--- Reads one value.
+---HMPL 11.5 (script process)
+---@param index integer
+---@return number
+function GetTableValue(index) end
+
+--- Saves a range to the controller's disk: the file is replaced whole or not at all.
+--- 0, 0x138F or 0x0139.
+---HMPL 11.6 (script process)
+---@param start_idx integer
+---@param num_data integer
+---@return integer
+function SaveUserTable(start_idx, num_data) end
+
+--- Loads a range from the controller's disk. 0, 0x138F or 0x0138 (nothing saved).
+---HMPL 11.7 (script process)
+---@param start_idx integer
+---@param num_data integer
+---@return integer
+function LoadUserTable(start_idx, num_data) end
 
 PI = 3.141592653589793 -- HMPL 23.1
 SQRT2 = 1.4142135623730951 -- HMPL 23.1
@@ -1096,3 +1325,19 @@ eERR_CRD_CMD_NURBS_INVALID_PARAM = 0x02EE
 eERR_CRD_CMD_LOOKAHEAD_INVALID_PARAM = 0x02F8
 eERR_CRD_AXIS_ABNORMALLY_DISABLED = 0x03F2
 eERR_CRD_AXIS_SWL = 0x03FC
+---@type integer
+system_fclk = nil -- controller cycles since start (read-only) (HMPL 23.2)
+---@type integer
+system_timeInMs = nil -- controller time, ms (read-only) (HMPL 23.2)
+---@type number[]
+system_user_table = nil -- the user table, indices 0..511999, shared by all tasks (HMPL 11, 23.2)
+---@type integer
+system_ltest0 = nil -- system_ltest0 .. system_ltest9: integers shared by all tasks (HMPL 23.2)
+---@type number
+system_dtest0 = nil -- system_dtest0 .. system_dtest9: numbers shared by all tasks (HMPL 23.2)
+---@type number[]
+system_mtest = nil -- 10 numbers shared by all tasks, indices 0..9 (HMPL 23.2)
+---@type integer
+_TASKID_ = nil -- this task's id (HMPL 19.1)
+---@type table<string, number|boolean|string>
+task_vars = nil -- this task's variables: they keep their values when the task is stopped and started again (64 per task, names up to 31 bytes, strings up to 64) (HMPL 1.1 (luamotion))

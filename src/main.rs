@@ -10,6 +10,8 @@ use ipc::Namespace;
 use rt_core::config::{MAX_TASKS, MachineConfig, TaskConfig};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
+mod tools;
+
 /// Small allocations of the RT thread come from a pre-touched pool (see rt_core::rt_alloc).
 #[global_allocator]
 static ALLOCATOR: rt_core::rt_alloc::RtAllocator = rt_core::rt_alloc::RtAllocator;
@@ -34,8 +36,27 @@ enum Cmd {
         /// Namespace of this controller's IPC resources (controllers side by side need different ones).
         #[arg(long, default_value = "luamotion")]
         ns: String,
+        /// Where SaveUserTable keeps the user table [default: $XDG_STATE_HOME/luamotion/<ns>].
+        #[arg(long)]
+        data_dir: Option<PathBuf>,
+        /// Write every cycle's reference, feedback and status of the first 8 axes to this CSV file.
+        #[arg(long)]
+        trace: Option<PathBuf>,
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
+    },
+    /// Show the task table of a running controller: state, process, CPU, watchdog, last alarm.
+    Tasks {
+        #[arg(long, default_value = "luamotion")]
+        ns: String,
+    },
+    /// Follow a running controller's events: SendEvent, SendMsgEvent and alarms.
+    Events {
+        #[arg(long, default_value = "luamotion")]
+        ns: String,
+        /// Stop after this many events.
+        #[arg(long)]
+        count: Option<usize>,
     },
     /// Print the API reference generated from the registry.
     Api {
@@ -53,6 +74,11 @@ enum Cmd {
         controller_pid: u32,
         #[arg(long, default_value_t = 64)]
         memory_limit_mib: u32,
+        #[arg(long)]
+        data_dir: PathBuf,
+        /// StartTaskFunc: the function to run after the program's top level.
+        #[arg(long)]
+        entry: Option<String>,
         program: PathBuf,
     },
 }
@@ -69,7 +95,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     init_logging(cli.verbose);
     let result = match cli.command {
-        Cmd::Run { config, ns, scripts } => run(config, &ns, scripts),
+        Cmd::Run { config, ns, data_dir, trace, scripts } => run(config, &ns, data_dir, trace, scripts),
+        Cmd::Tasks { ns } => tools::tasks(&ns),
+        Cmd::Events { ns, count } => tools::events(&ns, count),
         Cmd::Api { format } => {
             print!(
                 "{}",
@@ -80,8 +108,23 @@ fn main() -> ExitCode {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Cmd::Script { ns, task, controller_pid, memory_limit_mib, program } => {
-            script(&ns, task, controller_pid, memory_limit_mib, program)
+        Cmd::Script { ns, task, controller_pid, memory_limit_mib, data_dir, entry, program } => {
+            let args = script_host::ScriptArgs {
+                ns: match Namespace::new(&ns) {
+                    Ok(ns) => ns,
+                    Err(e) => {
+                        eprintln!("error: {e}");
+                        return ExitCode::FAILURE;
+                    }
+                },
+                task,
+                controller_pid,
+                memory_limit_mib,
+                data_dir,
+                entry,
+                program,
+            };
+            Ok(script(args))
         }
     };
     result.unwrap_or_else(|e| {
@@ -98,10 +141,25 @@ fn init_logging(verbose: u8) {
     };
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(default));
-    tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).init();
+    let ansi = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_ansi(ansi).init();
 }
 
-fn run(config_path: Option<PathBuf>, ns: &str, scripts: Vec<PathBuf>) -> Result<ExitCode> {
+/// `$XDG_STATE_HOME/luamotion/<ns>`, else `~/.local/state/luamotion/<ns>`.
+fn default_data_dir(ns: &str) -> PathBuf {
+    let state = std::env::var_os("XDG_STATE_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|home| PathBuf::from(home).join(".local").join("state")));
+    state.unwrap_or_else(std::env::temp_dir).join("luamotion").join(ns)
+}
+
+fn run(
+    config_path: Option<PathBuf>,
+    ns: &str,
+    data_dir: Option<PathBuf>,
+    trace: Option<PathBuf>,
+    scripts: Vec<PathBuf>,
+) -> Result<ExitCode> {
     let mut config = match &config_path {
         Some(path) => MachineConfig::load(path)?,
         None => MachineConfig::default(),
@@ -123,7 +181,9 @@ fn run(config_path: Option<PathBuf>, ns: &str, scripts: Vec<PathBuf>) -> Result<
         subcommand: vec!["script".into()],
     };
     let exit_when_tasks_end = config.tasks.iter().any(|t| t.autorun);
-    let report = rt_core::run(config, rt_core::RunOptions { ns, launcher, exit_when_tasks_end })?;
+    let data_dir = data_dir.unwrap_or_else(|| default_data_dir(ns.as_str()));
+    let options = rt_core::RunOptions { ns, launcher, exit_when_tasks_end, data_dir, trace };
+    let report = rt_core::run(config, options)?;
 
     let mut failed = false;
     for task in &report.tasks {
@@ -154,18 +214,17 @@ fn run(config_path: Option<PathBuf>, ns: &str, scripts: Vec<PathBuf>) -> Result<
     })
 }
 
-fn script(ns: &str, task: u8, controller_pid: u32, memory_limit_mib: u32, program: PathBuf) -> Result<ExitCode> {
-    let args = script_host::ScriptArgs { ns: Namespace::new(ns)?, task, controller_pid, memory_limit_mib, program };
+fn script(args: script_host::ScriptArgs) -> ExitCode {
     match script_host::run(args) {
-        Ok(()) => Ok(ExitCode::SUCCESS),
-        Err(script_host::ScriptError::ControllerGone) => Ok(ExitCode::from(3)),
+        Ok(()) => ExitCode::SUCCESS,
+        Err(script_host::ScriptError::ControllerGone) => ExitCode::from(3),
         // The controller reports the last line a failed program writes to stderr.
         Err(e) => {
             if let script_host::ScriptError::Lua { traceback: Some(traceback), .. } = &e {
                 eprintln!("{traceback}");
             }
             eprintln!("{e}");
-            Ok(ExitCode::FAILURE)
+            ExitCode::FAILURE
         }
     }
 }

@@ -9,8 +9,10 @@ mod common;
 use api::registry::{self, ArgType, Kind};
 use common::*;
 
-/// Functions left out: `Enable` would power axes and let `MoveHome` block for a homing.
-const SKIPPED: &[&str] = &["Enable", "MoveHome"];
+/// Functions left out: `Enable` would power axes and let `MoveHome` block for a homing;
+/// `EStop` and `StopAllTask` end the run; `BindEMO(1)` would make the next `SimSetGPI(1, -1)`
+/// an E-stop.
+const SKIPPED: &[&str] = &["Enable", "MoveHome", "EStop", "StopAllTask", "BindEMO"];
 
 fn valid(ty: ArgType) -> &'static str {
     match ty {
@@ -21,6 +23,8 @@ fn valid(ty: ArgType) -> &'static str {
         ArgType::Doubles => "{0, 1}",
         ArgType::Func => "function() return true end",
         ArgType::Rest => "1",
+        ArgType::Bool => "true",
+        ArgType::Timer => "TimerInit()",
     }
 }
 
@@ -31,6 +35,8 @@ fn hostile(ty: ArgType) -> &'static [&'static str] {
         ArgType::Str => &["''", "string.rep('y', 100000)"],
         ArgType::Bytes => &["{}", "{300, -1}", "big_bytes"],
         ArgType::Doubles => &["{}", "{0/0, math.huge}", "big_doubles"],
+        ArgType::Bool => &["{}", "'x'"],
+        ArgType::Timer => &["{}", "1"],
         ArgType::Func | ArgType::Rest => &[],
     }
 }

@@ -6,6 +6,7 @@ use std::fmt::Write;
 
 use crate::constants::{CONSTANTS, Constant, error_ids, numbered};
 use crate::registry::{ArgType, FunctionSpec, Kind, ValueType, all};
+use crate::system_vars::SystemVar;
 
 fn lua_type(v: ValueType) -> &'static str {
     match v {
@@ -14,6 +15,8 @@ fn lua_type(v: ValueType) -> &'static str {
         ValueType::Bool => "boolean",
         ValueType::Str => "string",
         ValueType::Bytes => "integer[]",
+        ValueType::Doubles => "number[]",
+        ValueType::Timer => "Timer",
     }
 }
 
@@ -72,6 +75,10 @@ pub fn markdown() -> String {
         let _ = writeln!(out, "| `{name}` | `{value}` | {source} |");
     }
     out.push_str("\n`HOME_METHOD_n` (HMPL 20.1) and `HMPL_AXIS_n` (0..15) are constants too.\n");
+    out.push_str("\n## Variables\n\n| name | Lua type | source | what |\n|---|---|---|---|\n");
+    for v in SystemVar::ALL {
+        let _ = writeln!(out, "| `{}` | `{}` | {} | {} |", v.name, v.lua_type, v.source, v.doc);
+    }
     out.push_str("\nEvery error name of HMPL ch. 18 is also a constant holding its error id (`EEEE`), ");
     out.push_str("e.g. `GetAxisLastErr(0) & 0xFFFF == eERR_AXIS_CMD_INVALID_DISABLED`.\n");
     out
@@ -82,6 +89,7 @@ pub fn lua_meta() -> String {
     let mut out = String::new();
     out.push_str("---@meta luamotion\n");
     out.push_str("-- Generated from the registry by `luamotion api lua`; do not edit.\n");
+    out.push_str("\n---A timer for TON and TOF (HMPL 2.24).\n---@class Timer\n---@field Q boolean\n---@field ET integer\n---@field IN boolean\n");
     for f in all() {
         out.push('\n');
         for line in f.doc {
@@ -98,6 +106,8 @@ pub fn lua_meta() -> String {
                 ArgType::Bytes => (a.name, "integer[]|string"),
                 ArgType::Doubles => (a.name, "number[]"),
                 ArgType::Rest => ("...", "any"),
+                ArgType::Bool => (a.name, "boolean|number"),
+                ArgType::Timer => (a.name, "Timer"),
             };
             let _ = writeln!(out, "---@param {name} {ty}");
             params.push(name);
@@ -121,6 +131,9 @@ pub fn lua_meta() -> String {
     }
     for (name, id) in error_ids() {
         let _ = writeln!(out, "{name} = 0x{id:04X}");
+    }
+    for v in SystemVar::ALL {
+        let _ = writeln!(out, "---@type {}\n{} = nil -- {} ({})", v.lua_type, v.name, v.doc, v.source);
     }
     out
 }

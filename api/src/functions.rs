@@ -137,6 +137,45 @@ declare_functions! {
     /// Simulator only: puts a drive into Fault with an error code of the CoE manual's table
     /// 4-16 (e.g. 0x3110 over voltage). Returns 0, or -1 for a code the drive model lacks.
     ["luamotion sim"] fn SimDriveFault(slv_id: Int, error_code: Int) -> Int;
+    /// Simulator only: the electrical level of controller input `gpi_idx` (1..8), before
+    /// inversion, as a switch wired to it would set it. Returns 0 or -1.
+    ["luamotion sim"] fn SimSetGPI(gpi_idx: Int, on_off: Int) -> Int;
+
+    // HMPL ch. 2: system.
+    /// Disables every axis and clears its path planning.
+    ["HMPL 2.7", ascii] fn DisableAll() -> Int;
+    /// Stops every axis with its kill deceleration; they stay enabled; the plans are cleared.
+    ["HMPL 2.8", ascii] fn StopAll() -> Int;
+    /// Emergency stop: stops every task (the caller too: the call never returns) and
+    /// disables every axis. Motion commands then fail with 0x0064 until the axis is enabled again.
+    ["HMPL 2.9", ascii] fn EStop();
+
+    // HMPL ch. 9: the controller's digital I/O (pins 1..8); 0 or -1.
+    /// Sets output `gpo_idx` on (1) or off (0).
+    ["HMPL 9.2.1", ascii] fn SetGPO(gpo_idx: Int, on_off: Int) -> Int;
+    /// Toggles output `gpo_idx`.
+    ["HMPL 9.2.2", ascii] fn ToggleGPO(gpo_idx: Int) -> Int;
+    /// Sets all outputs from a bitmask (bit 0 is pin 1).
+    ["HMPL 9.2.3", ascii] fn SetAllGPO(all_gpo_state: Int) -> Int;
+    /// Inverts input `gpi_idx` (1) or not (0).
+    ["HMPL 9.2.4", ascii] fn SetGPIInvert(gpi_idx: Int, invert: Int) -> Int;
+    /// Inverts output `gpo_idx` (1) or not (0).
+    ["HMPL 9.2.5", ascii] fn SetGPOInvert(gpo_idx: Int, invert: Int) -> Int;
+    /// Chooses the input whose rising edge is the E-stop (default 8; 0: none).
+    ["HMPL 9.2.6", ascii] fn BindEMO(gpi_idx: Int) -> Int;
+
+    // HMPL ch. 16: task control.
+    /// Starts a task's program in its own process; returns once it runs. 0x0107 no such
+    /// task id, 0x0108 already running, 0x010A no program configured.
+    ["HMPL 16.2", ascii] fn StartTask(task_id: Int) -> Int;
+    /// Starts a task at a function of its program: the program's top level runs first (it
+    /// should only declare), then `func_name()`. 0x0109 when the program has no such function.
+    ["HMPL 16.3", ascii] fn StartTaskFunc(task_id: Int, func_name: Str) -> Int;
+    /// Stops a task: its motion reacts as its fault reaction says, its mutexes are released,
+    /// its process ends. 0x010B when it is not running.
+    ["HMPL 16.4", ascii] fn StopTask(task_id: Int) -> Int;
+    /// Stops every task, the caller too: the call never returns.
+    ["HMPL 16.5", ascii] fn StopAllTask();
 }
 
 declare_functions! {
@@ -287,6 +326,22 @@ declare_functions! {
     ["HMPL 21.1", ascii] fn GetSlvChNum(slv_slot_id: Int, ch_type: Int) -> Int;
     /// The number of slots (modules) of a slave; a drive has none.
     ["HMPL 21.2", ascii] fn GetSlvSlotNum(slv_id: Int) -> Int;
+
+    /// Controller input `gpi_idx` (1..8) after inversion: 1 on, 0 off, -1 no such input.
+    ["HMPL 9.4.1", ascii] fn GetGPI(gpi_idx: Int) -> Int;
+    /// Controller output `gpo_idx`: 1 on, 0 off, -1 no such output.
+    ["HMPL 9.4.2", ascii] fn GetGPO(gpo_idx: Int) -> Int;
+    /// All inputs as a bitmask (inputs 1 and 4 on: 9).
+    ["HMPL 9.4.3", ascii] fn GetAllGPI() -> Int;
+    /// All outputs as a bitmask (outputs 2 and 3 on: 6).
+    ["HMPL 9.4.4", ascii] fn GetAllGPO() -> Int;
+    /// The inverted inputs as a bitmask.
+    ["HMPL 9.4.5", ascii] fn GetAllGPIInvertSt() -> Int;
+    /// The inverted outputs as a bitmask.
+    ["HMPL 9.4.6", ascii] fn GetAllGPOInvertSt() -> Int;
+
+    /// True unless the task is starting or running.
+    ["HMPL 16.6", ascii] fn IsTaskStop(task_id: Int) -> Bool;
 }
 
 declare_functions! {
@@ -304,4 +359,41 @@ declare_functions! {
     ["DXMC 8.3 DRL"] fn my_print(text: Str);
     /// DRL: suspends the program for a number of seconds (fractions allowed) of controller time.
     ["DXMC 8.3 DRL"] fn DELAY(seconds: Double);
+
+    /// Sends event `evt_id` (0..65535) to the tools following the event stream. Blocks
+    /// while the task sends faster than 1000 per second on average. Returns 0.
+    ["HMPL 2.19"] fn SendEvent(evt_id: Int) -> Int;
+    /// Sends a formatted message (as `Print`, at most 128 characters; longer ones are
+    /// refused with 0x138D) to the event stream; throttled like `SendEvent`.
+    ["HMPL 2.20"] fn SendMsgEvent(format: Str, args: Rest) -> Int;
+    /// Gives the processor to other programs for a moment.
+    ["HMPL 2.21"] fn RunScheduler();
+    /// Takes mutex `mutex_id` (0..7), waiting while another task holds it. Taking it twice
+    /// stops the task with 0x13EC. A task that stops releases its mutexes.
+    ["HMPL 2.22"] fn MutexLock(mutex_id: Int);
+    /// Releases mutex `mutex_id` if this task holds it; otherwise does nothing.
+    ["HMPL 2.23"] fn MutexUnlock(mutex_id: Int);
+    /// A new timer for `TON` and `TOF` (HMPL's `Timer t = TimerInit`); also resets one.
+    ["HMPL 2.24"] fn TimerInit() -> Timer;
+    /// On-delay timer on controller time: true once `IN` has been true for `PT` ms; false
+    /// again when `IN` falls. `IN` is a boolean or a number (0 is false).
+    ["HMPL 2.24"] fn TON(timer: Timer, IN: Bool, PT: Int) -> Bool;
+    /// Off-delay timer on controller time: true as soon as `IN` is true; false `PT` ms after
+    /// `IN` falls.
+    ["HMPL 2.25"] fn TOF(timer: Timer, IN: Bool, PT: Int) -> Bool;
+
+    // HMPL ch. 11: the user table, 512000 doubles shared by all tasks (indices from 0).
+    /// Writes `num_data` values from the table `input` at `start_idx`. 0 or 0x138F.
+    ["HMPL 11.2"] fn SetUserTable(start_idx: Int, num_data: Int, input: Doubles) -> Int;
+    /// Reads `num_data` values at `start_idx`: `rc, values`.
+    ["HMPL 11.3"] fn GetUserTable(start_idx: Int, num_data: Int) -> (Int, Doubles);
+    /// Writes one value. 0 or 0x138F.
+    ["HMPL 11.4", ascii] fn SetTableValue(index: Int, value: Double) -> Int;
+    /// Reads one value.
+    ["HMPL 11.5", ascii] fn GetTableValue(index: Int) -> Double;
+    /// Saves a range to the controller's disk: the file is replaced whole or not at all.
+    /// 0, 0x138F or 0x0139.
+    ["HMPL 11.6", ascii] fn SaveUserTable(start_idx: Int, num_data: Int) -> Int;
+    /// Loads a range from the controller's disk. 0, 0x138F or 0x0138 (nothing saved).
+    ["HMPL 11.7", ascii] fn LoadUserTable(start_idx: Int, num_data: Int) -> Int;
 }

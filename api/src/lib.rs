@@ -1,11 +1,13 @@
 //! The contract between scripts and the controller: the registry of API functions, the
-//! HMPL error codes and the constants scripts see.
+//! HMPL error codes, the DXMC alarm format and the constants scripts see.
 
+pub mod alarms;
 pub mod constants;
 pub mod docs;
 pub mod errors;
 mod functions;
 pub mod registry;
+pub mod system_vars;
 
 pub use errors::{AxisError, ErrorCode, GroupError, SdoAbort, SystemError};
 pub use functions::{Command, Local, Query};

@@ -36,6 +36,10 @@ pub enum ArgType {
     Doubles,
     /// `...` of a printf-style function: any number of values.
     Rest,
+    /// A boolean, or a number where 0 is false (HMPL's `int` conditions).
+    Bool,
+    /// A timer made by `TimerInit` (HMPL's `Timer*`).
+    Timer,
 }
 
 /// The type of one returned value.
@@ -48,6 +52,10 @@ pub enum ValueType {
     Str,
     /// An out-pointer buffer: a table of integers 0..255.
     Bytes,
+    /// An out-pointer array of doubles: a table of numbers.
+    Doubles,
+    /// A timer for `TON`/`TOF`.
+    Timer,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -89,6 +97,8 @@ impl FunctionSpec {
             Some(ValueType::Double) => "double",
             Some(ValueType::Str) => "char*",
             Some(ValueType::Bytes) => "uint8_t*",
+            Some(ValueType::Doubles) => "double*",
+            Some(ValueType::Timer) => "Timer",
         };
         let args: Vec<String> = self
             .args
@@ -101,6 +111,8 @@ impl FunctionSpec {
                 ArgType::Bytes => format!("uint8_t *{}", a.name),
                 ArgType::Doubles => format!("double *{}", a.name),
                 ArgType::Rest => "...".to_string(),
+                ArgType::Bool => format!("int {}", a.name),
+                ArgType::Timer => format!("Timer *{}", a.name),
             })
             .collect();
         format!("{ret} {}({})", self.name, args.join(", "))

@@ -9,6 +9,7 @@ use crate::clock::monotonic_ns;
 use crate::messages::{Reply, Request, Snapshot};
 use crate::services::failed;
 use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StatePublisher, WakeNotifier};
+use crate::shared::SharedData;
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskTable};
 use crate::{IpcError, Namespace};
@@ -58,6 +59,7 @@ pub struct CoreEndpoint {
     state: StatePublisher,
     tasks: Vec<TaskChannel>,
     table: Region<TaskTable>,
+    shared: Region<SharedData>,
     stats: CoreIpcStats,
     // Dropped last: the ports above belong to it.
     _node: Node<Ipc>,
@@ -96,11 +98,21 @@ impl CoreEndpoint {
             });
         }
         let table = Region::<TaskTable>::create(ns, "tasks")?;
-        Ok(CoreEndpoint { state, tasks, table, stats: CoreIpcStats::default(), _node: node })
+        let shared = Region::<SharedData>::create(ns, "shared")?;
+        Ok(CoreEndpoint { state, tasks, table, shared, stats: CoreIpcStats::default(), _node: node })
     }
 
     pub fn table(&self) -> &TaskTable {
         &self.table
+    }
+
+    pub fn shared(&self) -> &SharedData {
+        &self.shared
+    }
+
+    /// Bit t set: the core holds a call of task t to answer later.
+    pub fn deferred_tasks(&self) -> u64 {
+        self.tasks.iter().filter(|t| t.deferred.is_some()).fold(0, |mask, t| mask | 1 << t.id)
     }
 
     pub fn stats(&self) -> CoreIpcStats {

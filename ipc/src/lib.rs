@@ -6,13 +6,18 @@
 //! | `task/<id>/cmd` | request-response | task <-> core |
 //! | `task/<id>/wake` | event | core -> task |
 //! | `tasks` | shared memory (atomics) | task -> core: heartbeat, run state, wait requests |
+//! | `shared` | shared memory (atomics) | all: user table, test variables, mutexes, task variables |
+//! | `events` | publish-subscribe | tasks and controller -> tools: SendEvent, SendMsgEvent, alarms |
 
 pub mod clock;
 mod core_side;
+pub mod events;
 pub mod messages;
+mod monitor;
 mod namespace;
 pub mod query;
 pub mod services;
+pub mod shared;
 pub mod shm;
 mod task_side;
 pub mod task_table;
@@ -21,6 +26,7 @@ use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;
 
 pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats, Disposition};
+pub use monitor::Monitor;
 pub use namespace::Namespace;
 pub use task_side::TaskEndpoint;
 
@@ -44,6 +50,19 @@ pub enum IpcError {
 /// behind (so that a `kill -9` never blocks the next start) and refuses if a controller
 /// is alive in it.
 pub fn claim_namespace(ns: &Namespace) -> Result<(), IpcError> {
+    match scan_nodes(ns, true)? {
+        Some(pid) => Err(IpcError::NamespaceInUse { ns: ns.to_string(), pid }),
+        None => Ok(()),
+    }
+}
+
+/// The pid of the controller alive in the namespace, if any.
+pub fn controller_pid(ns: &Namespace) -> Result<Option<u32>, IpcError> {
+    scan_nodes(ns, false)
+}
+
+/// Lists the namespace's nodes: the live controller's pid, removing dead nodes if asked.
+fn scan_nodes(ns: &Namespace, remove_dead: bool) -> Result<Option<u32>, IpcError> {
     let mut alive_core = None;
     Node::<services::Ipc>::list(&ns.config(), |state| {
         match state {
@@ -54,19 +73,16 @@ pub fn claim_namespace(ns: &Namespace) -> Result<(), IpcError> {
                     alive_core = Some(details.process_id().value() as u32);
                 }
             }
-            NodeState::Dead(view) => {
+            NodeState::Dead(view) if remove_dead => {
                 // Another process may be cleaning the same node; either way it is gone after.
                 let _ = view.try_remove_stale_resources();
             }
-            NodeState::Inaccessible(_) | NodeState::Undefined(_) => {}
+            NodeState::Dead(_) | NodeState::Inaccessible(_) | NodeState::Undefined(_) => {}
         }
         CallbackProgression::Continue
     })
     .map_err(|e| IpcError::Service(format!("list nodes: {e:?}")))?;
-    match alive_core {
-        Some(pid) => Err(IpcError::NamespaceInUse { ns: ns.to_string(), pid }),
-        None => Ok(()),
-    }
+    Ok(alive_core)
 }
 
 /// Removes every file the namespace left in shared memory and in iceoryx2's directory.
@@ -90,15 +106,17 @@ pub fn termination_requested() -> bool {
     iceoryx2_bb_posix::signal::SignalHandler::termination_requested()
 }
 
-/// Lets SIGINT and SIGTERM end the process again, as they do for any program; script
-/// processes use it so that the controller can stop them with SIGTERM.
-pub fn restore_default_termination() {
+/// Gives the process the default action again for the signals iceoryx2 (and Rust's
+/// runtime) catch: SIGINT and SIGTERM end it, and a crash (SIGSEGV, SIGBUS, SIGILL,
+/// SIGFPE, SIGABRT) kills it, whether the fault is real or the signal was sent. Script
+/// processes use it, so that the controller can stop them and sees their crashes.
+pub fn restore_default_signals() {
     // Creating iceoryx2's handler first: it is installed once, so it cannot replace ours later.
     let _ = termination_requested();
-    // SAFETY: resetting two signals to their default action.
-    unsafe {
-        libc::signal(libc::SIGTERM, libc::SIG_DFL);
-        libc::signal(libc::SIGINT, libc::SIG_DFL);
+    for signal in [libc::SIGTERM, libc::SIGINT, libc::SIGSEGV, libc::SIGBUS, libc::SIGILL, libc::SIGFPE, libc::SIGABRT]
+    {
+        // SAFETY: resetting a signal to its default action.
+        unsafe { libc::signal(signal, libc::SIG_DFL) };
     }
 }
 

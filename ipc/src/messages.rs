@@ -253,6 +253,140 @@ pub struct SlaveSnapshot {
     pub inputs: [u8; MAX_PDO_BYTES],
 }
 
+/// Bytes of text an event carries: `SendMsgEvent`'s 128 characters and an alarm's line.
+pub const EVENT_TEXT_BYTES: usize = 160;
+/// The `task` of an event the controller raised.
+pub const CONTROLLER: u32 = 0xFF;
+
+/// What an event record is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum EventKind {
+    /// `SendEvent(id)` (HMPL 2.19).
+    Event = 1,
+    /// `SendMsgEvent(...)` (HMPL 2.20).
+    Message = 2,
+    /// An alarm in the DXMC format (DXMC 9, `0xXYZUABCD`).
+    Alarm = 3,
+}
+
+/// One record of the `events` stream the tools follow.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+pub struct EventRecord {
+    pub cycle: u64,
+    /// `EventKind` as a number.
+    pub kind: u32,
+    /// The task that sent or caused it; `CONTROLLER` for the controller.
+    pub task: u32,
+    /// The event id or the alarm code.
+    pub code: u32,
+    pub len: u32,
+    pub text: [u8; EVENT_TEXT_BYTES],
+}
+
+impl EventRecord {
+    pub fn new(kind: EventKind, task: u32, cycle: u64, code: u32, text: &str) -> Self {
+        let mut record = EventRecord { cycle, kind: kind as u32, task, code, len: 0, text: [0; EVENT_TEXT_BYTES] };
+        let mut n = text.len().min(EVENT_TEXT_BYTES);
+        while !text.is_char_boundary(n) {
+            n -= 1;
+        }
+        record.text[..n].copy_from_slice(&text.as_bytes()[..n]);
+        record.len = n as u32;
+        record
+    }
+
+    pub fn kind(&self) -> Option<EventKind> {
+        match self.kind {
+            1 => Some(EventKind::Event),
+            2 => Some(EventKind::Message),
+            3 => Some(EventKind::Alarm),
+            _ => None,
+        }
+    }
+
+    pub fn text(&self) -> String {
+        String::from_utf8_lossy(&self.text[..(self.len as usize).min(EVENT_TEXT_BYTES)]).into_owned()
+    }
+}
+
+/// A task as the core sees it (HMPL ch. 16): `IsTaskStop` is true unless it is starting
+/// or running.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(u32)]
+pub enum TaskState {
+    /// No program configured for this id (`StartTask` gives 0x010A).
+    #[default]
+    Empty = 0,
+    Stopped = 1,
+    /// Its process is being started; `StartTask` returns once it runs.
+    Starting = 2,
+    Running = 3,
+    /// Stopped by `StopTask`, `StopAllTask` or an E-stop; its process is being ended.
+    Stopping = 4,
+    /// Ended by a fault (watchdog, crash, runtime error): see its alarm.
+    Error = 5,
+}
+
+impl TaskState {
+    pub fn from_u32(v: u32) -> Self {
+        match v {
+            1 => TaskState::Stopped,
+            2 => TaskState::Starting,
+            3 => TaskState::Running,
+            4 => TaskState::Stopping,
+            5 => TaskState::Error,
+            _ => TaskState::Empty,
+        }
+    }
+
+    /// HMPL 16.6: `IsTaskStop`.
+    pub fn is_stopped(self) -> bool {
+        !matches!(self, TaskState::Starting | TaskState::Running)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TaskState::Empty => "empty",
+            TaskState::Stopped => "stopped",
+            TaskState::Starting => "starting",
+            TaskState::Running => "running",
+            TaskState::Stopping => "stopping",
+            TaskState::Error => "error",
+        }
+    }
+}
+
+/// One task slot in the snapshot.
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct TaskSnapshot {
+    /// `TaskState` as a number.
+    pub state: u32,
+    /// The last alarm raised for this task (DXMC format, 0: none).
+    pub alarm: u32,
+    /// The script process, 0 when none.
+    pub pid: u32,
+    pub watchdog_ms: u32,
+}
+
+/// HMPL 9.1: the controller has 8 inputs and 8 outputs, pins 1..8.
+pub const GPIO_PINS: i64 = 8;
+
+/// The controller's own digital I/O (HMPL ch. 9): bit i is pin i + 1.
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct GpioSnapshot {
+    /// Inputs as programs read them (after inversion).
+    pub gpi: u32,
+    pub gpo: u32,
+    pub gpi_invert: u32,
+    pub gpo_invert: u32,
+    /// The input bound to the E-stop (1-based; 0: none).
+    pub emo_input: u32,
+}
+
 /// The machine at the end of one cycle, published every cycle (latest value wins).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
@@ -274,6 +408,10 @@ pub struct Snapshot {
     pub slave_count: u32,
     /// Each group's last error (HMPL 18.5).
     pub group_last_err: [u32; MAX_GROUPS],
+    /// Cycles whose work ran past the next deadline, since start.
+    pub overruns: u64,
+    pub gpio: GpioSnapshot,
+    pub tasks: [TaskSnapshot; MAX_TASKS],
     pub axes: [AxisSnapshot; MAX_AXES],
     pub slaves: [SlaveSnapshot; MAX_SLAVES],
 }
@@ -291,6 +429,9 @@ impl Default for Snapshot {
             system_last_err: 0,
             slave_count: 0,
             group_last_err: [0; MAX_GROUPS],
+            overruns: 0,
+            gpio: GpioSnapshot::default(),
+            tasks: [TaskSnapshot::default(); MAX_TASKS],
             axes: [AxisSnapshot::default(); MAX_AXES],
             slaves: [SlaveSnapshot::default(); MAX_SLAVES],
         }

@@ -4,7 +4,7 @@
 
 use api::{ErrorCode, Query, SystemError};
 
-use crate::messages::{AxisSnapshot, PdoEntrySnapshot, Snapshot, fault_status, motion_status};
+use crate::messages::{AxisSnapshot, GPIO_PINS, PdoEntrySnapshot, Snapshot, TaskState, fault_status, motion_status};
 
 /// A query's answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -149,7 +149,24 @@ pub fn evaluate(query: Query, args: Words, s: &Snapshot) -> Result<Answer, Error
             Value::Int(count).into()
         }
         Query::GetSlvSlotNum => Value::Int(if slave(args.int(0)).is_some() { 0 } else { -1 }).into(),
+        Query::GetGPI => pin(s.gpio.gpi, args.int(0)),
+        Query::GetGPO => pin(s.gpio.gpo, args.int(0)),
+        Query::GetAllGPI => Value::Int(s.gpio.gpi as i64).into(),
+        Query::GetAllGPO => Value::Int(s.gpio.gpo as i64).into(),
+        Query::GetAllGPIInvertSt => Value::Int(s.gpio.gpi_invert as i64).into(),
+        Query::GetAllGPOInvertSt => Value::Int(s.gpio.gpo_invert as i64).into(),
+        Query::IsTaskStop => {
+            let task = usize::try_from(args.int(0)).ok().and_then(|t| s.tasks.get(t));
+            let task = task.ok_or(ErrorCode::System(SystemError::NotValidTaskid))?;
+            Value::Bool(TaskState::from_u32(task.state).is_stopped()).into()
+        }
     })
+}
+
+/// HMPL 9.4: one pin of a bitmask, 1 or 0; -1 for a pin that does not exist.
+fn pin(bits: u32, pin: i64) -> Answer {
+    let value = if (1..=GPIO_PINS).contains(&pin) { (bits >> (pin - 1)) as i64 & 1 } else { -1 };
+    Value::Int(value).into()
 }
 
 /// An object in a slave's process data: its value (sign-extended) and length in bytes.

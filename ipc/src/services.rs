@@ -8,10 +8,11 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 
-use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
+use crate::messages::{EventRecord, MAX_TASKS, Reply, Request, Snapshot};
 use crate::{IpcError, Namespace};
 
 pub type Ipc = ipc::Service;
+pub type IpcNode = Node<Ipc>;
 pub type StatePublisher = Publisher<Ipc, Snapshot, ()>;
 pub type StateSubscriber = Subscriber<Ipc, Snapshot, ()>;
 pub type RequestPublisher = Publisher<Ipc, Request, ()>;
@@ -19,6 +20,8 @@ pub type RequestSubscriber = Subscriber<Ipc, Request, ()>;
 pub type ReplyPublisher = Publisher<Ipc, Reply, ()>;
 pub type ReplySubscriber = Subscriber<Ipc, Reply, ()>;
 pub type WakeNotifier = Notifier<Ipc>;
+pub type EventPublisher = Publisher<Ipc, EventRecord, ()>;
+pub type EventSubscriber = Subscriber<Ipc, EventRecord, ()>;
 pub type WakeListener = Listener<Ipc>;
 
 /// Readers of the state: every task, the gateways and the CLI tools.
@@ -114,6 +117,32 @@ pub fn wake(node: &Node<Ipc>, ns: &Namespace, task: u8, open: Open) -> Result<ev
     match open {
         Open::Create => builder.create().map_err(|e| failed("create wake service", e)),
         Open::Existing => builder.open().map_err(|e| failed("open wake service", e)),
+    }
+}
+
+/// Tools that follow the event stream at once (`luamotion events`).
+const MAX_EVENT_READERS: usize = 4;
+/// Records a reader may fall behind by before the oldest are dropped.
+const EVENT_BUFFER: usize = 256;
+
+/// `<ns>/events`: SendEvent, SendMsgEvent and alarms, from every task and the controller.
+/// A reader that joins late still sees the last records.
+pub fn events(
+    node: &Node<Ipc>,
+    ns: &Namespace,
+    open: Open,
+) -> Result<publish_subscribe::PortFactory<Ipc, EventRecord, ()>, IpcError> {
+    let builder = node
+        .service_builder(&ns.service_name("events")?)
+        .publish_subscribe::<EventRecord>()
+        .history_size(16)
+        .subscriber_max_buffer_size(EVENT_BUFFER)
+        .enable_safe_overflow(true)
+        .max_publishers(MAX_TASKS * MAX_PORTS_PER_TASK_SIDE + 2)
+        .max_subscribers(MAX_EVENT_READERS);
+    match open {
+        Open::Create => builder.create().map_err(|e| failed("create events service", e)),
+        Open::Existing => builder.open().map_err(|e| failed("open events service", e)),
     }
 }
 

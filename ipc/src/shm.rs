@@ -18,6 +18,21 @@ use crate::{IpcError, Namespace};
 /// The implementor guarantees the three properties above.
 pub unsafe trait Shareable: Sync {}
 
+/// A `Shareable` value in this process' own memory, zeroed (for tests and tools that
+/// work without a controller).
+pub fn zeroed<T: Shareable>() -> Box<T> {
+    let layout = std::alloc::Layout::new::<T>();
+    assert!(layout.size() > 0, "shared types have a size");
+    // SAFETY: a `Shareable` type is valid when zeroed, and the layout is `T`'s.
+    unsafe {
+        let ptr = std::alloc::alloc_zeroed(layout) as *mut T;
+        if ptr.is_null() {
+            std::alloc::handle_alloc_error(layout);
+        }
+        Box::from_raw(ptr)
+    }
+}
+
 /// A typed shared-memory region. The creator removes it when dropped.
 pub struct Region<T: Shareable> {
     shm: SharedMemory,

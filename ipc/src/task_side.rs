@@ -9,6 +9,7 @@ use iceoryx2::prelude::*;
 use iceoryx2::sample::Sample;
 
 use crate::clock::monotonic_ns;
+use crate::events::EventSender;
 use crate::messages::{Reply, Request, Snapshot};
 use crate::services::failed;
 use crate::services::{self, Ipc, Open, ReplySubscriber, RequestPublisher, StateSubscriber, WakeListener};
@@ -77,6 +78,11 @@ impl TaskEndpoint {
 
     pub fn task(&self) -> u8 {
         self.task
+    }
+
+    /// A writer of the event stream, on this endpoint's node.
+    pub fn event_sender(&self, ns: &Namespace) -> Result<EventSender, IpcError> {
+        EventSender::new(&self._node, ns, Open::Existing)
     }
 
     pub fn slot(&self) -> &TaskSlot {
@@ -168,7 +174,8 @@ impl TaskEndpoint {
         self.check_controller()
     }
 
-    fn check_controller(&self) -> Result<(), IpcError> {
+    /// Fails when the controller is gone.
+    pub fn check_controller(&self) -> Result<(), IpcError> {
         // SAFETY: signal 0 only checks that the process exists.
         let alive = unsafe { libc::kill(self.controller_pid as libc::pid_t, 0) } == 0;
         if alive { Ok(()) } else { Err(IpcError::ControllerGone) }

@@ -1,6 +1,7 @@
 //! The task table in shared memory: what each script process is doing, written by the
-//! script, read by the core every cycle. Plain atomics, so that the Lua instruction hook
-//! can bump a heartbeat at the cost of one store.
+//! script, read by the core every cycle; and what the controller tells the tools about
+//! each task (its program, the CPU its process used). Plain atomics, so that a binding
+//! can bump the heartbeat at the cost of one store.
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
@@ -21,6 +22,8 @@ pub enum RunState {
     InCall = 3,
     /// The program has ended (normally or with an error).
     Finished = 4,
+    /// Blocked on another task (`MutexLock`): that task's watchdog answers for the wait.
+    Blocked = 5,
 }
 
 impl RunState {
@@ -30,6 +33,7 @@ impl RunState {
             2 => RunState::Waiting,
             3 => RunState::InCall,
             4 => RunState::Finished,
+            5 => RunState::Blocked,
             _ => RunState::Idle,
         }
     }
@@ -56,14 +60,36 @@ impl WaitRequest {
     }
 }
 
+/// Bytes of a program path the tools can show.
+pub const PROGRAM_BYTES: usize = 256;
+
 /// One task's slot.
 #[repr(C)]
 pub struct TaskSlot {
+    /// Advanced by every API call and every change of run state: a task whose heartbeat
+    /// stands still while it runs Lua is stuck in a loop or in a C function.
     heartbeat: AtomicU64,
     wait: AtomicU64,
     state: AtomicU32,
     line: AtomicU32,
     pid: AtomicU32,
+    /// Set by the script once its entry point is found and about to run.
+    started: AtomicU32,
+    /// Why the program ended, when it failed: an HMPL code (e.g. 0x13EC) or an `EndCode`.
+    end_code: AtomicU32,
+    /// CPU time of the task's process (user + system), ms; written by the supervisor.
+    cpu_ms: AtomicU64,
+    program: [AtomicU64; PROGRAM_BYTES / 8],
+}
+
+/// Why a program ended, beyond HMPL's own codes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum EndCode {
+    /// A Lua error (syntax or runtime).
+    LuaError = 1,
+    /// The task's memory limit.
+    OutOfMemory = 2,
 }
 
 impl TaskSlot {
@@ -79,7 +105,9 @@ impl TaskSlot {
         RunState::from_u32(self.state.load(Ordering::Acquire))
     }
 
+    /// A new run state; the heartbeat advances with it.
     pub fn set_state(&self, state: RunState) {
+        self.beat();
         self.state.store(state as u32, Ordering::Release);
     }
 
@@ -110,6 +138,50 @@ impl TaskSlot {
         self.pid.store(pid, Ordering::Relaxed);
     }
 
+    pub fn started(&self) -> bool {
+        self.started.load(Ordering::Acquire) != 0
+    }
+
+    /// The script found its entry point and runs it (`StartTask` returns).
+    pub fn mark_started(&self) {
+        self.started.store(1, Ordering::Release);
+    }
+
+    pub fn end_code(&self) -> u32 {
+        self.end_code.load(Ordering::Acquire)
+    }
+
+    pub fn set_end_code(&self, code: u32) {
+        self.end_code.store(code, Ordering::Release);
+    }
+
+    pub fn cpu_ms(&self) -> u64 {
+        self.cpu_ms.load(Ordering::Relaxed)
+    }
+
+    pub fn set_cpu_ms(&self, ms: u64) {
+        self.cpu_ms.store(ms, Ordering::Relaxed);
+    }
+
+    /// The program path, as the controller wrote it (truncated to `PROGRAM_BYTES`).
+    pub fn program(&self) -> String {
+        let bytes: Vec<u8> = self.program.iter().flat_map(|w| w.load(Ordering::Relaxed).to_le_bytes()).collect();
+        let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+        String::from_utf8_lossy(&bytes[..end]).into_owned()
+    }
+
+    pub fn set_program(&self, path: &str) {
+        let mut bytes = [0u8; PROGRAM_BYTES];
+        let mut n = path.len().min(PROGRAM_BYTES - 1);
+        while !path.is_char_boundary(n) {
+            n -= 1;
+        }
+        bytes[..n].copy_from_slice(&path.as_bytes()[..n]);
+        for (word, chunk) in self.program.iter().zip(bytes.chunks(8)) {
+            word.store(u64::from_le_bytes(chunk.try_into().expect("8 bytes")), Ordering::Relaxed);
+        }
+    }
+
     /// Back to the state of a task that never ran; the supervisor does this before a start.
     /// The wait sequence is kept: a restarted script continues it, so that the core never
     /// mistakes a new wait for one it has already woken.
@@ -117,7 +189,10 @@ impl TaskSlot {
         self.heartbeat.store(0, Ordering::Relaxed);
         self.line.store(0, Ordering::Relaxed);
         self.pid.store(0, Ordering::Relaxed);
-        self.set_state(RunState::Idle);
+        self.started.store(0, Ordering::Relaxed);
+        self.end_code.store(0, Ordering::Relaxed);
+        self.cpu_ms.store(0, Ordering::Relaxed);
+        self.state.store(RunState::Idle as u32, Ordering::Release);
     }
 }
 
@@ -133,6 +208,17 @@ unsafe impl Shareable for TaskTable {}
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_program_path_round_trips_and_is_cut_at_a_character() {
+        let table: Box<TaskTable> = crate::shm::zeroed();
+        let slot = &table.slots[3];
+        slot.set_program("/tmp/a b/main.lua");
+        assert_eq!(slot.program(), "/tmp/a b/main.lua");
+        let long = "é".repeat(200);
+        slot.set_program(&long);
+        assert_eq!(slot.program(), "é".repeat(127), "254 bytes: whole characters only");
+    }
 
     #[test]
     fn wait_request_round_trips_through_one_word() {

@@ -189,6 +189,29 @@ pub struct TaskConfig {
     pub watchdog_ms: u32,
     #[serde(default = "TaskConfig::default_memory_limit_mib")]
     pub memory_limit_mib: u32,
+    /// What the axes this task set moving do when it fails or is stopped.
+    #[serde(default)]
+    pub fault_reaction: FaultReaction,
+    /// The controller starts no process for this task: a program started by the user
+    /// (a benchmark, a tool) attaches to it and runs without a watchdog.
+    #[serde(default)]
+    pub external: bool,
+}
+
+/// What happens to the active motion a task commanded when the task fails (watchdog,
+/// crash, error) or is stopped (DESIGN "Watchdogs and fault reaction"; DXMC parameter 8-1).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FaultReaction {
+    /// The motion carries on.
+    None,
+    /// The axis stops with its kill deceleration and stays enabled.
+    #[default]
+    Decelerate,
+    /// The drive's quick stop (CiA 402): it stops with 0x6085, then the axis is disabled.
+    QuickStop,
+    /// The axis is disabled at once.
+    Disable,
 }
 
 impl TaskConfig {
@@ -208,6 +231,8 @@ impl TaskConfig {
             autorun: true,
             watchdog_ms: Self::default_watchdog_ms(),
             memory_limit_mib: Self::default_memory_limit_mib(),
+            fault_reaction: FaultReaction::default(),
+            external: false,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! A controller from start to shutdown: claim the namespace, bring the EtherCAT network
 //! up, start the RT thread, start the tasks, watch them, shut down in order.
 
+use std::path::PathBuf;
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
@@ -12,6 +13,11 @@ use crate::ecat::Network;
 use crate::motion::Kernel;
 use crate::realtime;
 use crate::supervisor::{ScriptLauncher, Supervisor, TaskReport};
+use crate::tasks::{self, Tasks};
+use crate::trace;
+
+/// How often the supervisor looks at its processes and the core's orders.
+const POLL_PERIOD: Duration = Duration::from_millis(1);
 
 #[derive(Debug, thiserror::Error)]
 pub enum ControllerError {
@@ -21,15 +27,21 @@ pub enum ControllerError {
     RtStart(String),
     #[error("the RT thread died: {0}")]
     RtDied(String),
-    #[error("cannot start task {task}: {source}")]
-    TaskStart { task: u8, source: std::io::Error },
+    #[error("cannot use the data directory {path}: {source}")]
+    DataDir { path: PathBuf, source: std::io::Error },
+    #[error("cannot write the trace {path}: {source}")]
+    Trace { path: PathBuf, source: std::io::Error },
 }
 
 pub struct RunOptions {
     pub ns: Namespace,
     pub launcher: ScriptLauncher,
-    /// End when every started task has ended (`luamotion run`); otherwise run until interrupted.
+    /// End when no task runs any more (`luamotion run`); otherwise run until interrupted.
     pub exit_when_tasks_end: bool,
+    /// Where `SaveUserTable` keeps its file.
+    pub data_dir: PathBuf,
+    /// A CSV file for every cycle's axis data (`--trace`).
+    pub trace: Option<PathBuf>,
 }
 
 pub struct RunReport {
@@ -48,12 +60,24 @@ pub fn run(config: MachineConfig, options: RunOptions) -> Result<RunReport, Cont
 }
 
 fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, ControllerError> {
+    std::fs::create_dir_all(&options.data_dir)
+        .map_err(|source| ControllerError::DataDir { path: options.data_dir.clone(), source })?;
+    let (trace, trace_writer) = match &options.trace {
+        Some(path) => {
+            let (sender, writer) = trace::start(path, config.axes.len())
+                .map_err(|source| ControllerError::Trace { path: path.clone(), source })?;
+            (Some(sender), Some(writer))
+        }
+        None => (None, None),
+    };
     let mut network = Network::new(&config.axes);
     if let Err(e) = network.start(config.period_ns()) {
         tracing::error!("EtherCAT start-up stopped in {:?}: {e}", network.state());
     }
     let kernel = Kernel::new(&config, &network);
-    let machine = Machine::new(network, kernel, config.period_ns());
+    let (core_link, supervisor_end) = tasks::link();
+    let tasks = Tasks::new(&config.tasks, config.period_ns(), core_link);
+    let machine = Machine::new(network, kernel, tasks, config.period_ns());
     let task_ids: Vec<u8> = config.tasks.iter().map(|t| t.id).collect();
 
     let control = Arc::new(RtControl::default());
@@ -73,7 +97,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                     }
                 };
                 let _ = ready_tx.send(Ok(granted));
-                Some(cycle::run(machine, endpoint, control, granted))
+                Some(cycle::run(machine, endpoint, control, granted, trace))
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };
@@ -83,44 +107,47 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         .map_err(ControllerError::RtStart)?;
     tracing::info!(?granted, cycle_us = config.cycle_us, axes = config.axes.len(), ns = %options.ns, "controller up");
 
-    let mut supervisor = Supervisor::new(options.ns.clone(), options.launcher.clone())?;
-    let mut started = 0;
-    let mut failure = None;
-    for task in config.tasks.iter().filter(|t| t.autorun) {
-        match supervisor.start(task) {
-            Ok(()) => started += 1,
-            Err(source) => {
-                failure = Some(ControllerError::TaskStart { task: task.id, source });
-                break;
-            }
-        }
-    }
-
+    let mut supervisor = Supervisor::new(
+        options.ns.clone(),
+        options.launcher.clone(),
+        options.data_dir.clone(),
+        &config.tasks,
+        supervisor_end,
+    )?;
     let mut interrupted = false;
-    while failure.is_none() {
+    let mut failure = None;
+    loop {
         supervisor.poll();
         // Ctrl-C (SIGINT) or SIGTERM: shut down in order.
         if ipc::termination_requested() {
             interrupted = true;
             break;
         }
-        if options.exit_when_tasks_end && started > 0 && supervisor.running() == 0 {
+        let idle = control.cycle() > 0 && control.active_tasks() == 0 && supervisor.running() == 0;
+        if options.exit_when_tasks_end && idle {
             break;
         }
         if rt.is_finished() {
             failure = Some(ControllerError::RtDied("the cycle ended on its own".into()));
             break;
         }
-        std::thread::sleep(Duration::from_millis(5));
+        std::thread::sleep(POLL_PERIOD);
     }
 
-    supervisor.stop_all(Duration::from_millis(500));
+    supervisor.stop_all();
     control.request_shutdown();
     let stats = match rt.join() {
         Ok(Some(stats)) => stats,
         Ok(None) => return Err(ControllerError::RtDied("the RT thread ended before its first cycle".into())),
         Err(panic) => return Err(ControllerError::RtDied(panic_message(&panic))),
     };
+    supervisor.poll();
+    if let Some(writer) = trace_writer {
+        let (dropped, written) = writer.finish();
+        let path = options.trace.clone().unwrap_or_default();
+        let rows = written.map_err(|source| ControllerError::Trace { path, source })?;
+        tracing::info!(rows, dropped, "trace written");
+    }
     if let Some(e) = failure {
         return Err(e);
     }

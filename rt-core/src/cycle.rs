@@ -3,9 +3,10 @@
 //! 1. wake at the deadline, record lateness;
 //! 2. exchange the frame with the drives;
 //! 3. serve the tasks' commands;
-//! 4. step the kernel;
-//! 5. publish the snapshot and wake the tasks whose reply or wake cycle has come;
-//! 6. account the cycle's execution time.
+//! 4. tasks: the supervisor's reports, starts, watchdogs and fault reactions; the E-stop input;
+//! 5. step the kernel;
+//! 6. publish the snapshot and wake the tasks whose reply or wake cycle has come;
+//! 7. account the cycle's execution time.
 //!
 //! After start-up nothing here allocates, locks or blocks: the iceoryx2 ports and the
 //! histograms are created before the first cycle.
@@ -20,9 +21,12 @@ use ipc::{CoreEndpoint, CoreIpcStats};
 
 use crate::dispatch;
 use crate::ecat::Network;
+use crate::io::ControllerIo;
 use crate::master::{self, PdoForces};
 use crate::motion::Kernel;
 use crate::realtime::{self, Granted};
+use crate::tasks::Tasks;
+use crate::trace::{TraceRow, TraceSender};
 
 /// Requests one task may have applied per cycle; the rest wait for the next cycle.
 const MAX_COMMANDS_PER_TASK_AND_CYCLE: usize = 4;
@@ -33,13 +37,32 @@ const SHUTDOWN_CYCLES: u64 = 500;
 pub struct Machine {
     pub network: Network,
     pub kernel: Kernel,
+    pub tasks: Tasks,
+    pub io: ControllerIo,
     pub forces: PdoForces,
     pub period_ns: u64,
+    /// The cycle being run.
+    pub cycle: u64,
 }
 
 impl Machine {
-    pub fn new(network: Network, kernel: Kernel, period_ns: u64) -> Self {
-        Machine { network, kernel, forces: PdoForces::default(), period_ns }
+    pub fn new(network: Network, kernel: Kernel, tasks: Tasks, period_ns: u64) -> Self {
+        Machine {
+            network,
+            kernel,
+            tasks,
+            io: ControllerIo::default(),
+            forces: PdoForces::default(),
+            period_ns,
+            cycle: 0,
+        }
+    }
+
+    /// HMPL 2.9, 9.1: every task stopped, every axis disabled.
+    pub fn emergency_stop(&mut self) {
+        self.kernel.emergency_stop();
+        let Machine { tasks, kernel, cycle, .. } = self;
+        tasks.stop_all(*cycle, &mut |t, reaction| kernel.react(t, reaction));
     }
 }
 
@@ -48,6 +71,7 @@ impl Machine {
 pub struct RtControl {
     shutdown: AtomicBool,
     cycle: AtomicU64,
+    active_tasks: AtomicU64,
 }
 
 impl RtControl {
@@ -59,6 +83,11 @@ impl RtControl {
     /// The last cycle completed.
     pub fn cycle(&self) -> u64 {
         self.cycle.load(Ordering::Acquire)
+    }
+
+    /// Tasks starting, running or being stopped, as of the last cycle.
+    pub fn active_tasks(&self) -> u64 {
+        self.active_tasks.load(Ordering::Acquire)
     }
 }
 
@@ -95,6 +124,12 @@ pub struct CycleWork {
     endpoint: CoreEndpoint,
     snapshot: Snapshot,
     cycle: u64,
+    overruns: u64,
+    /// Timing the RT loop hands in for the trace: this cycle's wake-up lateness and the
+    /// previous cycle's execution time, ns.
+    lateness_ns: u64,
+    previous_execution_ns: u64,
+    trace: Option<TraceSender>,
 }
 
 impl CycleWork {
@@ -102,23 +137,48 @@ impl CycleWork {
         let mut snapshot = Snapshot { period_ns: machine.period_ns, ..Snapshot::default() };
         master::describe_slaves(&machine.network, &mut snapshot);
         snapshot.system_error = machine.network.start_error().is_some() as u32;
-        CycleWork { machine, endpoint, snapshot, cycle: 0 }
+        CycleWork {
+            machine,
+            endpoint,
+            snapshot,
+            cycle: 0,
+            overruns: 0,
+            lateness_ns: 0,
+            previous_execution_ns: 0,
+            trace: None,
+        }
+    }
+
+    /// Records every cycle into `trace`.
+    pub fn with_trace(mut self, trace: Option<TraceSender>) -> Self {
+        self.trace = trace;
+        self
     }
 
     pub fn machine_mut(&mut self) -> &mut Machine {
         &mut self.machine
     }
 
-    /// Steps 2 to 5: drives, commands, kernel, snapshot and wake-ups.
+    /// Steps 2 to 6: drives, commands, tasks, kernel, snapshot and wake-ups.
     pub fn run_cycle(&mut self) {
         self.cycle += 1;
         let cycle = self.cycle;
+        self.machine.cycle = cycle;
         let period = self.machine.period_ns;
         self.machine.network.exchange(period as f64 * 1e-9);
         let machine = &mut self.machine;
-        self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |_task, request, reply| {
-            dispatch::execute(machine, request, reply)
+        self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |task, request, reply| {
+            dispatch::execute(machine, task, request, reply)
         });
+        let deferred = self.endpoint.deferred_tasks();
+        {
+            let Machine { tasks, kernel, .. } = &mut self.machine;
+            let (table, shared) = (self.endpoint.table(), self.endpoint.shared());
+            tasks.step(cycle, table, shared, deferred, &mut |t, reaction| kernel.react(t, reaction));
+        }
+        if self.machine.io.emo_edge() {
+            self.machine.emergency_stop();
+        }
         self.machine.kernel.step(cycle, &mut self.machine.network);
         let machine = &mut self.machine;
         self.endpoint.resume(cycle, |_task, request, reply| dispatch::resume(machine, request, reply));
@@ -127,17 +187,29 @@ impl CycleWork {
 
         self.snapshot.cycle = cycle;
         self.snapshot.time_in_ms = cycle * period / 1_000_000;
+        self.snapshot.overruns = self.overruns;
+        self.snapshot.gpio = self.machine.io.snapshot();
         master::update_slaves(&self.machine.network, &mut self.snapshot);
         self.machine.kernel.fill(&mut self.snapshot);
+        self.machine.tasks.fill(&mut self.snapshot.tasks);
         self.endpoint.publish(&self.snapshot);
         self.endpoint.wake(cycle);
+        if let Some(trace) = &self.trace {
+            trace.push(TraceRow::of(&self.snapshot, self.lateness_ns, self.previous_execution_ns));
+        }
     }
 }
 
 /// Runs cycles until a shutdown is requested and the axes are disabled.
-pub fn run(machine: Machine, endpoint: CoreEndpoint, control: Arc<RtControl>, granted: Granted) -> CycleStats {
+pub fn run(
+    machine: Machine,
+    endpoint: CoreEndpoint,
+    control: Arc<RtControl>,
+    granted: Granted,
+    trace: Option<TraceSender>,
+) -> CycleStats {
     let period = machine.period_ns;
-    let mut work = CycleWork::new(machine, endpoint);
+    let mut work = CycleWork::new(machine, endpoint).with_trace(trace);
     let mut stats = CycleStats::new(granted);
     let mut deadline = monotonic_ns() + period;
     let mut shutdown_since = None;
@@ -145,7 +217,8 @@ pub fn run(machine: Machine, endpoint: CoreEndpoint, control: Arc<RtControl>, gr
     loop {
         realtime::sleep_until(deadline);
         let woke = monotonic_ns();
-        let _ = stats.lateness.record(woke.saturating_sub(deadline).max(1));
+        work.lateness_ns = woke.saturating_sub(deadline);
+        let _ = stats.lateness.record(work.lateness_ns.max(1));
 
         if shutdown_since.is_none() && control.shutdown.load(Ordering::Acquire) {
             shutdown_since = Some(work.cycle);
@@ -153,14 +226,17 @@ pub fn run(machine: Machine, endpoint: CoreEndpoint, control: Arc<RtControl>, gr
         }
         work.run_cycle();
         control.cycle.store(work.cycle, Ordering::Release);
+        control.active_tasks.store(work.machine.tasks.active() as u64, Ordering::Release);
 
         let done = monotonic_ns();
-        let _ = stats.execution.record(done.saturating_sub(woke).max(1));
+        work.previous_execution_ns = done.saturating_sub(woke);
+        let _ = stats.execution.record(work.previous_execution_ns.max(1));
         stats.cycles = work.cycle;
         deadline += period;
         if done > deadline {
             // Missed the next deadline: count it and resume on the period grid.
             stats.overruns += 1;
+            work.overruns = stats.overruns;
             deadline += (done - deadline).div_ceil(period) * period;
         }
 

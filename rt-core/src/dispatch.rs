@@ -1,21 +1,26 @@
 //! Carries out the commands scripts send: one match over `api::Command`, so that the
 //! compiler holds every command of the registry to an implementation.
 
+use api::alarms::{Alarm, Event as AlarmEvent};
 use api::{AxisError, Command, ErrorCode, FunctionSpec, SdoAbort, SystemError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
 use crate::cycle::Machine;
 use crate::ecat::{AlState, Field, SdoError};
+use crate::io::NoSuchPin;
 use crate::motion::axis::{Axis, Ignore};
 use crate::motion::pvt::{MAX_POINTS, PvtPoint};
+use crate::tasks::Entry;
 
 /// How a command failed, in the return convention of its chapter.
 enum Failure {
     /// Most functions return the HMPL error code (and record it as a last error).
     Code(ErrorCode),
-    /// Ch. 17 returns -1; `rc` carries the reason (a CiA 301 abort code or an HMPL code).
+    /// Ch. 9 and 17 return -1; `rc` carries the reason (a CiA 301 abort code or an HMPL code).
     MinusOne(u32),
+    /// Refused with an alarm (DXMC format), returned as the code.
+    Alarm(Alarm),
 }
 
 impl From<ErrorCode> for Failure {
@@ -46,13 +51,14 @@ enum Done {
     Later,
 }
 
-/// Applies one request to the machine and fills its reply: the function's return values,
-/// and `rc` 0 or the reason it failed.
-pub fn execute(machine: &mut Machine, request: &Request, reply: &mut Reply) -> Disposition {
+/// Applies one request of task `caller` to the machine and fills its reply: the function's
+/// return values, and `rc` 0 or the reason it failed.
+pub fn execute(machine: &mut Machine, caller: u8, request: &Request, reply: &mut Reply) -> Disposition {
     let result = match Command::from_id(request.func) {
         None => Err(SystemError::HmplNotSupported.into()),
+        Some(_) if !machine.tasks.accepts_commands(caller) => Err(SystemError::TaskNotRunning.into()),
         Some(command) if !arguments_fit(command.spec(), request) => Err(SystemError::HmplInvalidArg.into()),
-        Some(command) => run(machine, command, request, reply),
+        Some(command) => run(machine, caller, command, request, reply),
     };
     match result {
         Ok(Done::Later) => return Disposition::Defer,
@@ -64,16 +70,27 @@ pub fn execute(machine: &mut Machine, request: &Request, reply: &mut Reply) -> D
 
 /// Completes a deferred call once its operation is over; false while it still runs.
 pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bool {
-    let Some(Command::MoveHome) = Command::from_id(request.func) else { return true };
-    let Ok(axis) = machine.kernel.axis_mut(request.int(0)) else { return true };
-    let id = axis.id();
-    match axis.take_home_result() {
-        None => false,
-        Some(result) => {
-            finish(machine, reply, result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))));
-            true
+    let result = match Command::from_id(request.func) {
+        Some(Command::MoveHome) => {
+            let Ok(axis) = machine.kernel.axis_mut(request.int(0)) else { return true };
+            let id = axis.id();
+            match axis.take_home_result() {
+                None => return false,
+                Some(result) => result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))),
+            }
         }
-    }
+        Some(Command::StartTask | Command::StartTaskFunc) => {
+            let Ok(task) = u8::try_from(request.int(0)) else { return true };
+            match machine.tasks.take_start_result(task) {
+                None => return false,
+                Some(result) => result.map_err(Failure::from),
+            }
+        }
+        // The caller stopped itself (StopTask of itself, StopAllTask, EStop): no answer.
+        _ => return false,
+    };
+    finish(machine, reply, result);
+    true
 }
 
 fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>) {
@@ -93,6 +110,11 @@ fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>)
             reply.valuec = 0;
             reply.push_int(-1);
         }
+        Err(Failure::Alarm(alarm)) => {
+            reply.rc = alarm.0;
+            reply.valuec = 0;
+            reply.push_int(alarm.0 as i64);
+        }
     }
 }
 
@@ -106,7 +128,55 @@ fn now(result: Result<(), impl Into<Failure>>) -> Outcome {
     result.map(|()| Done::Now).map_err(Into::into)
 }
 
-fn run(m: &mut Machine, command: Command, r: &Request, reply: &mut Reply) -> Outcome {
+/// The axis a motion command sets going: one task at a time may command it in a cycle,
+/// and an E-stop refuses it until the axis is enabled again.
+fn moved_axis(command: Command, r: &Request) -> Option<i64> {
+    match command {
+        Command::MoveAbs
+        | Command::MoveRel
+        | Command::MoveVel
+        | Command::MoveTrq
+        | Command::MovePVT
+        | Command::Stop
+        | Command::Halt
+        | Command::Resume
+        | Command::MoveHome
+        | Command::GearOut => Some(r.int(0)),
+        Command::GearIn => Some(r.int(1)),
+        _ => None,
+    }
+}
+
+/// Checks that `caller` may command axis `a` in this cycle.
+fn may_command(m: &mut Machine, caller: u8, a: i64) -> Result<u8, Failure> {
+    let cycle = m.cycle;
+    let axis = m.kernel.axis_mut(a)?;
+    let id = axis.id();
+    if axis.is_emergency_stopped() {
+        return Err(SystemError::EmergencyStop.into());
+    }
+    if axis.check_claim(caller, cycle).is_err() {
+        return Err(Failure::Alarm(m.tasks.axis_alarm(caller, id, AlarmEvent::CommandBufferBusy, cycle)));
+    }
+    Ok(id)
+}
+
+fn run(m: &mut Machine, caller: u8, command: Command, r: &Request, reply: &mut Reply) -> Outcome {
+    let moved = match moved_axis(command, r) {
+        Some(a) if m.network.state() == AlState::Op => Some(may_command(m, caller, a)?),
+        _ => None,
+    };
+    let outcome = run_command(m, caller, command, r, reply);
+    if let (Some(axis), Ok(_)) = (moved, &outcome) {
+        let cycle = m.cycle;
+        if let Ok(axis) = m.kernel.axis_mut(axis as i64) {
+            axis.claim(caller, cycle);
+        }
+    }
+    outcome
+}
+
+fn run_command(m: &mut Machine, caller: u8, command: Command, r: &Request, reply: &mut Reply) -> Outcome {
     let (a, x) = (r.int(0), r.double(1));
     match command {
         // HMPL 5.2: motion.
@@ -219,7 +289,57 @@ fn run(m: &mut Machine, command: Command, r: &Request, reply: &mut Reply) -> Out
             m.network.inject_fault(slave(r)?, code).map_err(|_| Failure::MinusOne(0))?;
             Ok(Done::Now)
         }
+        // HMPL ch. 9: controller I/O.
+        Command::SimSetGPI => pin(m.io.set_level(a, r.int(1))),
+        Command::SetGPO => pin(m.io.set_gpo(a, r.int(1))),
+        Command::ToggleGPO => pin(m.io.toggle_gpo(a)),
+        Command::SetAllGPO => pin(m.io.set_all_gpo(a)),
+        Command::SetGPIInvert => pin(m.io.set_gpi_invert(a, r.int(1))),
+        Command::SetGPOInvert => pin(m.io.set_gpo_invert(a, r.int(1))),
+        Command::BindEMO => pin(m.io.bind_emo(a)),
+        // HMPL ch. 2: system.
+        Command::DisableAll => {
+            m.kernel.disable_all();
+            Ok(Done::Now)
+        }
+        Command::StopAll => motion(m, |m| {
+            m.kernel.stop_all();
+            Ok(Done::Now)
+        }),
+        Command::EStop => {
+            m.emergency_stop();
+            Ok(Done::Later)
+        }
+        // HMPL ch. 16: tasks.
+        Command::StartTask => {
+            let cycle = m.cycle;
+            m.tasks.start(a, Entry::TOP_LEVEL, cycle)?;
+            Ok(Done::Later)
+        }
+        Command::StartTaskFunc => {
+            let entry = Entry::function(r.blob()).ok_or(SystemError::FuncNotInTask)?;
+            let cycle = m.cycle;
+            m.tasks.start(a, entry, cycle)?;
+            Ok(Done::Later)
+        }
+        Command::StopTask => {
+            let cycle = m.cycle;
+            let Machine { tasks, kernel, .. } = m;
+            let stopped = tasks.stop(a, cycle, &mut |t, reaction| kernel.react(t, reaction))?;
+            Ok(if stopped == caller { Done::Later } else { Done::Now })
+        }
+        Command::StopAllTask => {
+            let cycle = m.cycle;
+            let Machine { tasks, kernel, .. } = m;
+            tasks.stop_all(cycle, &mut |t, reaction| kernel.react(t, reaction));
+            Ok(Done::Later)
+        }
     }
+}
+
+/// Ch. 9: 0, or -1 for a pin that does not exist.
+fn pin(result: Result<(), NoSuchPin>) -> Outcome {
+    result.map(|()| Done::Now).map_err(|_| out_of_range())
 }
 
 /// A motion command needs EtherCAT in Op (HMPL 2.2; `eERR_HMPL_NOT_IN_OP_MODE`).

@@ -9,12 +9,15 @@ pub mod cycle;
 pub mod dispatch;
 pub mod drive;
 pub mod ecat;
+pub mod io;
 pub mod master;
 pub mod motion;
 pub mod profile;
 pub mod realtime;
 pub mod rt_alloc;
 pub mod supervisor;
+pub mod tasks;
+pub mod trace;
 
 pub use config::MachineConfig;
 pub use controller::{ControllerError, RunOptions, RunReport, run};

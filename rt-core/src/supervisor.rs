@@ -1,5 +1,7 @@
-//! The supervisor: starts one script process per task, forwards its output line by line
-//! with the task id in front, and reaps it when it ends.
+//! The supervisor: carries out the core's orders (start a task's script process, kill
+//! one, publish an alarm), reaps the processes and reports how each ended, forwards their
+//! output line by line with the task id in front, and keeps each task's CPU time in the
+//! task table for the tools.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
@@ -9,11 +11,16 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use api::alarms::{Alarm, Event};
 use ipc::Namespace;
+use ipc::events::EventSender;
+use ipc::messages::{EventKind, EventRecord, MAX_TASKS};
+use ipc::services::{self, IpcNode, Open};
 use ipc::shm::Region;
 use ipc::task_table::TaskTable;
 
 use crate::config::TaskConfig;
+use crate::tasks::{AlarmReport, Entry, Exit, Order, Report, SupervisorEnd};
 
 /// How a script process is started: the luamotion binary and its hidden subcommand.
 #[derive(Clone, Debug)]
@@ -27,9 +34,9 @@ pub struct ScriptLauncher {
 pub enum Outcome {
     /// The program ran to its end.
     Finished,
-    /// The program stopped with an error: its message (`file:line: message`).
+    /// The program stopped with an error: its message (`file:line: message`) or the alarm.
     Failed(String),
-    /// The controller stopped it (shutdown).
+    /// Stopped by `StopTask`, `StopAllTask`, an E-stop or the controller's shutdown.
     Stopped,
 }
 
@@ -46,25 +53,107 @@ struct Running {
     child: Child,
     last_error_line: Arc<Mutex<Option<String>>>,
     forwarders: Vec<JoinHandle<()>>,
-    stop_requested: bool,
+    kill_ordered: bool,
+    alarm: Option<String>,
 }
+
+/// How often CPU times are read from /proc.
+const CPU_PERIOD: Duration = Duration::from_millis(100);
 
 pub struct Supervisor {
     ns: Namespace,
     launcher: ScriptLauncher,
+    data_dir: PathBuf,
+    configs: Vec<Option<TaskConfig>>,
+    link: SupervisorEnd,
     table: Region<TaskTable>,
+    events: EventSender,
     running: Vec<Running>,
     ended: Vec<TaskReport>,
+    last_cpu_read: Instant,
+    shutting_down: bool,
+    _node: IpcNode,
 }
 
 impl Supervisor {
-    pub fn new(ns: Namespace, launcher: ScriptLauncher) -> Result<Self, ipc::IpcError> {
+    /// Writes each configured task's program into the task table and creates the event
+    /// stream the scripts write to.
+    pub fn new(
+        ns: Namespace,
+        launcher: ScriptLauncher,
+        data_dir: PathBuf,
+        tasks: &[TaskConfig],
+        link: SupervisorEnd,
+    ) -> Result<Self, ipc::IpcError> {
         let table = Region::<TaskTable>::open(&ns, "tasks")?;
-        Ok(Supervisor { ns, launcher, table, running: Vec::new(), ended: Vec::new() })
+        let mut configs = vec![None; MAX_TASKS];
+        for task in tasks {
+            table.slots[task.id as usize].set_program(&task.program.display().to_string());
+            configs[task.id as usize] = Some(task.clone());
+        }
+        let node = services::node(&ns, "luamotion-supervisor")?;
+        let events = EventSender::new(&node, &ns, Open::Create)?;
+        Ok(Supervisor {
+            ns,
+            launcher,
+            data_dir,
+            configs,
+            link,
+            table,
+            events,
+            running: Vec::new(),
+            ended: Vec::new(),
+            last_cpu_read: Instant::now(),
+            shutting_down: false,
+            _node: node,
+        })
     }
 
-    /// Starts the task's script process.
-    pub fn start(&mut self, task: &TaskConfig) -> std::io::Result<()> {
+    /// One round: the core's orders, the processes that ended, the CPU times.
+    pub fn poll(&mut self) {
+        while let Some(order) = self.link.next_order() {
+            match order {
+                Order::Start { task, entry } => self.start(task, entry),
+                Order::Kill { task, pid } => self.kill(task, pid),
+                Order::Alarm(report) => self.alarm(&report),
+            }
+        }
+        let mut i = 0;
+        while i < self.running.len() {
+            match self.running[i].child.try_wait() {
+                Ok(Some(status)) => {
+                    let task = self.running.swap_remove(i);
+                    self.reap(task, status);
+                }
+                _ => i += 1,
+            }
+        }
+        if self.last_cpu_read.elapsed() >= CPU_PERIOD {
+            self.last_cpu_read = Instant::now();
+            for task in &self.running {
+                if let Some(ms) = cpu_ms(task.child.id()) {
+                    self.table.slots[task.id as usize].set_cpu_ms(ms);
+                }
+            }
+        }
+    }
+
+    fn start(&mut self, id: u8, entry: Entry) {
+        let config = self.configs[id as usize].clone().filter(|_| !self.shutting_down);
+        let Some(task) = config else {
+            self.link.report(Report::SpawnFailed { task: id });
+            return;
+        };
+        match self.spawn(&task, entry) {
+            Ok(pid) => self.link.report(Report::Spawned { task: id, pid }),
+            Err(e) => {
+                tracing::error!(task = id, "cannot start {}: {e}", task.program.display());
+                self.link.report(Report::SpawnFailed { task: id });
+            }
+        }
+    }
+
+    fn spawn(&mut self, task: &TaskConfig, entry: Entry) -> std::io::Result<u32> {
         self.table.slots[task.id as usize].reset();
         let mut command = Command::new(&self.launcher.executable);
         command
@@ -73,10 +162,12 @@ impl Supervisor {
             .args(["--task", &task.id.to_string()])
             .args(["--controller-pid", &std::process::id().to_string()])
             .args(["--memory-limit-mib", &task.memory_limit_mib.to_string()])
-            .arg(&task.program)
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped());
+            .arg("--data-dir")
+            .arg(&self.data_dir);
+        if let Some(function) = entry.function_name() {
+            command.args(["--entry", &function]);
+        }
+        command.arg(&task.program).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
         let parent = std::process::id();
         // SAFETY: only async-signal-safe calls between fork and exec.
         unsafe {
@@ -93,34 +184,41 @@ impl Supervisor {
             });
         }
         let mut child = command.spawn()?;
+        let pid = child.id();
         let last_error_line = Arc::new(Mutex::new(None));
-        let id = task.id;
         let stdout = child.stdout.take().expect("piped");
         let stderr = child.stderr.take().expect("piped");
-        let forwarders = vec![forward(stdout, id, None), forward(stderr, id, Some(last_error_line.clone()))];
-        tracing::info!(task = id, pid = child.id(), program = %task.program.display(), "started");
+        let forwarders = vec![forward(stdout, task.id, None), forward(stderr, task.id, Some(last_error_line.clone()))];
+        tracing::info!(task = task.id, pid, program = %task.program.display(), "started");
         self.running.push(Running {
-            id,
+            id: task.id,
             program: task.program.clone(),
             child,
             last_error_line,
             forwarders,
-            stop_requested: false,
+            kill_ordered: false,
+            alarm: None,
         });
-        Ok(())
+        Ok(pid)
     }
 
-    /// Reaps the script processes that have ended.
-    pub fn poll(&mut self) {
-        let mut i = 0;
-        while i < self.running.len() {
-            match self.running[i].child.try_wait() {
-                Ok(Some(status)) => {
-                    let task = self.running.swap_remove(i);
-                    self.reap(task, status);
-                }
-                _ => i += 1,
-            }
+    fn kill(&mut self, task: u8, pid: u32) {
+        if let Some(running) = self.running.iter_mut().find(|r| r.id == task && r.child.id() == pid) {
+            running.kill_ordered = true;
+            let _ = running.child.kill();
+        }
+    }
+
+    fn alarm(&mut self, report: &AlarmReport) {
+        let text = describe(report);
+        tracing::warn!(task = report.task, cycle = report.cycle, "{text}");
+        let record = EventRecord::new(EventKind::Alarm, report.task as u32, report.cycle, report.alarm, &text);
+        if let Err(e) = self.events.send(&record) {
+            tracing::debug!("alarm not published: {e}");
+        }
+        let process_alarm = Alarm(report.alarm).event_code() != Event::CommandBufferBusy.code();
+        if process_alarm && let Some(running) = self.running.iter_mut().find(|r| r.id == report.task) {
+            running.alarm = Some(text);
         }
     }
 
@@ -128,15 +226,28 @@ impl Supervisor {
         for forwarder in task.forwarders {
             let _ = forwarder.join();
         }
-        let message = task.last_error_line.lock().map(|l| l.clone()).unwrap_or_default();
-        let outcome = if status.success() {
-            Outcome::Finished
-        } else if task.stop_requested {
-            Outcome::Stopped
+        let slot = &self.table.slots[task.id as usize];
+        let exit = if status.success() {
+            Exit::Finished
         } else if let Some(signal) = status.signal() {
-            Outcome::Failed(format!("killed by signal {signal}"))
+            Exit::Signal(signal)
         } else {
-            Outcome::Failed(message.unwrap_or_else(|| format!("exit code {}", status.code().unwrap_or(-1))))
+            Exit::Failed { end_code: slot.end_code() }
+        };
+        self.link.report(Report::Exited { task: task.id, pid: task.child.id(), exit });
+        if exit != Exit::Finished {
+            // A process that died left its iceoryx2 ports behind; its next start needs them gone.
+            ipc::clean_dead_nodes(&self.ns);
+        }
+        let message = task.last_error_line.lock().map(|l| l.clone()).unwrap_or_default();
+        let outcome = match (exit, task.alarm, task.kill_ordered) {
+            (Exit::Finished, _, _) => Outcome::Finished,
+            (_, Some(alarm), _) => Outcome::Failed(alarm),
+            (_, None, true) => Outcome::Stopped,
+            (Exit::Signal(signal), None, false) => Outcome::Failed(format!("killed by signal {signal}")),
+            (Exit::Failed { .. }, None, false) => {
+                Outcome::Failed(message.unwrap_or_else(|| format!("exit code {}", status.code().unwrap_or(-1))))
+            }
         };
         tracing::info!(task = task.id, ?outcome, "ended");
         self.ended.push(TaskReport { id: task.id, program: task.program, outcome });
@@ -146,31 +257,54 @@ impl Supervisor {
         self.running.len()
     }
 
-    /// Stops every script process: SIGTERM, then SIGKILL after a grace period.
-    pub fn stop_all(&mut self, grace: Duration) {
-        for task in &mut self.running {
-            task.stop_requested = true;
-            // SAFETY: signalling a child we spawned and have not reaped.
-            unsafe { libc::kill(task.child.id() as libc::pid_t, libc::SIGTERM) };
-        }
-        let deadline = Instant::now() + grace;
-        while !self.running.is_empty() && Instant::now() < deadline {
-            self.poll();
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        for task in &mut self.running {
-            let _ = task.child.kill();
-        }
-        while !self.running.is_empty() {
+    /// Ends every script process (shutdown) and reaps them; starts no new ones.
+    pub fn stop_all(&mut self) {
+        self.shutting_down = true;
+        loop {
+            for task in self.running.iter_mut().filter(|t| !t.kill_ordered) {
+                task.kill_ordered = true;
+                let _ = task.child.kill();
+            }
+            if self.running.is_empty() {
+                return;
+            }
             self.poll();
             std::thread::sleep(Duration::from_millis(1));
         }
     }
 
-    /// Reports of the tasks that have ended, in the order they ended.
+    /// Reports of the processes that have ended, in the order they ended.
     pub fn into_reports(self) -> Vec<TaskReport> {
         self.ended
     }
+}
+
+/// An alarm as the log and the event stream say it.
+pub fn describe(report: &AlarmReport) -> String {
+    let alarm = Alarm(report.alarm);
+    let event = Event::from_code(alarm.event_code());
+    let what = match event {
+        Event::Watchdog => format!("watchdog: no progress for {} ms at line {}", report.detail, report.line),
+        Event::ProcessDied => format!("the task's process died of signal {}", report.detail),
+        Event::CommandBufferBusy => {
+            format!("command buffer busy: axis {} is commanded by another task in this cycle", report.detail)
+        }
+        Event::Hmpl(code) => format!("stopped by {}", api::errors::describe(code as u32)),
+        other => other.meaning().to_string(),
+    };
+    format!("task {}: {what} (alarm {alarm})", report.task)
+}
+
+/// User + system CPU time of a process, ms (/proc/<pid>/stat fields 14 and 15).
+fn cpu_ms(pid: u32) -> Option<u64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // The command name may hold spaces; the fields after it are plain.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: u64 = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    // SAFETY: sysconf only reads a constant.
+    let per_second = unsafe { libc::sysconf(libc::_SC_CLK_TCK) }.max(1) as u64;
+    Some(ticks * 1000 / per_second)
 }
 
 /// Copies a child's output to ours line by line, `[task N] ` in front. Keeps the last

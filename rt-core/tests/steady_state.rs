@@ -11,10 +11,12 @@ use api::Command;
 use ipc::messages::Request;
 use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
 use rt_core::MachineConfig;
+use rt_core::config::TaskConfig;
 use rt_core::cycle::{CycleWork, Machine};
 use rt_core::ecat::Network;
 use rt_core::motion::Kernel;
 use rt_core::rt_alloc::{self, RtAllocator};
+use rt_core::tasks::{self, Tasks};
 
 #[global_allocator]
 static ALLOCATOR: RtAllocator = RtAllocator;
@@ -51,7 +53,11 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let mut network = Network::new(&config.axes);
     network.start(config.period_ns()).unwrap();
     let kernel = Kernel::new(&config, &network);
-    let machine = Machine::new(network, kernel, config.period_ns());
+    // Task 0 is played by a thread of this test: attached, as a tool would be.
+    let task = TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(0, "-".into()) };
+    let (link, _supervisor) = tasks::link();
+    let tasks = Tasks::new(&[task], config.period_ns(), link);
+    let machine = Machine::new(network, kernel, tasks, config.period_ns());
     let ns = Namespace::new(&format!("t{}-alloc", std::process::id())).unwrap();
     ipc::claim_namespace(&ns).unwrap();
     let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());

@@ -1,30 +1,37 @@
 //! A script process: one user program in one sandboxed Lua VM, talking to its controller.
 //!
-//! The VM's instruction hook bumps the task's heartbeat and records the line being run,
-//! so that the controller's watchdog can tell a hung program from a waiting one.
+//! Every API call advances the task's heartbeat (see `bindings`), so that the controller's
+//! watchdog can tell a program stuck in Lua from a waiting one; the VM's instruction hook
+//! records the line being run, for the watchdog's report.
 
 pub mod bindings;
 pub mod printf;
 pub mod sandbox;
+pub mod user_table;
 
 use std::path::PathBuf;
 use std::rc::Rc;
 
+use api::SystemError;
 use ipc::shm::Region;
-use ipc::task_table::{RunState, TaskTable};
+use ipc::task_table::{EndCode, RunState, TaskSlot, TaskTable};
 use ipc::{IpcError, Namespace, TaskEndpoint};
 use mlua::{HookTriggers, VmState};
 
 use bindings::Host;
 
-/// VM instructions between two heartbeats: a few microseconds of Lua.
-const HEARTBEAT_INSTRUCTIONS: u32 = 1000;
+/// VM instructions between two looks at the line being run: a few microseconds of Lua.
+const LINE_INSTRUCTIONS: u32 = 1000;
 
 pub struct ScriptArgs {
     pub ns: Namespace,
     pub task: u8,
     pub controller_pid: u32,
     pub memory_limit_mib: u32,
+    /// Where `SaveUserTable` keeps its file.
+    pub data_dir: PathBuf,
+    /// `StartTaskFunc`: the function to run after the program's top level.
+    pub entry: Option<String>,
     pub program: PathBuf,
 }
 
@@ -40,11 +47,21 @@ pub enum ScriptError {
     Ipc(#[from] IpcError),
     #[error("the controller is gone")]
     ControllerGone,
+    #[error("{message}")]
+    OutOfMemory { message: String },
 }
 
 impl ScriptError {
     fn lua(message: String) -> Self {
         ScriptError::Lua { message, traceback: None }
+    }
+
+    /// What the controller reads in the task's slot about this end.
+    fn end_code(&self) -> u32 {
+        match self {
+            ScriptError::OutOfMemory { .. } => EndCode::OutOfMemory as u32,
+            _ => EndCode::LuaError as u32,
+        }
     }
 }
 
@@ -53,36 +70,58 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     let source = std::fs::read_to_string(&args.program)
         .map_err(|source| ScriptError::Read { path: args.program.clone(), source })?;
     let endpoint = TaskEndpoint::open(&args.ns, args.task, args.controller_pid)?;
-    ipc::restore_default_termination();
-    let table = Region::<TaskTable>::open(&args.ns, "tasks")?;
+    ipc::restore_default_signals();
+    let table = Rc::new(Region::<TaskTable>::open(&args.ns, "tasks")?);
     let task = args.task as usize;
 
     let memory_limit = args.memory_limit_mib as usize * 1024 * 1024;
     let lua = sandbox::new_vm(memory_limit).map_err(|e| ScriptError::lua(e.to_string()))?;
-    let host = Rc::new(Host { endpoint: std::cell::RefCell::new(endpoint) });
+    let host = Rc::new(Host::new(endpoint, &args.ns, args.data_dir.clone())?);
     bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_system_variables(&lua, host).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_print(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
 
     let name = args.program.display().to_string();
-    let table = Rc::new(table);
-    let result = {
-        let hook_table = table.clone();
-        lua.set_hook(HookTriggers::new().every_nth_instruction(HEARTBEAT_INSTRUCTIONS), move |_, debug| {
-            let slot = &hook_table.slots[task];
-            slot.beat();
-            if let Some(line) = debug.current_line() {
-                slot.set_line(line as u32);
-            }
-            Ok(VmState::Continue)
-        })
-        .map_err(|e| ScriptError::lua(e.to_string()))?;
-        let result = lua.load(source).set_name(format!("@{name}")).exec();
-        table.slots[task].set_state(RunState::Finished);
-        result
+    let hook_table = table.clone();
+    lua.set_hook(HookTriggers::new().every_nth_instruction(LINE_INSTRUCTIONS), move |_, debug| {
+        if let Some(line) = debug.current_line() {
+            hook_table.slots[task].set_line(line as u32);
+        }
+        Ok(VmState::Continue)
+    })
+    .map_err(|e| ScriptError::lua(e.to_string()))?;
+    let slot = &table.slots[task];
+    let result = start(&lua, &source, &name, args.entry.as_deref(), slot);
+    slot.set_state(RunState::Finished);
+    let result = result.map_err(|e| describe(e, &name, slot.line(), memory_limit));
+    if let Err(e) = &result
+        && slot.end_code() == 0
+    {
+        slot.set_end_code(e.end_code());
+    }
+    result
+}
+
+/// HMPL 16.2/16.3: a program runs from its top level; with an entry, its top level runs
+/// first (declarations) and then the named function. The controller hears the task has
+/// started once the entry is known to exist.
+fn start(lua: &mlua::Lua, source: &str, name: &str, entry: Option<&str>, slot: &TaskSlot) -> mlua::Result<()> {
+    let chunk = lua.load(source).set_name(format!("@{name}")).into_function()?;
+    let Some(entry) = entry else {
+        slot.mark_started();
+        return chunk.call(());
     };
-    let last_line = table.slots[task].line();
-    result.map_err(|e| describe(e, &name, last_line, memory_limit))
+    chunk.call::<()>(())?;
+    match lua.globals().raw_get::<mlua::Value>(entry)? {
+        mlua::Value::Function(function) => {
+            slot.mark_started();
+            function.call(())
+        }
+        _ => {
+            slot.set_end_code(SystemError::FuncNotInTask.id() as u32);
+            Err(mlua::Error::runtime(format!("{name}: no function {entry} (0x0109 eERR_FUNC_NOT_IN_TASK)")))
+        }
+    }
 }
 
 /// Turns a Lua error into the one line a user needs: `file:line: message`.
@@ -110,10 +149,9 @@ fn describe(error: mlua::Error, program: &str, last_line: u32, memory_limit: usi
         // Lua reports no position for memory errors; the heartbeat hook saw the line last run.
         mlua::Error::MemoryError(_) => {
             let near = if last_line > 0 { format!(" near line {last_line}") } else { String::new() };
-            ScriptError::lua(format!(
-                "{program}: not enough memory{near} (the task's limit is {} MiB)",
-                memory_limit >> 20
-            ))
+            ScriptError::OutOfMemory {
+                message: format!("{program}: not enough memory{near} (the task's limit is {} MiB)", memory_limit >> 20),
+            }
         }
         other => ScriptError::lua(format!("{program}: {other}")),
     }

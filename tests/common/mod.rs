@@ -42,9 +42,16 @@ impl Finished {
 }
 
 /// `luamotion run --ns <ns> <args>`, started.
+/// The controller's own data directory (`--data-dir`), under cargo's temp dir for tests.
+pub fn data_dir(ns: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("data").join(ns)
+}
+
 pub fn start_run(ns: &str, args: &[&str]) -> Child {
     Command::new(BIN)
         .args(["run", "--ns", ns])
+        .arg("--data-dir")
+        .arg(data_dir(ns))
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

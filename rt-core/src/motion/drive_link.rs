@@ -161,6 +161,13 @@ impl DriveLink {
         }
     }
 
+    /// The drive's quick stop; the axis ends disabled.
+    pub fn quick_stop(&mut self, cycle: u64) {
+        if matches!(self.power, Power::Enabled | Power::Enabling { .. }) {
+            self.power = Power::QuickStopping { since: cycle };
+        }
+    }
+
     /// Starts clearing a drive fault (fault reset edge).
     pub fn reset_fault(&mut self, cycle: u64) {
         self.power = Power::Resetting { since: cycle, edge_sent: false };
@@ -196,8 +203,8 @@ impl DriveLink {
     }
 
     /// One step of the power sequence against the drive's statusword.
-    pub fn sequence(&mut self, statusword: u16, cycle: u64, timeout_cycles: u64) -> PowerEvent {
-        let (cw, event) = self.power.step(State::from_statusword(statusword), cycle, timeout_cycles);
+    pub fn sequence(&mut self, statusword: u16, cycle: u64, timeout_cycles: u64, at_rest: bool) -> PowerEvent {
+        let (cw, event) = self.power.step(State::from_statusword(statusword), cycle, timeout_cycles, at_rest);
         self.controlword = cw;
         event
     }

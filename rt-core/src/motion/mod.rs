@@ -17,7 +17,7 @@ pub mod smoothing;
 use api::{ErrorCode, SystemError};
 use ipc::messages::Snapshot;
 
-use crate::config::MachineConfig;
+use crate::config::{FaultReaction, MachineConfig};
 use crate::ecat::Network;
 use axis::Axis;
 use gantry::Pair;
@@ -161,6 +161,44 @@ impl Kernel {
     pub fn disable_all(&mut self) {
         for axis in &mut self.axes {
             let _ = axis.disable();
+        }
+    }
+
+    /// HMPL 2.8: every axis stops with its kill deceleration and stays enabled.
+    pub fn stop_all(&mut self) {
+        for axis in &mut self.axes {
+            axis.kill_stop();
+        }
+    }
+
+    /// HMPL 2.9, 9.1: every axis disabled, motion refused until enabled again.
+    pub fn emergency_stop(&mut self) {
+        for axis in &mut self.axes {
+            axis.emergency_stop();
+        }
+    }
+
+    /// A task failed or was stopped: the motion it set going reacts as its fault reaction
+    /// says (DESIGN, "Watchdogs and fault reaction").
+    pub fn react(&mut self, task: u8, reaction: FaultReaction) {
+        for id in 0..self.axes.len() {
+            let axis = &self.axes[id];
+            if axis.commander() != Some(task) || !(axis.is_moving() || axis.is_homing()) {
+                continue;
+            }
+            match reaction {
+                FaultReaction::None => {}
+                FaultReaction::Decelerate => self.axes[id].kill_stop(),
+                FaultReaction::QuickStop => {
+                    let partner = gantry::partner(&self.pairs, &self.axes[id]);
+                    for a in std::iter::once(id as u8).chain(partner) {
+                        self.axes[a as usize].quick_stop();
+                    }
+                }
+                FaultReaction::Disable => {
+                    let _ = self.disable(id as i64);
+                }
+            }
         }
     }
 

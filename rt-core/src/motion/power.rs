@@ -21,6 +21,11 @@ pub enum Power {
         since: u64,
         edge_sent: bool,
     },
+    /// The drive's quick stop (CoE manual 3.1, transitions 11 and 12): Quick stop until the
+    /// motor stands in Quick stop active, then Disable voltage.
+    QuickStopping {
+        since: u64,
+    },
 }
 
 /// What one step of the sequence found.
@@ -47,7 +52,8 @@ impl Power {
     }
 
     /// One cycle: reads the drive's state, returns the controlword to send and what happened.
-    pub fn step(&mut self, drive: Option<State>, cycle: u64, timeout_cycles: u64) -> (u16, PowerEvent) {
+    /// `at_rest`: the motor stands (ends a quick stop).
+    pub fn step(&mut self, drive: Option<State>, cycle: u64, timeout_cycles: u64, at_rest: bool) -> (u16, PowerEvent) {
         use controlword::*;
         if let Power::Resetting { since, edge_sent } = *self {
             return match drive {
@@ -72,7 +78,19 @@ impl Power {
         }
         match *self {
             Power::Disabled => (SHUTDOWN, PowerEvent::None),
-            Power::Resetting { .. } => unreachable!("handled above"),
+            Power::Resetting { .. } => (DISABLE_VOLTAGE, PowerEvent::None),
+            Power::QuickStopping { since } => match drive {
+                Some(State::OperationEnabled) if cycle.saturating_sub(since) <= timeout_cycles => {
+                    (QUICK_STOP_CMD, PowerEvent::None)
+                }
+                Some(State::QuickStopActive) if !at_rest && cycle.saturating_sub(since) <= timeout_cycles => {
+                    (QUICK_STOP_CMD, PowerEvent::None)
+                }
+                _ => {
+                    *self = Power::Disabled;
+                    (DISABLE_VOLTAGE, PowerEvent::Disabled)
+                }
+            },
             Power::Enabling { since } => {
                 let cw = match drive {
                     Some(State::OperationEnabled) => {
@@ -128,7 +146,7 @@ mod tests {
         let mut enabled_at = None;
         for cycle in 0..20 {
             fsa.step(cw, true);
-            let (next, event) = power.step(Some(fsa.state()), cycle, 100);
+            let (next, event) = power.step(Some(fsa.state()), cycle, 100, false);
             cw = next;
             if event == PowerEvent::Enabled {
                 enabled_at = Some(cycle);
@@ -149,7 +167,7 @@ mod tests {
         let mut cw = 0;
         for cycle in 0..10 {
             fsa.step(cw, true);
-            let (next, event) = power.step(Some(fsa.state()), cycle, 100);
+            let (next, event) = power.step(Some(fsa.state()), cycle, 100, false);
             cw = next;
             if event == PowerEvent::FaultCleared {
                 assert_eq!(fsa.state(), State::SwitchOnDisabled);
@@ -159,12 +177,37 @@ mod tests {
         panic!("the fault was not cleared: {:?}", fsa.state());
     }
 
+    /// CoE manual 3.1: Quick stop (11) to Quick stop active, which holds until the motor
+    /// stands; then Disable voltage (12) to Switch on disabled.
+    #[test]
+    fn a_quick_stop_ends_in_switch_on_disabled() {
+        let mut fsa = Fsa::default();
+        let mut power = Power::Enabling { since: 0 };
+        let mut cw = 0;
+        for cycle in 0..20 {
+            fsa.step(cw, true);
+            cw = power.step(Some(fsa.state()), cycle, 100, false).0;
+        }
+        assert_eq!(fsa.state(), State::OperationEnabled);
+        power = Power::QuickStopping { since: 20 };
+        for cycle in 20..30 {
+            fsa.step(cw, true);
+            cw = power.step(Some(fsa.state()), cycle, 100, false).0;
+        }
+        assert_eq!((fsa.state(), cw), (State::QuickStopActive, controlword::QUICK_STOP_CMD), "held while moving");
+        fsa.step(cw, true);
+        let (next, event) = power.step(Some(fsa.state()), 30, 100, true);
+        assert_eq!((next, event, power), (controlword::DISABLE_VOLTAGE, PowerEvent::Disabled, Power::Disabled));
+        fsa.step(next, true);
+        assert_eq!(fsa.state(), State::SwitchOnDisabled);
+    }
+
     #[test]
     fn a_drive_that_never_follows_times_out() {
         let mut power = Power::Enabling { since: 0 };
         let mut last = PowerEvent::None;
         for cycle in 0..=11 {
-            last = power.step(Some(State::NotReadyToSwitchOn), cycle, 10).1;
+            last = power.step(Some(State::NotReadyToSwitchOn), cycle, 10, false).1;
         }
         assert_eq!(last, PowerEvent::Timeout);
         assert_eq!(power, Power::Disabled);

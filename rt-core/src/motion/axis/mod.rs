@@ -22,6 +22,9 @@ use crate::motion::pvt::{Pvt, PvtError, PvtPoint};
 use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, positive_up_to, rate_from_time};
 use crate::profile::Kinematics;
 
+/// Below this fraction of the axis' velocity limit the motor counts as standing.
+const STANDSTILL: f64 = 1e-3;
+
 /// An engaged gear: slave = slave origin + ratio x (master - master origin) (HMPL 6.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Engagement {
@@ -78,6 +81,12 @@ pub struct Axis {
     settled_at: Option<u64>,
     move_time_ms: f64,
     settling_time_ms: f64,
+    /// The task whose command set the present motion going: it owns it for fault reactions.
+    commander: Option<u8>,
+    /// The cycle and task of the last motion command (two tasks in one cycle: 0x001F).
+    last_command: Option<(u64, u8)>,
+    /// Stopped by an E-stop: motion is refused with 0x0064 until the axis is enabled again.
+    emergency_stopped: bool,
 }
 
 impl Axis {
@@ -117,6 +126,9 @@ impl Axis {
             settled_at: None,
             move_time_ms: 0.0,
             settling_time_ms: 0.0,
+            commander: None,
+            last_command: None,
+            emergency_stopped: false,
         };
         axis.generator.reset(0.0);
         axis
@@ -197,14 +209,53 @@ impl Axis {
         if self.error_stop {
             return Err(self.fail(AxisError::CmdInvalidErrorState));
         }
+        self.emergency_stopped = false;
         self.link.enable(self.cycle);
         Ok(())
+    }
+
+    /// HMPL 2.9, 9.1: the E-stop disables the axis and refuses motion until `Enable`.
+    pub fn emergency_stop(&mut self) {
+        let _ = self.disable();
+        self.emergency_stopped = true;
+    }
+
+    pub fn is_emergency_stopped(&self) -> bool {
+        self.emergency_stopped
+    }
+
+    /// The task whose motion command runs on this axis.
+    pub fn commander(&self) -> Option<u8> {
+        self.commander
+    }
+
+    /// Whether `task` may command motion in `cycle`: not when another task already did in
+    /// this cycle (DXMC 0x001F); the error names that task.
+    pub fn check_claim(&self, task: u8, cycle: u64) -> Result<(), u8> {
+        match self.last_command {
+            Some((c, other)) if c == cycle && other != task => Err(other),
+            _ => Ok(()),
+        }
+    }
+
+    /// `task` commanded motion in `cycle`: it owns the axis' motion from now on.
+    pub fn claim(&mut self, task: u8, cycle: u64) {
+        self.last_command = Some((cycle, task));
+        self.commander = Some(task);
+    }
+
+    /// The drive's quick stop (CiA 402); the axis ends disabled.
+    pub fn quick_stop(&mut self) {
+        self.generator.reset(self.reference.pos);
+        self.abort_homing();
+        self.stopping = false;
+        self.link.quick_stop(self.cycle);
     }
 
     /// Disables and clears the path planning (HMPL 5.2.2).
     pub fn disable(&mut self) -> Result<(), AxisError> {
         self.generator.reset(self.reference.pos);
-        self.homing.abort(&mut self.link);
+        self.abort_homing();
         self.stopping = false;
         self.link.disable(self.cycle);
         Ok(())
@@ -346,8 +397,10 @@ impl Axis {
         Ok(())
     }
 
-    /// StopAll, errors: stop with the kill deceleration (HMPL 2.8, 5.3.10).
+    /// StopAll, errors: stop with the kill deceleration (HMPL 2.8, 5.3.10). A homing run
+    /// is ended: the drive leaves homing mode and holds.
     pub fn kill_stop(&mut self) {
+        self.abort_homing();
         self.stop_with(self.settings.kill_dec);
     }
 
@@ -577,6 +630,14 @@ impl Axis {
         Ok(())
     }
 
+    /// Ends a homing run early (disabled, stopped, a fault): `MoveHome` returns 0x83II042E.
+    fn abort_homing(&mut self) {
+        if self.homing.in_progress() {
+            self.homing.abort(&mut self.link);
+            self.finish_homing(Err(AxisError::DriveHomeFailed));
+        }
+    }
+
     pub fn is_homing(&self) -> bool {
         self.homing.in_progress()
     }
@@ -595,7 +656,8 @@ impl Axis {
         self.feedback = self.link.read(inputs);
         self.drive_position = self.feedback.position;
         let timeout = self.cycles(self.settings.enable_timeout_ms);
-        let event = self.link.sequence(self.feedback.statusword, cycle, timeout);
+        let at_rest = self.vel_fb.abs() < STANDSTILL * self.settings.max_vel;
+        let event = self.link.sequence(self.feedback.statusword, cycle, timeout, at_rest);
         self.on_power_event(event, network);
     }
 
@@ -620,7 +682,7 @@ impl Axis {
                     Some(code) => code,
                     None => network.sdo_read(self.link.slave(), 0x603F, 0).map_or(0, |(v, _)| v as u16),
                 };
-                self.homing.abort(&mut self.link);
+                self.abort_homing();
                 self.fail(AxisError::DriveFault);
             }
             PowerEvent::AbnormalDisable => {

@@ -1,39 +1,61 @@
 //! The Lua globals of the API, derived from the registry: every function of
 //! `api::registry::all()` becomes a global of the same name, with its arguments checked
-//! against the registry's types and its results returned as the registry says.
+//! against the registry's types and its results returned as the registry says. Commands
+//! and queries are here; the functions that run in the script process are in `locals`,
+//! the system variables in `system_vars`.
 
-use std::cell::RefCell;
+mod locals;
+mod system_vars;
+mod timer;
+
+use std::cell::{Cell, RefCell};
 use std::io::Write;
+use std::path::PathBuf;
 use std::rc::Rc;
 
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
-use api::{ArgType, Command, Func, FunctionSpec, Local, Query, SdoAbort, ValueType};
-use ipc::TaskEndpoint;
+use api::{ArgType, Command, Func, FunctionSpec, Query, SdoAbort, ValueType};
+use ipc::events::EventSender;
 use ipc::messages::Request;
 use ipc::query::{self, Words};
+use ipc::shared::SharedData;
+use ipc::shm::Region;
+use ipc::{IpcError, Namespace, TaskEndpoint};
 use mlua::{Function, Lua, MultiValue, Value};
 
-use crate::printf::{self, Arg};
+use locals::Throttle;
+pub use system_vars::install_system_variables;
 
-/// What the bindings share: the link to the controller.
+/// What the bindings share: the link to the controller, the shared data, the event stream.
 pub struct Host {
     pub endpoint: RefCell<TaskEndpoint>,
+    pub shared: Region<SharedData>,
+    pub task: u8,
+    /// Where `SaveUserTable` keeps its file.
+    pub data_dir: PathBuf,
+    events: EventSender,
+    throttle: Cell<Throttle>,
 }
 
 impl Host {
-    fn period_ns(&self) -> u64 {
-        self.endpoint.borrow_mut().snapshot().period_ns
+    pub fn new(endpoint: TaskEndpoint, ns: &Namespace, data_dir: PathBuf) -> Result<Self, IpcError> {
+        let events = endpoint.event_sender(ns)?;
+        let shared = Region::<SharedData>::open(ns, "shared")?;
+        let task = endpoint.task();
+        Ok(Host {
+            endpoint: RefCell::new(endpoint),
+            shared,
+            task,
+            data_dir,
+            events,
+            throttle: Cell::new(Throttle::default()),
+        })
     }
 
-    /// Blocks for `ns` nanoseconds of controller time (at least one cycle if `ns` > 0).
-    fn sleep_ns(&self, ns: f64) -> mlua::Result<()> {
-        if ns <= 0.0 {
-            return Ok(());
-        }
-        let cycles = (ns / self.period_ns() as f64).ceil() as u64;
-        let mut endpoint = self.endpoint.borrow_mut();
-        let target = endpoint.snapshot().cycle + cycles;
-        endpoint.wait_until_cycle(target).map_err(mlua::Error::external)
+    /// Every API call advances the heartbeat: a task that calls nothing while it runs Lua
+    /// is what the watchdog looks for.
+    fn beat(&self) {
+        self.endpoint.borrow().slot().beat();
     }
 }
 
@@ -44,7 +66,7 @@ pub fn install(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
         let function = match spec.func {
             Func::Command(c) => command(lua, host.clone(), c)?,
             Func::Query(q) => status_query(lua, host.clone(), q)?,
-            Func::Local(l) => local(lua, host.clone(), l)?,
+            Func::Local(l) => locals::local(lua, host.clone(), l)?,
         };
         globals.set(spec.name, function)?;
     }
@@ -105,6 +127,16 @@ fn double_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> ml
     }
 }
 
+/// A C `int` condition: a boolean, or a number where 0 is false.
+fn bool_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<bool> {
+    match args.get(i).cloned().unwrap_or(Value::Nil) {
+        Value::Boolean(b) => Ok(b),
+        Value::Integer(n) => Ok(n != 0),
+        Value::Number(n) => Ok(n != 0.0),
+        other => Err(bad_argument(lua, spec, i, "boolean or number", &other)),
+    }
+}
+
 fn string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
     match args.get(i).cloned().unwrap_or(Value::Nil) {
         Value::String(s) => Ok(s.to_str()?.to_string()),
@@ -162,8 +194,14 @@ fn encode(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, request: &mut Reque
                 append(lua, spec, request, &bytes)?;
                 request.push_int(numbers.len() as i64);
             }
-            ArgType::Str | ArgType::Func | ArgType::Rest => {
-                unreachable!("{}: commands and queries take numbers and bytes", spec.name)
+            ArgType::Str => {
+                let text = string_arg(lua, spec, args, i)?;
+                append(lua, spec, request, text.as_bytes())?;
+                request.push_int(text.len() as i64);
+            }
+            ArgType::Bool => request.push_int(bool_arg(lua, spec, args, i)? as i64),
+            ArgType::Func | ArgType::Rest | ArgType::Timer => {
+                return Err(error_here(lua, format!("{}: not callable with a {:?} argument", spec.name, arg.ty)));
             }
         }
     }
@@ -185,6 +223,7 @@ fn bytes_table(lua: &Lua, bytes: &[u8]) -> mlua::Result<Value> {
 fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function> {
     let spec = command.spec();
     lua.create_function(move |lua, args: MultiValue| {
+        host.beat();
         let mut request = Request::new(command.id());
         encode(lua, spec, &args, &mut request)?;
         let reply = host.endpoint.borrow_mut().call(&mut request).map_err(mlua::Error::external)?;
@@ -197,6 +236,7 @@ fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function
         for (i, ty) in spec.returns.iter().enumerate() {
             results.push_back(match ty {
                 ValueType::Bytes => bytes_table(lua, reply.blob())?,
+                ValueType::Bool => Value::Boolean(reply.values[i] != 0),
                 _ => Value::Integer(reply.values[i] as i64),
             });
         }
@@ -216,6 +256,7 @@ fn explain(rc: u32) -> String {
 fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Function> {
     let spec = query.spec();
     lua.create_function(move |lua, args: MultiValue| {
+        host.beat();
         let mut request = Request::new(0);
         encode(lua, spec, &args, &mut request)?;
         let answer = {
@@ -236,90 +277,6 @@ fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Functio
     })
 }
 
-/// Functions that run in the script process.
-fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    match local {
-        Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
-            let ms = int_arg(lua, spec, &args, 0)?;
-            if ms < 0 {
-                return Err(error_here(lua, format!("Sleep: ms must be >= 0, not {ms}")));
-            }
-            host.sleep_ns(ms as f64 * 1e6)
-        }),
-        Local::DELAY => lua.create_function(move |lua, args: MultiValue| {
-            let seconds = double_arg(lua, spec, &args, 0)?;
-            if !(seconds >= 0.0 && seconds.is_finite()) {
-                return Err(error_here(lua, format!("DELAY: seconds must be >= 0, not {seconds}")));
-            }
-            host.sleep_ns(seconds * 1e9)
-        }),
-        Local::Till => lua.create_function(move |lua, args: MultiValue| {
-            let condition = match args.front() {
-                Some(Value::Function(f)) => f.clone(),
-                other => {
-                    let got = other.cloned().unwrap_or(Value::Nil);
-                    return Err(error_here(
-                        lua,
-                        format!(
-                            "bad argument #1 to 'Till' (function expected, got {}); write Till(function() return IsInPos(0) end)",
-                            type_name(&got)
-                        ),
-                    ));
-                }
-            };
-            loop {
-                if is_true(&condition.call::<Value>(())?) {
-                    return Ok(());
-                }
-                let mut endpoint = host.endpoint.borrow_mut();
-                let next = endpoint.snapshot().cycle + 1;
-                endpoint.wait_until_cycle(next).map_err(mlua::Error::external)?;
-            }
-        }),
-        Local::Print => lua.create_function(move |lua, args: MultiValue| {
-            let fmt = string_arg(lua, spec, &args, 0)?;
-            let values: Vec<Arg> = args.iter().skip(1).map(printf_arg).collect::<mlua::Result<_>>()?;
-            match printf::format(&fmt, &values) {
-                Ok(text) => {
-                    write_line(&text);
-                    Ok(text.chars().count() as i64)
-                }
-                Err(e) => {
-                    // HMPL 3.2: Print returns -1 on error; say why on stderr.
-                    eprintln!("warning: Print({fmt:?}): {e}");
-                    Ok(-1)
-                }
-            }
-        }),
-        Local::my_print => lua.create_function(move |lua, args: MultiValue| {
-            write_line(&string_arg(lua, spec, &args, 0)?);
-            Ok(())
-        }),
-    }
-}
-
-/// `Till` keeps waiting while its condition returns false, nil or 0.
-fn is_true(v: &Value) -> bool {
-    match v {
-        Value::Nil | Value::Boolean(false) => false,
-        Value::Integer(0) => false,
-        Value::Number(n) => *n != 0.0,
-        _ => true,
-    }
-}
-
-fn printf_arg(v: &Value) -> mlua::Result<Arg> {
-    Ok(match v {
-        Value::Integer(i) => Arg::Int(*i),
-        Value::Number(n) => Arg::Float(*n),
-        Value::Boolean(b) => Arg::Int(*b as i64),
-        Value::String(s) => Arg::Str(s.to_str()?.to_string()),
-        Value::Nil => Arg::Str("nil".into()),
-        other => Arg::Str(other.type_name().to_string()),
-    })
-}
-
 /// One line of program output; the controller puts the task id in front.
 pub fn write_line(text: &str) {
     let mut out = std::io::stdout().lock();
@@ -328,26 +285,6 @@ pub fn write_line(text: &str) {
         let _ = out.write_all(b"\n");
     }
     let _ = out.flush();
-}
-
-/// HMPL 23.2: `system_fclk` (cycles) and `system_timeInMs`, read from the newest snapshot
-/// whenever a script names them.
-pub fn install_system_variables(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
-    let globals = lua.globals();
-    let meta = lua.create_table()?;
-    meta.set(
-        "__index",
-        lua.create_function(move |_, (_, name): (Value, mlua::LuaString)| {
-            let mut endpoint = host.endpoint.borrow_mut();
-            let snapshot = endpoint.snapshot();
-            Ok(match &*name.to_str()? {
-                "system_fclk" => Value::Integer(snapshot.cycle as i64),
-                "system_timeInMs" => Value::Integer(snapshot.time_in_ms as i64),
-                _ => Value::Nil,
-            })
-        })?,
-    )?;
-    globals.set_metatable(Some(meta))
 }
 
 /// Lua's own `print`, through the same output.

@@ -1,0 +1,122 @@
+//! The variables every program sees (HMPL 1.1, 19.1, 23.2), declared once: the bindings
+//! resolve names with `SystemVar::parse`, the reference and the editor annotations list
+//! `SystemVar::ALL`.
+
+/// HMPL 23.2: `system_ltest0..9` and `system_dtest0..9`.
+pub const TEST_VARS: usize = 10;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SystemVar {
+    /// `system_fclk`: controller cycles since start (read-only).
+    Fclk,
+    /// `system_timeInMs`: controller time in ms (read-only).
+    TimeInMs,
+    /// `system_user_table[0..511999]`: the user table (HMPL ch. 11).
+    UserTable,
+    /// `system_ltest0..9`: integers shared by all tasks.
+    LTest(usize),
+    /// `system_dtest0..9`: numbers shared by all tasks.
+    DTest(usize),
+    /// `system_mtest[0..9]`: numbers shared by all tasks.
+    MTest,
+    /// `_TASKID_`: the task's own id (HMPL 19.1).
+    TaskId,
+    /// `task_vars.name`: this task's variables that keep their values across restarts.
+    TaskVars,
+}
+
+/// One line of the reference: name, Lua type, where it comes from, what it is.
+pub struct Described {
+    pub name: &'static str,
+    pub lua_type: &'static str,
+    pub source: &'static str,
+    pub doc: &'static str,
+}
+
+impl SystemVar {
+    pub const ALL: &'static [Described] = &[
+        Described {
+            name: "system_fclk",
+            lua_type: "integer",
+            source: "HMPL 23.2",
+            doc: "controller cycles since start (read-only)",
+        },
+        Described {
+            name: "system_timeInMs",
+            lua_type: "integer",
+            source: "HMPL 23.2",
+            doc: "controller time, ms (read-only)",
+        },
+        Described {
+            name: "system_user_table",
+            lua_type: "number[]",
+            source: "HMPL 11, 23.2",
+            doc: "the user table, indices 0..511999, shared by all tasks",
+        },
+        Described {
+            name: "system_ltest0",
+            lua_type: "integer",
+            source: "HMPL 23.2",
+            doc: "system_ltest0 .. system_ltest9: integers shared by all tasks",
+        },
+        Described {
+            name: "system_dtest0",
+            lua_type: "number",
+            source: "HMPL 23.2",
+            doc: "system_dtest0 .. system_dtest9: numbers shared by all tasks",
+        },
+        Described {
+            name: "system_mtest",
+            lua_type: "number[]",
+            source: "HMPL 23.2",
+            doc: "10 numbers shared by all tasks, indices 0..9",
+        },
+        Described { name: "_TASKID_", lua_type: "integer", source: "HMPL 19.1", doc: "this task's id" },
+        Described {
+            name: "task_vars",
+            lua_type: "table<string, number|boolean|string>",
+            source: "HMPL 1.1 (luamotion)",
+            doc: "this task's variables: they keep their values when the task is stopped and started again (64 per task, names up to 31 bytes, strings up to 64)",
+        },
+    ];
+
+    pub fn parse(name: &str) -> Option<Self> {
+        let numbered = |prefix: &str| {
+            name.strip_prefix(prefix)
+                .and_then(|n| n.parse::<usize>().ok())
+                .filter(|&i| i < TEST_VARS && name.len() == prefix.len() + 1)
+        };
+        Some(match name {
+            "system_fclk" => SystemVar::Fclk,
+            "system_timeInMs" => SystemVar::TimeInMs,
+            "system_user_table" => SystemVar::UserTable,
+            "system_mtest" => SystemVar::MTest,
+            "_TASKID_" => SystemVar::TaskId,
+            "task_vars" => SystemVar::TaskVars,
+            _ => {
+                if let Some(i) = numbered("system_ltest") {
+                    SystemVar::LTest(i)
+                } else {
+                    SystemVar::DTest(numbered("system_dtest")?)
+                }
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names() {
+        for d in SystemVar::ALL {
+            assert!(SystemVar::parse(d.name).is_some(), "{}", d.name);
+        }
+        assert_eq!(SystemVar::parse("system_ltest9"), Some(SystemVar::LTest(9)));
+        assert_eq!(SystemVar::parse("system_dtest0"), Some(SystemVar::DTest(0)));
+        for absent in ["system_ltest10", "system_dtest", "system_ltest01", "fclk"] {
+            assert_eq!(SystemVar::parse(absent), None, "{absent}");
+        }
+    }
+}

@@ -1,0 +1,53 @@
+//! The event stream: what `SendEvent` and `SendMsgEvent` send and the alarms the
+//! controller raises, for the tools that follow them (`luamotion events`).
+
+use iceoryx2::prelude::*;
+
+use crate::messages::EventRecord;
+use crate::services::{self, EventPublisher, EventSubscriber, Ipc, Open, failed};
+use crate::{IpcError, Namespace};
+
+/// A writer of the stream: one per script process, one for the controller.
+pub struct EventSender {
+    publisher: EventPublisher,
+}
+
+impl EventSender {
+    pub fn new(node: &Node<Ipc>, ns: &Namespace, open: Open) -> Result<Self, IpcError> {
+        let publisher = services::events(node, ns, open)?
+            .publisher_builder()
+            .create()
+            .map_err(|e| failed("events publisher", e))?;
+        Ok(EventSender { publisher })
+    }
+
+    pub fn send(&self, record: &EventRecord) -> Result<(), IpcError> {
+        self.publisher.send_copy(*record).map(|_| ()).map_err(|e| failed("send event", e))
+    }
+}
+
+/// A reader of the stream, with its own node.
+pub struct EventReader {
+    subscriber: EventSubscriber,
+    _node: Node<Ipc>,
+}
+
+impl EventReader {
+    pub fn open(ns: &Namespace) -> Result<Self, IpcError> {
+        let node = services::node(ns, &format!("luamotion-events-{}", std::process::id()))?;
+        let subscriber = services::events(&node, ns, Open::Existing)?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| failed("events subscriber", e))?;
+        Ok(EventReader { subscriber, _node: node })
+    }
+
+    /// The next record, if one is waiting.
+    pub fn try_next(&self) -> Result<Option<EventRecord>, IpcError> {
+        match self.subscriber.receive() {
+            Ok(Some(sample)) => Ok(Some(*sample.payload())),
+            Ok(None) => Ok(None),
+            Err(e) => Err(failed("receive event", e)),
+        }
+    }
+}

@@ -1,0 +1,375 @@
+//! What every task shares (HMPL 1.3, 23.2, ch. 11, 2.22): the user table, the test
+//! variables, the 8 mutexes and each task's persistent variables. One shared-memory
+//! region per controller, read and written in place by the scripts; the core releases
+//! the mutexes of a task that stops.
+
+use std::sync::atomic::{AtomicI64, AtomicU32, AtomicU64, Ordering};
+use std::time::Duration;
+
+use crate::messages::MAX_TASKS;
+use crate::shm::Shareable;
+
+/// HMPL ch. 11: `system_user_table[512000]`.
+pub const USER_TABLE_LEN: usize = 512_000;
+/// HMPL 23.2: `system_ltest0..9`, `system_dtest0..9`, `system_mtest[10]`.
+pub const TEST_VARS: usize = 10;
+/// HMPL 2.22: mutexes 0..7.
+pub const MUTEXES: usize = 8;
+/// Persistent variables per task.
+pub const TASK_VARS: usize = 64;
+/// Longest variable name and longest string value, bytes.
+pub const VAR_NAME_BYTES: usize = 31;
+pub const VAR_TEXT_BYTES: usize = 64;
+
+#[repr(C)]
+pub struct SharedData {
+    user_table: [AtomicU64; USER_TABLE_LEN],
+    ltest: [AtomicI64; TEST_VARS],
+    dtest: [AtomicU64; TEST_VARS],
+    mtest: [AtomicU64; TEST_VARS],
+    /// 0: free; otherwise the owner's task id + 1. Also the futex word waiters sleep on.
+    mutexes: [AtomicU32; MUTEXES],
+    task_vars: [TaskVars; MAX_TASKS],
+}
+
+// SAFETY: repr(C), only atomics, valid when zeroed (a zero table, free mutexes, no variables).
+unsafe impl Shareable for SharedData {}
+
+/// The test variables of HMPL 23.2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TestVar {
+    /// `system_ltest0..9`: integers.
+    L(usize),
+    /// `system_dtest0..9`: doubles.
+    D(usize),
+    /// `system_mtest[0..9]`: doubles.
+    M(usize),
+}
+
+/// What `MutexLock` found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lock {
+    Acquired,
+    /// The caller holds it already: HMPL stops the task (0x13EC).
+    Twice,
+    /// Another task holds it.
+    HeldBy(u8),
+}
+
+impl SharedData {
+    pub fn user_table(&self, index: usize) -> Option<f64> {
+        self.user_table.get(index).map(|w| f64::from_bits(w.load(Ordering::Relaxed)))
+    }
+
+    pub fn set_user_table(&self, index: usize, value: f64) -> bool {
+        self.user_table.get(index).map(|w| w.store(value.to_bits(), Ordering::Relaxed)).is_some()
+    }
+
+    /// The range `start .. start + len`, when it lies in the table.
+    pub fn user_table_range(&self, start: i64, len: i64) -> Option<std::ops::Range<usize>> {
+        let start = usize::try_from(start).ok()?;
+        let len = usize::try_from(len).ok()?;
+        let end = start.checked_add(len)?;
+        (end <= USER_TABLE_LEN).then_some(start..end)
+    }
+
+    pub fn test_var(&self, var: TestVar) -> Option<TestValue> {
+        Some(match var {
+            TestVar::L(i) => TestValue::Int(self.ltest.get(i)?.load(Ordering::Relaxed)),
+            TestVar::D(i) => TestValue::Double(f64::from_bits(self.dtest.get(i)?.load(Ordering::Relaxed))),
+            TestVar::M(i) => TestValue::Double(f64::from_bits(self.mtest.get(i)?.load(Ordering::Relaxed))),
+        })
+    }
+
+    /// Stores a value; an integer variable takes the value truncated toward zero.
+    pub fn set_test_var(&self, var: TestVar, value: f64) -> bool {
+        match var {
+            TestVar::L(i) => self.ltest.get(i).map(|w| w.store(value as i64, Ordering::Relaxed)),
+            TestVar::D(i) => self.dtest.get(i).map(|w| w.store(value.to_bits(), Ordering::Relaxed)),
+            TestVar::M(i) => self.mtest.get(i).map(|w| w.store(value.to_bits(), Ordering::Relaxed)),
+        }
+        .is_some()
+    }
+
+    /// HMPL 2.22: one attempt to take mutex `id` for `task`.
+    pub fn try_lock(&self, id: usize, task: u8) -> Option<Lock> {
+        let word = self.mutexes.get(id)?;
+        let me = task as u32 + 1;
+        Some(match word.compare_exchange(0, me, Ordering::Acquire, Ordering::Relaxed) {
+            Ok(_) => Lock::Acquired,
+            Err(owner) if owner == me => Lock::Twice,
+            Err(owner) => Lock::HeldBy((owner - 1) as u8),
+        })
+    }
+
+    /// Sleeps until mutex `id` is no longer held by `owner`, or `timeout` passes.
+    pub fn wait_for_mutex(&self, id: usize, owner: u8, timeout: Duration) {
+        if let Some(word) = self.mutexes.get(id) {
+            futex_wait(word, owner as u32 + 1, timeout);
+        }
+    }
+
+    /// HMPL 2.23: releases mutex `id` if `task` holds it; otherwise nothing happens.
+    pub fn unlock(&self, id: usize, task: u8) -> bool {
+        let Some(word) = self.mutexes.get(id) else { return false };
+        let released = word.compare_exchange(task as u32 + 1, 0, Ordering::Release, Ordering::Relaxed).is_ok();
+        if released {
+            futex_wake(word);
+        }
+        released
+    }
+
+    /// The owner of mutex `id`, if held.
+    pub fn mutex_owner(&self, id: usize) -> Option<u8> {
+        self.mutexes.get(id).map(|w| w.load(Ordering::Acquire)).filter(|&v| v != 0).map(|v| (v - 1) as u8)
+    }
+
+    /// Releases every mutex `task` holds (the task stopped). Wakes the waiters; never blocks.
+    pub fn release_mutexes_of(&self, task: u8) {
+        for id in 0..MUTEXES {
+            self.unlock(id, task);
+        }
+    }
+
+    pub fn task_vars(&self, task: u8) -> &TaskVars {
+        &self.task_vars[task as usize]
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TestValue {
+    Int(i64),
+    Double(f64),
+}
+
+fn futex_wait(word: &AtomicU32, expected: u32, timeout: Duration) {
+    let ts = libc::timespec { tv_sec: timeout.as_secs() as libc::time_t, tv_nsec: timeout.subsec_nanos() as _ };
+    // SAFETY: a FUTEX_WAIT on a live, aligned u32 of a mapping shared between processes
+    // (hence not FUTEX_PRIVATE); it returns at once if the word no longer holds `expected`.
+    unsafe {
+        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAIT, expected, &ts as *const libc::timespec);
+    }
+}
+
+fn futex_wake(word: &AtomicU32) {
+    // SAFETY: FUTEX_WAKE never blocks; it wakes whoever sleeps on this word.
+    unsafe {
+        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE, i32::MAX);
+    }
+}
+
+/// A value a persistent variable holds.
+#[derive(Clone, Debug, PartialEq)]
+pub enum VarValue {
+    Int(i64),
+    Double(f64),
+    Bool(bool),
+    Text(String),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum VarError {
+    #[error("names are 1 to {VAR_NAME_BYTES} bytes")]
+    Name,
+    #[error("strings hold at most {VAR_TEXT_BYTES} bytes")]
+    TooLong,
+    #[error("a task keeps at most {TASK_VARS} variables")]
+    Full,
+}
+
+/// One task's variables that survive its restarts (HMPL 1.1: task variables keep their
+/// values from one run to the next). Written only by the task's own process; each entry
+/// keeps two copies and flips between them, so that a process killed in the middle of a
+/// write leaves the previous value.
+#[repr(C)]
+pub struct TaskVars {
+    entries: [VarEntry; TASK_VARS],
+}
+
+const IN_USE: u32 = 1 << 31;
+
+#[repr(C)]
+struct VarEntry {
+    name: [AtomicU64; 4],
+    /// `IN_USE` once the name is written; bit 0: which copy is current.
+    header: AtomicU32,
+    copies: [VarCopy; 2],
+}
+
+#[repr(C)]
+struct VarCopy {
+    /// 0 nil, 1 integer, 2 double, 3 boolean, 4 string.
+    kind: AtomicU32,
+    len: AtomicU32,
+    word: AtomicU64,
+    text: [AtomicU64; VAR_TEXT_BYTES / 8],
+}
+
+fn pack(bytes: &[u8], words: &[AtomicU64]) {
+    let mut buf = vec![0u8; words.len() * 8];
+    buf[..bytes.len()].copy_from_slice(bytes);
+    for (w, chunk) in words.iter().zip(buf.chunks(8)) {
+        w.store(u64::from_le_bytes(chunk.try_into().expect("8 bytes")), Ordering::Relaxed);
+    }
+}
+
+fn unpack(words: &[AtomicU64]) -> Vec<u8> {
+    words.iter().flat_map(|w| w.load(Ordering::Relaxed).to_le_bytes()).collect()
+}
+
+impl VarEntry {
+    fn name_is(&self, name: &[u8]) -> bool {
+        let stored = unpack(&self.name);
+        stored[..name.len()] == *name && stored.get(name.len()).is_none_or(|&b| b == 0)
+    }
+}
+
+impl TaskVars {
+    fn find(&self, name: &[u8]) -> Option<&VarEntry> {
+        self.entries.iter().find(|e| e.header.load(Ordering::Acquire) & IN_USE != 0 && e.name_is(name))
+    }
+
+    pub fn get(&self, name: &str) -> Option<VarValue> {
+        let entry = self.find(name.as_bytes())?;
+        let copy = &entry.copies[(entry.header.load(Ordering::Acquire) & 1) as usize];
+        let word = copy.word.load(Ordering::Relaxed);
+        Some(match copy.kind.load(Ordering::Relaxed) {
+            1 => VarValue::Int(word as i64),
+            2 => VarValue::Double(f64::from_bits(word)),
+            3 => VarValue::Bool(word != 0),
+            4 => {
+                let len = (copy.len.load(Ordering::Relaxed) as usize).min(VAR_TEXT_BYTES);
+                VarValue::Text(String::from_utf8_lossy(&unpack(&copy.text)[..len]).into_owned())
+            }
+            _ => return None,
+        })
+    }
+
+    /// Stores a value; `None` forgets the variable.
+    pub fn set(&self, name: &str, value: Option<&VarValue>) -> Result<(), VarError> {
+        let key = name.as_bytes();
+        if key.is_empty() || key.len() > VAR_NAME_BYTES || key.contains(&0) {
+            return Err(VarError::Name);
+        }
+        if let Some(VarValue::Text(t)) = value
+            && t.len() > VAR_TEXT_BYTES
+        {
+            return Err(VarError::TooLong);
+        }
+        let entry = match self.find(key) {
+            Some(entry) => entry,
+            None if value.is_none() => return Ok(()),
+            None => {
+                let free = self
+                    .entries
+                    .iter()
+                    .find(|e| e.header.load(Ordering::Acquire) & IN_USE == 0)
+                    .ok_or(VarError::Full)?;
+                pack(key, &free.name);
+                free.copies[0].kind.store(0, Ordering::Relaxed);
+                free.header.store(IN_USE, Ordering::Release);
+                free
+            }
+        };
+        let header = entry.header.load(Ordering::Acquire);
+        let next = (header & 1) ^ 1;
+        let copy = &entry.copies[next as usize];
+        let (kind, word) = match value {
+            None => (0, 0),
+            Some(VarValue::Int(i)) => (1, *i as u64),
+            Some(VarValue::Double(d)) => (2, d.to_bits()),
+            Some(VarValue::Bool(b)) => (3, *b as u64),
+            Some(VarValue::Text(t)) => {
+                pack(t.as_bytes(), &copy.text);
+                copy.len.store(t.len() as u32, Ordering::Relaxed);
+                (4, 0)
+            }
+        };
+        copy.kind.store(kind, Ordering::Relaxed);
+        copy.word.store(word, Ordering::Relaxed);
+        entry.header.store(IN_USE | next, Ordering::Release);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn zeroed() -> Box<SharedData> {
+        crate::shm::zeroed()
+    }
+
+    /// HMPL 2.22/2.23: owner semantics, one row per rule.
+    #[test]
+    fn mutex_rules() {
+        let d = zeroed();
+        assert_eq!(d.try_lock(0, 3), Some(Lock::Acquired), "free: taken");
+        assert_eq!(d.try_lock(0, 3), Some(Lock::Twice), "the owner again: a runtime error");
+        assert_eq!(d.try_lock(0, 4), Some(Lock::HeldBy(3)), "another task: it waits");
+        assert!(!d.unlock(0, 4), "a non-owner's unlock does nothing");
+        assert_eq!(d.mutex_owner(0), Some(3));
+        assert!(d.unlock(0, 3));
+        assert_eq!(d.try_lock(0, 4), Some(Lock::Acquired));
+        d.try_lock(5, 4);
+        d.release_mutexes_of(4);
+        assert_eq!((d.mutex_owner(0), d.mutex_owner(5)), (None, None), "released when the owner stops");
+        assert_eq!(d.try_lock(8, 0), None, "ids 0..7");
+    }
+
+    #[test]
+    fn a_waiter_wakes_when_the_owner_unlocks() {
+        let d: &'static SharedData = Box::leak(zeroed());
+        d.try_lock(1, 0);
+        let waiter = std::thread::spawn(move || {
+            while d.try_lock(1, 1) != Some(Lock::Acquired) {
+                d.wait_for_mutex(1, 0, Duration::from_secs(5));
+            }
+        });
+        std::thread::sleep(Duration::from_millis(20));
+        d.unlock(1, 0);
+        waiter.join().unwrap();
+        assert_eq!(d.mutex_owner(1), Some(1));
+    }
+
+    #[test]
+    fn task_variables_keep_their_values() {
+        let d = zeroed();
+        let vars = d.task_vars(2);
+        assert_eq!(vars.get("runs"), None);
+        vars.set("runs", Some(&VarValue::Int(1))).unwrap();
+        vars.set("runs", Some(&VarValue::Int(2))).unwrap();
+        vars.set("name", Some(&VarValue::Text("axis 0".into()))).unwrap();
+        vars.set("ratio", Some(&VarValue::Double(0.5))).unwrap();
+        vars.set("on", Some(&VarValue::Bool(true))).unwrap();
+        assert_eq!(vars.get("runs"), Some(VarValue::Int(2)));
+        assert_eq!(vars.get("name"), Some(VarValue::Text("axis 0".into())));
+        assert_eq!(vars.get("ratio"), Some(VarValue::Double(0.5)));
+        assert_eq!(vars.get("on"), Some(VarValue::Bool(true)));
+        assert_eq!(d.task_vars(3).get("runs"), None, "each task has its own");
+        vars.set("runs", None).unwrap();
+        assert_eq!(vars.get("runs"), None);
+        assert_eq!(vars.set("", Some(&VarValue::Int(1))), Err(VarError::Name));
+        assert_eq!(vars.set("s", Some(&VarValue::Text("x".repeat(65)))), Err(VarError::TooLong));
+        for i in 0..TASK_VARS - 4 {
+            vars.set(&format!("v{i}"), Some(&VarValue::Int(i as i64))).unwrap();
+        }
+        assert_eq!(vars.set("one_more", Some(&VarValue::Int(0))), Err(VarError::Full));
+    }
+
+    #[test]
+    fn user_table_and_test_variables() {
+        let d = zeroed();
+        assert!(d.set_user_table(511_999, 2.5));
+        assert_eq!(d.user_table(511_999), Some(2.5));
+        assert!(!d.set_user_table(512_000, 1.0));
+        assert_eq!(d.user_table_range(511_990, 10), Some(511_990..512_000));
+        assert_eq!(d.user_table_range(511_991, 10), None);
+        assert_eq!(d.user_table_range(-1, 2), None);
+        assert!(d.set_test_var(TestVar::L(9), 7.9));
+        assert_eq!(d.test_var(TestVar::L(9)), Some(TestValue::Int(7)));
+        assert!(d.set_test_var(TestVar::M(0), 1.25));
+        assert_eq!(d.test_var(TestVar::M(0)), Some(TestValue::Double(1.25)));
+        assert_eq!(d.test_var(TestVar::D(10)), None);
+    }
+}

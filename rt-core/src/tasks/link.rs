@@ -1,0 +1,136 @@
+//! The RT thread and the supervisor talk through two bounded lock-free queues: the core
+//! orders (start a process, kill one, publish an alarm), the supervisor reports what the
+//! processes did. Neither side ever waits for the other.
+
+use std::sync::Arc;
+
+use crossbeam::queue::ArrayQueue;
+
+/// Orders and reports in flight; far more than 64 tasks produce between two polls.
+const CAPACITY: usize = 512;
+
+/// The longest function name `StartTaskFunc` takes.
+pub const ENTRY_BYTES: usize = 63;
+
+/// Where a task's program starts: its top level, or a function of it (`StartTaskFunc`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Entry {
+    len: u8,
+    name: [u8; ENTRY_BYTES],
+}
+
+impl Entry {
+    pub const TOP_LEVEL: Entry = Entry { len: 0, name: [0; ENTRY_BYTES] };
+
+    /// A function entry; `None` when the name is empty or too long.
+    pub fn function(name: &[u8]) -> Option<Self> {
+        if name.is_empty() || name.len() > ENTRY_BYTES {
+            return None;
+        }
+        let mut entry = Entry { len: name.len() as u8, name: [0; ENTRY_BYTES] };
+        entry.name[..name.len()].copy_from_slice(name);
+        Some(entry)
+    }
+
+    /// The function's name, or `None` for the top level.
+    pub fn function_name(&self) -> Option<String> {
+        (self.len > 0).then(|| String::from_utf8_lossy(&self.name[..self.len as usize]).into_owned())
+    }
+}
+
+/// An alarm for the supervisor to log and publish on the event stream.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AlarmReport {
+    pub alarm: u32,
+    pub task: u8,
+    pub cycle: u64,
+    /// The Lua line the task was at, when known (0: unknown).
+    pub line: u32,
+    /// What the alarm concerns besides the task: the axis of a 0x001F, the signal that
+    /// ended a process, the ms without progress of a watchdog.
+    pub detail: i64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Order {
+    /// Start the task's script process.
+    Start {
+        task: u8,
+        entry: Entry,
+    },
+    /// End the task's process at once (SIGKILL).
+    Kill {
+        task: u8,
+        pid: u32,
+    },
+    Alarm(AlarmReport),
+}
+
+/// How a script process ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Exit {
+    /// Exit status 0: the program ran to its end.
+    Finished,
+    /// The program failed; `end_code` is what it wrote into its slot (an HMPL code or an
+    /// `ipc::task_table::EndCode`; 0 when it could not say).
+    Failed { end_code: u32 },
+    /// Killed by a signal.
+    Signal(i32),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Report {
+    Spawned { task: u8, pid: u32 },
+    SpawnFailed { task: u8 },
+    Exited { task: u8, pid: u32, exit: Exit },
+}
+
+/// The RT thread's end.
+pub struct CoreLink {
+    orders: Arc<ArrayQueue<Order>>,
+    reports: Arc<ArrayQueue<Report>>,
+    lost_orders: u64,
+}
+
+/// The supervisor's end.
+pub struct SupervisorEnd {
+    orders: Arc<ArrayQueue<Order>>,
+    reports: Arc<ArrayQueue<Report>>,
+}
+
+pub fn link() -> (CoreLink, SupervisorEnd) {
+    let orders = Arc::new(ArrayQueue::new(CAPACITY));
+    let reports = Arc::new(ArrayQueue::new(CAPACITY));
+    (CoreLink { orders: orders.clone(), reports: reports.clone(), lost_orders: 0 }, SupervisorEnd { orders, reports })
+}
+
+impl CoreLink {
+    /// Never blocks; an order that finds the queue full is counted and dropped.
+    pub fn order(&mut self, order: Order) {
+        if self.orders.push(order).is_err() {
+            self.lost_orders += 1;
+        }
+    }
+
+    pub fn next_report(&self) -> Option<Report> {
+        self.reports.pop()
+    }
+
+    pub fn lost_orders(&self) -> u64 {
+        self.lost_orders
+    }
+}
+
+impl SupervisorEnd {
+    pub fn next_order(&self) -> Option<Order> {
+        self.orders.pop()
+    }
+
+    /// Reports never get lost: a full queue is retried until the RT thread drains it.
+    pub fn report(&self, mut report: Report) {
+        while let Err(back) = self.reports.push(report) {
+            report = back;
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+    }
+}

@@ -1,0 +1,506 @@
+//! The 64 HMPL tasks as the core sees them (HMPL ch. 16) and their watchdogs. The core
+//! decides each task's state; the supervisor carries out its orders (start a process,
+//! kill one) and reports what the processes did (`link.rs`). A task that fails or is
+//! stopped has the motion it commanded handled by its fault reaction, in the cycle the
+//! core learns of it.
+
+mod link;
+mod watchdog;
+
+use api::SystemError;
+use api::alarms::{Alarm, Event};
+use ipc::messages::{MAX_TASKS, TaskSnapshot, TaskState};
+use ipc::shared::SharedData;
+use ipc::task_table::{EndCode, TaskTable};
+
+use crate::config::{FaultReaction, TaskConfig};
+pub use link::{AlarmReport, CoreLink, ENTRY_BYTES, Entry, Exit, Order, Report, SupervisorEnd, link};
+use watchdog::Watchdog;
+
+/// How long a process may take from `StartTask` to running its entry (then 0x1772).
+const START_TIMEOUT_MS: u64 = 5000;
+
+#[derive(Clone, Copy, Debug)]
+struct Spec {
+    watchdog_ms: u32,
+    reaction: FaultReaction,
+    /// Attached to by a process the user starts: running from the start, no watchdog.
+    external: bool,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Task {
+    /// `None`: no program configured (HMPL's "task empty").
+    spec: Option<Spec>,
+    state: TaskState,
+    /// The task's process, until the supervisor reports it gone.
+    pid: Option<u32>,
+    /// Cycle the present state began.
+    since: u64,
+    entry: Entry,
+    /// The start order went out (it waits for a previous process to be gone).
+    ordered: bool,
+    /// What a `StartTask` waiting for this task answers.
+    start_result: Option<Result<(), SystemError>>,
+    alarm: u32,
+    watchdog: Watchdog,
+}
+
+pub struct Tasks {
+    tasks: [Task; MAX_TASKS],
+    link: CoreLink,
+    period_ns: u64,
+}
+
+/// Why a task leaves Running other than by ending.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopCause {
+    /// `StopTask`, `StopAllTask` or an E-stop.
+    Stopped,
+    Fault(Alarm),
+}
+
+impl Tasks {
+    pub fn new(configs: &[TaskConfig], period_ns: u64, link: CoreLink) -> Self {
+        let empty = Task {
+            spec: None,
+            state: TaskState::Empty,
+            pid: None,
+            since: 0,
+            entry: Entry::TOP_LEVEL,
+            ordered: false,
+            start_result: None,
+            alarm: 0,
+            watchdog: Watchdog::default(),
+        };
+        let mut tasks = [empty; MAX_TASKS];
+        for config in configs {
+            let task = &mut tasks[config.id as usize];
+            task.spec = Some(Spec {
+                watchdog_ms: config.watchdog_ms,
+                reaction: config.fault_reaction,
+                external: config.external,
+            });
+            task.state = if config.external { TaskState::Running } else { TaskState::Stopped };
+        }
+        let mut all = Tasks { tasks, link, period_ns };
+        // HMPL 19.2 `_AUTORUN_`: started with the controller.
+        for config in configs.iter().filter(|c| c.autorun) {
+            let _ = all.start(config.id as i64, Entry::TOP_LEVEL, 0);
+        }
+        all
+    }
+
+    fn cycles(&self, ms: u64) -> u64 {
+        (ms * 1_000_000).div_ceil(self.period_ns)
+    }
+
+    fn task_id(id: i64) -> Result<u8, SystemError> {
+        u8::try_from(id).ok().filter(|&t| (t as usize) < MAX_TASKS).ok_or(SystemError::NotValidTaskid)
+    }
+
+    pub fn state(&self, task: u8) -> TaskState {
+        self.tasks[task as usize].state
+    }
+
+    /// Commands are served from a task that is starting (its top level runs) or running.
+    pub fn accepts_commands(&self, task: u8) -> bool {
+        matches!(self.state(task), TaskState::Starting | TaskState::Running)
+    }
+
+    /// Tasks that are starting, running or being stopped.
+    pub fn active(&self) -> usize {
+        self.tasks
+            .iter()
+            .filter(|t| matches!(t.state, TaskState::Starting | TaskState::Running | TaskState::Stopping))
+            .count()
+    }
+
+    /// HMPL 16.2/16.3: starts task `id` at `entry`. The reply waits for `start_result`.
+    pub fn start(&mut self, id: i64, entry: Entry, cycle: u64) -> Result<u8, SystemError> {
+        let t = Self::task_id(id)?;
+        let Some(spec) = self.tasks[t as usize].spec else { return Err(SystemError::TaskEmpty) };
+        let limit = self.cycles(spec.watchdog_ms as u64);
+        let task = &mut self.tasks[t as usize];
+        if matches!(task.state, TaskState::Starting | TaskState::Running) {
+            return Err(SystemError::TaskIsRunning);
+        }
+        if spec.external {
+            // Its program attaches by itself: it runs again as soon as it is allowed to.
+            task.state = TaskState::Running;
+            task.start_result = Some(Ok(()));
+            return Ok(t);
+        }
+        task.state = TaskState::Starting;
+        task.since = cycle;
+        task.entry = entry;
+        task.ordered = false;
+        task.start_result = None;
+        task.watchdog = Watchdog::new(limit);
+        Ok(t)
+    }
+
+    /// The answer for a `StartTask` waiting on task `t`, once there is one.
+    pub fn take_start_result(&mut self, t: u8) -> Option<Result<(), SystemError>> {
+        self.tasks[t as usize].start_result.take()
+    }
+
+    /// HMPL 16.4: stops task `id`; its commanded motion reacts as configured.
+    pub fn stop(&mut self, id: i64, cycle: u64, react: &mut dyn FnMut(u8, FaultReaction)) -> Result<u8, SystemError> {
+        let t = Self::task_id(id)?;
+        if !self.accepts_commands(t) {
+            return Err(SystemError::TaskNotRunning);
+        }
+        self.leave(t, cycle, StopCause::Stopped, react);
+        Ok(t)
+    }
+
+    /// HMPL 16.5, 2.9: stops every task that runs.
+    pub fn stop_all(&mut self, cycle: u64, react: &mut dyn FnMut(u8, FaultReaction)) {
+        for t in 0..MAX_TASKS as u8 {
+            if self.accepts_commands(t) {
+                self.leave(t, cycle, StopCause::Stopped, react);
+            }
+        }
+    }
+
+    /// A running (or starting) task stops: its motion reacts, its process is killed.
+    fn leave(&mut self, t: u8, cycle: u64, cause: StopCause, react: &mut dyn FnMut(u8, FaultReaction)) {
+        let task = &mut self.tasks[t as usize];
+        if let Some(spec) = task.spec {
+            react(t, spec.reaction);
+        }
+        let starting = task.state == TaskState::Starting;
+        if starting && task.start_result.is_none() {
+            task.start_result = Some(Err(SystemError::HmplExecFailed));
+        }
+        // A process exists or is on its way: the task is stopped once it is gone.
+        let process = task.pid.is_some() || (starting && task.ordered);
+        task.since = cycle;
+        task.state = match cause {
+            StopCause::Stopped if process => TaskState::Stopping,
+            StopCause::Stopped => TaskState::Stopped,
+            StopCause::Fault(alarm) => {
+                task.alarm = alarm.0;
+                TaskState::Error
+            }
+        };
+        if let Some(pid) = task.pid {
+            self.link.order(Order::Kill { task: t, pid });
+        }
+    }
+
+    fn raise(&mut self, alarm: Alarm, task: u8, cycle: u64, line: u32, detail: i64) {
+        self.link.order(Order::Alarm(AlarmReport { alarm: alarm.0, task, cycle, line, detail }));
+    }
+
+    /// Records an alarm about an axis a task commanded (0x001F) on that task.
+    pub fn axis_alarm(&mut self, task: u8, axis: u8, event: Event, cycle: u64) -> Alarm {
+        let alarm = Alarm::axis(axis, event);
+        if let Some(t) = self.tasks.get_mut(task as usize) {
+            t.alarm = alarm.0;
+        }
+        self.raise(alarm, task, cycle, 0, axis as i64);
+        alarm
+    }
+
+    /// One cycle: the supervisor's reports, starts, watchdogs. `deferred` has bit t set
+    /// when the core holds a call of task t.
+    pub fn step(
+        &mut self,
+        cycle: u64,
+        table: &TaskTable,
+        shared: &SharedData,
+        deferred: u64,
+        react: &mut dyn FnMut(u8, FaultReaction),
+    ) {
+        while let Some(report) = self.link.next_report() {
+            self.on_report(report, cycle, table, shared, react);
+        }
+        let start_timeout = self.cycles(START_TIMEOUT_MS);
+        for t in 0..MAX_TASKS as u8 {
+            let slot = &table.slots[t as usize];
+            let task = &mut self.tasks[t as usize];
+            match task.state {
+                TaskState::Starting if !task.ordered && task.pid.is_none() => {
+                    task.ordered = true;
+                    let entry = task.entry;
+                    self.link.order(Order::Start { task: t, entry });
+                }
+                TaskState::Starting if task.ordered && task.pid.is_some_and(|p| slot.pid() == p) && slot.started() => {
+                    task.state = TaskState::Running;
+                    task.since = cycle;
+                    task.start_result = Some(Ok(()));
+                    task.watchdog.arm(cycle, slot);
+                }
+                TaskState::Starting if cycle - task.since > start_timeout => {
+                    task.start_result = Some(Err(SystemError::HmplStarttaskTimeout));
+                    self.leave(t, cycle, StopCause::Fault(Alarm::task(t, Event::StartTimeout)), react);
+                    self.raise(Alarm::task(t, Event::StartTimeout), t, cycle, 0, 0);
+                }
+                TaskState::Running
+                    if !task.spec.is_some_and(|s| s.external)
+                        && task.watchdog.hung(cycle, slot, deferred & (1 << t) != 0) =>
+                {
+                    let stalled_ms = task.watchdog.stalled_for(cycle) * self.period_ns / 1_000_000;
+                    let alarm = Alarm::task(t, Event::Watchdog);
+                    self.leave(t, cycle, StopCause::Fault(alarm), react);
+                    self.raise(alarm, t, cycle, slot.line(), stalled_ms as i64);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn on_report(
+        &mut self,
+        report: Report,
+        cycle: u64,
+        table: &TaskTable,
+        shared: &SharedData,
+        react: &mut dyn FnMut(u8, FaultReaction),
+    ) {
+        match report {
+            Report::Spawned { task: t, pid } => {
+                let task = &mut self.tasks[t as usize];
+                if task.state == TaskState::Starting {
+                    task.pid = Some(pid);
+                } else {
+                    // Stopped while its process was being started.
+                    task.pid = Some(pid);
+                    self.link.order(Order::Kill { task: t, pid });
+                }
+            }
+            Report::SpawnFailed { task: t } => {
+                let task = &mut self.tasks[t as usize];
+                match task.state {
+                    TaskState::Starting => {
+                        task.state = TaskState::Error;
+                        task.start_result = Some(Err(SystemError::HmplExecFailed));
+                    }
+                    // Stopped while its process was being started, and none came.
+                    TaskState::Stopping => task.state = TaskState::Stopped,
+                    _ => return,
+                }
+                task.since = cycle;
+            }
+            Report::Exited { task: t, pid, exit } => {
+                let task = &mut self.tasks[t as usize];
+                if task.pid != Some(pid) {
+                    return;
+                }
+                task.pid = None;
+                // Only now that the process is gone can its mutexes go to another task.
+                shared.release_mutexes_of(t);
+                if task.state == TaskState::Starting && !task.ordered {
+                    // The previous run's process: the new one can start now.
+                    return;
+                }
+                // A short program may run to its end before the core saw it start.
+                let ran = task.state == TaskState::Running
+                    || (task.state == TaskState::Starting && table.slots[t as usize].started());
+                if ran && task.state == TaskState::Starting {
+                    task.start_result = Some(Ok(()));
+                }
+                match (task.state, ran) {
+                    (TaskState::Starting | TaskState::Running, true) if exit == Exit::Finished => {
+                        task.state = TaskState::Stopped;
+                        task.since = cycle;
+                    }
+                    (TaskState::Starting | TaskState::Running, true) => self.fail(t, exit, cycle, table, react),
+                    (TaskState::Starting, false) => {
+                        let code = match exit {
+                            Exit::Failed { end_code } if end_code == SystemError::FuncNotInTask.id() as u32 => {
+                                SystemError::FuncNotInTask
+                            }
+                            _ => SystemError::HmplExecFailed,
+                        };
+                        task.start_result = Some(Err(code));
+                        self.fail(t, exit, cycle, table, react);
+                    }
+                    (TaskState::Stopping, _) => {
+                        task.state = TaskState::Stopped;
+                        task.since = cycle;
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+
+    /// A process that ended by itself with a failure: the alarm its end calls for.
+    fn fail(&mut self, t: u8, exit: Exit, cycle: u64, table: &TaskTable, react: &mut dyn FnMut(u8, FaultReaction)) {
+        let (event, detail) = match exit {
+            Exit::Signal(signal) => (Event::ProcessDied, signal as i64),
+            Exit::Failed { end_code } if end_code == EndCode::OutOfMemory as u32 => (Event::MemoryLimit, 0),
+            Exit::Failed { end_code } if end_code == EndCode::LuaError as u32 || end_code == 0 => {
+                (Event::ProgramError, 0)
+            }
+            Exit::Failed { end_code } => (Event::Hmpl(end_code as u16), 0),
+            Exit::Finished => (Event::ProgramError, 0),
+        };
+        let alarm = Alarm::task(t, event);
+        self.leave(t, cycle, StopCause::Fault(alarm), react);
+        self.raise(alarm, t, cycle, table.slots[t as usize].line(), detail);
+    }
+
+    pub fn fill(&self, out: &mut [TaskSnapshot; MAX_TASKS]) {
+        for (slot, task) in out.iter_mut().zip(&self.tasks) {
+            *slot = TaskSnapshot {
+                state: task.state as u32,
+                alarm: task.alarm,
+                pid: task.pid.unwrap_or(0),
+                watchdog_ms: task.spec.map_or(0, |s| s.watchdog_ms),
+            };
+        }
+    }
+
+    pub fn lost_orders(&self) -> u64 {
+        self.link.lost_orders()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ipc::shm::zeroed;
+    use ipc::task_table::RunState;
+
+    struct Rig {
+        tasks: Tasks,
+        supervisor: SupervisorEnd,
+        table: Box<TaskTable>,
+        shared: Box<SharedData>,
+        cycle: u64,
+        reactions: Vec<(u8, FaultReaction)>,
+    }
+
+    impl Rig {
+        fn new() -> Self {
+            let config = |id, reaction| TaskConfig {
+                autorun: false,
+                fault_reaction: reaction,
+                watchdog_ms: 10,
+                ..TaskConfig::autorun(id, "p.lua".into())
+            };
+            let (link, supervisor) = link();
+            let configs = [config(0, FaultReaction::Decelerate), config(1, FaultReaction::Disable)];
+            let tasks = Tasks::new(&configs, 1_000_000, link);
+            Rig { tasks, supervisor, table: zeroed(), shared: zeroed(), cycle: 0, reactions: Vec::new() }
+        }
+
+        fn step(&mut self) {
+            self.cycle += 1;
+            let reactions = &mut self.reactions;
+            self.tasks.step(self.cycle, &self.table, &self.shared, 0, &mut |t, r| reactions.push((t, r)));
+        }
+
+        fn orders(&self) -> Vec<Order> {
+            std::iter::from_fn(|| self.supervisor.next_order()).collect()
+        }
+
+        /// The script of task `t` with `pid` opened its endpoint and runs its entry.
+        fn script_runs(&mut self, t: u8, pid: u32) {
+            let slot = &self.table.slots[t as usize];
+            slot.set_pid(pid);
+            slot.set_state(RunState::Running);
+            slot.mark_started();
+        }
+    }
+
+    /// HMPL ch. 16 as the core sees it: one row per transition.
+    #[test]
+    fn a_task_from_start_to_end() {
+        let mut rig = Rig::new();
+        assert_eq!(rig.tasks.start(0, Entry::TOP_LEVEL, 0), Ok(0));
+        assert_eq!(rig.tasks.state(0), TaskState::Starting, "Stopped -> Starting");
+        rig.step();
+        assert_eq!(rig.orders(), vec![Order::Start { task: 0, entry: Entry::TOP_LEVEL }], "the supervisor starts it");
+        rig.supervisor.report(Report::Spawned { task: 0, pid: 42 });
+        rig.step();
+        assert_eq!(rig.tasks.state(0), TaskState::Starting, "spawned, not yet at its entry");
+        rig.script_runs(0, 42);
+        rig.step();
+        assert_eq!(rig.tasks.state(0), TaskState::Running, "Starting -> Running");
+        assert_eq!(rig.tasks.take_start_result(0), Some(Ok(())), "StartTask answers 0");
+        rig.supervisor.report(Report::Exited { task: 0, pid: 42, exit: Exit::Finished });
+        rig.step();
+        assert_eq!(rig.tasks.state(0), TaskState::Stopped, "Running -> Stopped when the program ends");
+        assert!(rig.reactions.is_empty(), "a program that ends is no fault");
+    }
+
+    #[test]
+    fn a_crash_is_a_fault_with_an_alarm_and_a_reaction() {
+        let mut rig = Rig::new();
+        rig.tasks.start(1, Entry::TOP_LEVEL, 0).unwrap();
+        rig.step();
+        rig.supervisor.report(Report::Spawned { task: 1, pid: 7 });
+        rig.script_runs(1, 7);
+        rig.step();
+        rig.orders();
+        rig.shared.try_lock(3, 1);
+        rig.supervisor.report(Report::Exited { task: 1, pid: 7, exit: Exit::Signal(11) });
+        rig.step();
+        assert_eq!(rig.tasks.state(1), TaskState::Error);
+        assert_eq!(rig.reactions, vec![(1, FaultReaction::Disable)], "its fault reaction");
+        assert_eq!(rig.shared.mutex_owner(3), None, "its mutex is free once the process is gone");
+        let alarm = match rig.orders().as_slice() {
+            [Order::Alarm(report)] => report.alarm,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(alarm, 0x3001_4104, "RL core, task 1, process died");
+    }
+
+    #[test]
+    fn a_hung_task_is_stopped_in_the_cycle_its_watchdog_runs_out() {
+        let mut rig = Rig::new();
+        rig.tasks.start(0, Entry::TOP_LEVEL, 0).unwrap();
+        rig.step();
+        rig.supervisor.report(Report::Spawned { task: 0, pid: 9 });
+        rig.script_runs(0, 9);
+        rig.step();
+        rig.orders();
+        let running_since = rig.cycle;
+        while rig.tasks.state(0) == TaskState::Running {
+            rig.step();
+        }
+        assert_eq!(rig.cycle - running_since, 10, "watchdog of 10 ms at 1 ms cycles");
+        assert_eq!(rig.tasks.state(0), TaskState::Error);
+        assert_eq!(rig.reactions, vec![(0, FaultReaction::Decelerate)]);
+        let orders = rig.orders();
+        assert_eq!(orders[0], Order::Kill { task: 0, pid: 9 }, "its process is killed");
+        assert!(matches!(orders[1], Order::Alarm(AlarmReport { alarm: 0x3000_4102, .. })));
+    }
+
+    #[test]
+    fn stops_and_restarts_wait_for_the_process() {
+        let mut rig = Rig::new();
+        rig.tasks.start(0, Entry::TOP_LEVEL, 0).unwrap();
+        rig.step();
+        rig.supervisor.report(Report::Spawned { task: 0, pid: 5 });
+        rig.script_runs(0, 5);
+        rig.step();
+        rig.orders();
+        let cycle = rig.cycle;
+        let reactions = &mut rig.reactions;
+        assert_eq!(rig.tasks.stop(0, cycle, &mut |t, r| reactions.push((t, r))), Ok(0));
+        assert_eq!(rig.tasks.state(0), TaskState::Stopping, "Running -> Stopping");
+        assert_eq!(rig.orders(), vec![Order::Kill { task: 0, pid: 5 }]);
+        assert_eq!(rig.tasks.start(0, Entry::TOP_LEVEL, cycle), Ok(0), "a start while the old process dies");
+        rig.step();
+        assert!(rig.orders().is_empty(), "no second process before the first is gone");
+        rig.supervisor.report(Report::Exited { task: 0, pid: 5, exit: Exit::Signal(9) });
+        rig.step();
+        rig.step();
+        assert_eq!(rig.orders(), vec![Order::Start { task: 0, entry: Entry::TOP_LEVEL }], "now the new one");
+        let mut stopped = rig.tasks.stop(0, rig.cycle, &mut |_, _| {});
+        assert_eq!(stopped, Ok(0), "stopped while being started");
+        rig.supervisor.report(Report::SpawnFailed { task: 0 });
+        rig.step();
+        assert_eq!(rig.tasks.state(0), TaskState::Stopped, "Stopping -> Stopped when no process came");
+        stopped = rig.tasks.stop(0, rig.cycle, &mut |_, _| {});
+        assert_eq!(stopped, Err(SystemError::TaskNotRunning));
+        assert_eq!(rig.tasks.start(2, Entry::TOP_LEVEL, 0), Err(SystemError::TaskEmpty));
+        assert_eq!(rig.tasks.start(64, Entry::TOP_LEVEL, 0), Err(SystemError::NotValidTaskid));
+    }
+}

@@ -1,0 +1,168 @@
+//! The core's command rules that involve tasks, cycle by cycle and deterministic: one
+//! task per axis and cycle (DXMC alarm 0x001F), the E-stop latch (HMPL 2.9, fact 29),
+//! StopAll (fact 30), and the fault reactions of a stopped task. Two attached (external)
+//! tasks send requests straight to `dispatch`, as the RT thread would.
+
+use api::{Command, SystemError};
+use ipc::messages::{Reply, Request};
+use ipc::shared::SharedData;
+use ipc::shm::zeroed;
+use ipc::task_table::TaskTable;
+use rt_core::MachineConfig;
+use rt_core::config::{FaultReaction, TaskConfig};
+use rt_core::cycle::Machine;
+use rt_core::dispatch;
+use rt_core::ecat::Network;
+use rt_core::motion::Kernel;
+use rt_core::tasks::{self, Entry, SupervisorEnd, Tasks};
+
+struct Rig {
+    machine: Machine,
+    table: Box<TaskTable>,
+    shared: Box<SharedData>,
+    _supervisor: SupervisorEnd,
+}
+
+impl Rig {
+    fn new(reaction: FaultReaction) -> Self {
+        let config = MachineConfig::default();
+        let mut network = Network::new(&config.axes);
+        network.start(config.period_ns()).unwrap();
+        let kernel = Kernel::new(&config, &network);
+        let attached = |id| TaskConfig {
+            autorun: false,
+            external: true,
+            fault_reaction: reaction,
+            ..TaskConfig::autorun(id, "-".into())
+        };
+        let (link, supervisor) = tasks::link();
+        let tasks = Tasks::new(&[attached(0), attached(1)], config.period_ns(), link);
+        let machine = Machine::new(network, kernel, tasks, config.period_ns());
+        Rig { machine, table: zeroed(), shared: zeroed(), _supervisor: supervisor }
+    }
+
+    fn cycle(&mut self) {
+        let m = &mut self.machine;
+        m.cycle += 1;
+        m.network.exchange(1e-3);
+        let Machine { tasks, kernel, cycle, .. } = m;
+        tasks.step(*cycle, &self.table, &self.shared, 0, &mut |t, r| kernel.react(t, r));
+        m.kernel.step(m.cycle, &mut m.network);
+    }
+
+    fn cycles(&mut self, n: usize) {
+        for _ in 0..n {
+            self.cycle();
+        }
+    }
+
+    /// `command(args)` from `task` in the present cycle: its return value.
+    fn call(&mut self, task: u8, command: Command, ints: &[i64], doubles: &[f64]) -> i64 {
+        let mut request = Request::new(command.id());
+        for &i in ints {
+            request.push_int(i);
+        }
+        for &d in doubles {
+            request.push_double(d);
+        }
+        let mut reply = Reply::to(&request);
+        if dispatch::execute(&mut self.machine, task, &request, &mut reply) == ipc::Disposition::Defer {
+            return i64::MIN;
+        }
+        reply.values[0] as i64
+    }
+
+    fn enable(&mut self, axis: i64) {
+        assert_eq!(self.call(0, Command::Enable, &[axis], &[]), 0);
+        self.cycles(20);
+        assert!(self.machine.kernel.axes()[axis as usize].is_enabled());
+    }
+
+    fn moving(&self, axis: usize) -> bool {
+        self.machine.kernel.axes()[axis].is_moving()
+    }
+}
+
+/// DXMC 9 (0x001F) and DESIGN: one task commands an axis in a cycle; the second is refused.
+#[test]
+fn one_task_per_axis_and_cycle() {
+    let mut rig = Rig::new(FaultReaction::Decelerate);
+    rig.enable(0);
+    rig.enable(1);
+    let rows: [(u8, i64, u64, i64, &str); 5] = [
+        (0, 0, 0, 0, "task 0 commands axis 0"),
+        (0, 0, 0, 0, "task 0 again, same cycle: its own command"),
+        (1, 0, 0, 0x1000_001F, "task 1, same axis, same cycle: 0x001F (motion core, axis 0)"),
+        (1, 1, 0, 0, "task 1, another axis, same cycle"),
+        (1, 0, 1, 0, "task 1, axis 0, the next cycle"),
+    ];
+    for (task, axis, after, rc, what) in rows {
+        rig.cycles(after as usize);
+        assert_eq!(rig.call(task, Command::MoveAbs, &[axis], &[10.0]), rc, "{what}");
+    }
+    assert_eq!(rig.machine.kernel.axes()[0].commander(), Some(1), "the last commander owns the motion");
+}
+
+/// Fact 29: after an E-stop every axis is disabled, every task stopped, and motion is
+/// refused with 0x0064 until the axis is enabled again.
+#[test]
+fn the_estop_latch() {
+    let mut rig = Rig::new(FaultReaction::Decelerate);
+    rig.enable(0);
+    assert_eq!(rig.call(0, Command::MoveAbs, &[0], &[50.0]), 0);
+    rig.cycles(10);
+    assert_eq!(rig.call(0, Command::EStop, &[], &[]), i64::MIN, "the caller stops: no answer");
+    rig.cycles(10);
+    assert!(!rig.machine.kernel.axes()[0].is_enabled(), "disabled");
+    assert!(!rig.machine.tasks.accepts_commands(0) && !rig.machine.tasks.accepts_commands(1), "tasks stopped");
+    assert_eq!(
+        rig.call(0, Command::MoveAbs, &[0], &[0.0]),
+        api::ErrorCode::System(SystemError::TaskNotRunning).code() as i64,
+        "a stopped task is not served"
+    );
+    let cycle = rig.machine.cycle;
+    rig.machine.tasks.start(1, Entry::TOP_LEVEL, cycle).unwrap();
+    assert_eq!(rig.call(1, Command::MoveAbs, &[0], &[0.0]), 0x64, "0x0064 eERR_EMERGENCY_STOP");
+    assert_eq!(rig.call(1, Command::Enable, &[0], &[]), 0, "enabling again is allowed");
+    rig.cycles(20);
+    assert_eq!(rig.call(1, Command::MoveAbs, &[0], &[0.0]), 0, "and lifts the latch");
+}
+
+/// Fact 30: StopAll stops every moving axis with its kill deceleration; they stay enabled.
+#[test]
+fn stop_all() {
+    let mut rig = Rig::new(FaultReaction::Decelerate);
+    rig.enable(0);
+    rig.enable(1);
+    rig.call(0, Command::MoveVel, &[0], &[100.0]);
+    rig.call(1, Command::MoveVel, &[1], &[-100.0]);
+    rig.cycles(200);
+    assert_eq!(rig.call(0, Command::StopAll, &[], &[]), 0);
+    rig.cycles(5);
+    assert!(!rig.moving(0) && !rig.moving(1), "100 mm/s at 50 000 mm/s² stops within 2 ms");
+    assert!(rig.machine.kernel.axes().iter().take(2).all(|a| a.is_enabled()));
+}
+
+/// The reaction of a stopped task touches only the motion it commanded.
+#[test]
+fn a_stopped_task_reacts_on_its_own_motion_only() {
+    for (reaction, stays_enabled, stops) in [
+        (FaultReaction::None, true, false),
+        (FaultReaction::Decelerate, true, true),
+        (FaultReaction::QuickStop, false, true),
+        (FaultReaction::Disable, false, true),
+    ] {
+        let mut rig = Rig::new(reaction);
+        rig.enable(0);
+        rig.enable(1);
+        rig.call(0, Command::MoveVel, &[0], &[100.0]);
+        rig.call(1, Command::MoveVel, &[1], &[100.0]);
+        rig.cycles(200);
+        assert_eq!(rig.call(1, Command::StopTask, &[0], &[]), 0, "{reaction:?}");
+        rig.cycles(300);
+        let axis0 = &rig.machine.kernel.axes()[0];
+        assert_eq!(axis0.is_enabled(), stays_enabled, "{reaction:?}: axis 0 enabled");
+        assert_eq!(!axis0.is_moving(), stops, "{reaction:?}: axis 0 stopped");
+        assert!(rig.moving(1) && rig.machine.kernel.axes()[1].is_enabled(), "{reaction:?}: task 1's axis goes on");
+    }
+}

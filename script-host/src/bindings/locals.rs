@@ -1,0 +1,373 @@
+//! The functions that run in the script process (`api::Kind::Local`): waits on controller
+//! time, output, the event stream, mutexes, timers and the user table.
+
+use std::rc::Rc;
+use std::time::Duration;
+
+use api::{ErrorCode, Local, SystemError};
+use ipc::messages::{EventKind, EventRecord};
+use ipc::shared::{Lock, MUTEXES};
+use ipc::task_table::RunState;
+use mlua::{AnyUserData, Function, Lua, MultiValue, Value};
+
+use super::timer::Timer;
+use super::{Host, bool_arg, double_arg, doubles_arg, error_here, int_arg, string_arg, type_name, write_line};
+use crate::printf::{self, Arg};
+use crate::user_table;
+
+/// HMPL 2.20: the longest message `SendMsgEvent` sends.
+const MAX_MESSAGE_CHARS: usize = 128;
+/// How long a blocked `MutexLock` sleeps before it checks that the controller lives.
+const LIVENESS: Duration = Duration::from_millis(100);
+
+/// HMPL 2.19/2.20: events at 1000 per second on average, in bursts of up to 100, on
+/// controller time.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Throttle {
+    tokens: f64,
+    last_ms: Option<u64>,
+}
+
+const EVENTS_PER_MS: f64 = 1.0;
+const BURST: f64 = 100.0;
+
+impl Throttle {
+    /// Takes one event's token at controller time `now_ms`; otherwise the ms until one is there.
+    pub fn take(&mut self, now_ms: u64) -> Result<(), u64> {
+        let last = *self.last_ms.get_or_insert_with(|| {
+            self.tokens = BURST;
+            now_ms
+        });
+        self.tokens = (self.tokens + now_ms.saturating_sub(last) as f64 * EVENTS_PER_MS).min(BURST);
+        self.last_ms = Some(now_ms);
+        if self.tokens >= 1.0 {
+            self.tokens -= 1.0;
+            Ok(())
+        } else {
+            Err(((1.0 - self.tokens) / EVENTS_PER_MS).ceil() as u64)
+        }
+    }
+}
+
+impl Host {
+    /// Blocks for `ns` nanoseconds of controller time (at least one cycle if `ns` > 0).
+    fn sleep_ns(&self, ns: f64) -> mlua::Result<()> {
+        if ns <= 0.0 {
+            return Ok(());
+        }
+        let mut endpoint = self.endpoint.borrow_mut();
+        let period = endpoint.snapshot().period_ns;
+        let cycles = (ns / period as f64).ceil() as u64;
+        let target = endpoint.snapshot().cycle + cycles;
+        endpoint.wait_until_cycle(target).map_err(mlua::Error::external)
+    }
+
+    fn now_ms(&self) -> u64 {
+        self.endpoint.borrow_mut().snapshot().time_in_ms
+    }
+
+    /// Waits until the task may send another event.
+    fn throttle(&self) -> mlua::Result<()> {
+        loop {
+            let mut throttle = self.throttle.get();
+            let taken = throttle.take(self.now_ms());
+            self.throttle.set(throttle);
+            match taken {
+                Ok(()) => return Ok(()),
+                Err(ms) => self.sleep_ns(ms as f64 * 1e6)?,
+            }
+        }
+    }
+
+    fn send_event(&self, kind: EventKind, code: u32, text: &str) -> i64 {
+        let cycle = self.endpoint.borrow_mut().snapshot().cycle;
+        let record = EventRecord::new(kind, self.task as u32, cycle, code, text);
+        match self.events.send(&record) {
+            Ok(()) => 0,
+            Err(_) => system_code(SystemError::HmplExecFailed),
+        }
+    }
+
+    /// An HMPL runtime error stops the task (HMPL 2.22): no `pcall` can catch it. Says
+    /// where and why, records the code for the controller, and ends the process.
+    fn stop_with_runtime_error(&self, lua: &Lua, code: SystemError, message: &str) -> ! {
+        let error = error_here(lua, format!("{message} (0x{:04X} {})", code.id(), code.name()));
+        eprintln!("{error}");
+        self.endpoint.borrow().slot().set_end_code(code.id() as u32);
+        std::process::exit(1)
+    }
+}
+
+fn system_code(e: SystemError) -> i64 {
+    ErrorCode::System(e).code() as i64
+}
+
+pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
+    let spec = local.spec();
+    match local {
+        Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let ms = int_arg(lua, spec, &args, 0)?;
+            if ms < 0 {
+                return Err(error_here(lua, format!("Sleep: ms must be >= 0, not {ms}")));
+            }
+            host.sleep_ns(ms as f64 * 1e6)
+        }),
+        Local::DELAY => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let seconds = double_arg(lua, spec, &args, 0)?;
+            if !(seconds >= 0.0 && seconds.is_finite()) {
+                return Err(error_here(lua, format!("DELAY: seconds must be >= 0, not {seconds}")));
+            }
+            host.sleep_ns(seconds * 1e9)
+        }),
+        Local::Till => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let condition = match args.front() {
+                Some(Value::Function(f)) => f.clone(),
+                other => {
+                    let got = other.cloned().unwrap_or(Value::Nil);
+                    return Err(error_here(
+                        lua,
+                        format!(
+                            "bad argument #1 to 'Till' (function expected, got {}); write Till(function() return IsInPos(0) end)",
+                            type_name(&got)
+                        ),
+                    ));
+                }
+            };
+            loop {
+                if is_true(&condition.call::<Value>(())?) {
+                    return Ok(());
+                }
+                let mut endpoint = host.endpoint.borrow_mut();
+                let next = endpoint.snapshot().cycle + 1;
+                endpoint.wait_until_cycle(next).map_err(mlua::Error::external)?;
+            }
+        }),
+        Local::Print => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let fmt = string_arg(lua, spec, &args, 0)?;
+            match format(&args)? {
+                Ok(text) => {
+                    write_line(&text);
+                    Ok(text.chars().count() as i64)
+                }
+                Err(e) => {
+                    // HMPL 3.2: Print returns -1 on error; say why on stderr.
+                    eprintln!("warning: Print({fmt:?}): {e}");
+                    Ok(-1)
+                }
+            }
+        }),
+        Local::my_print => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            write_line(&string_arg(lua, spec, &args, 0)?);
+            Ok(())
+        }),
+        Local::SendEvent => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let Ok(id) = u16::try_from(int_arg(lua, spec, &args, 0)?) else {
+                return Ok(system_code(SystemError::HmplArgOutOfRange));
+            };
+            host.throttle()?;
+            Ok(host.send_event(EventKind::Event, id as u32, ""))
+        }),
+        Local::SendMsgEvent => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let fmt = string_arg(lua, spec, &args, 0)?;
+            let text = match format(&args)? {
+                Ok(text) => text,
+                Err(e) => {
+                    eprintln!("warning: SendMsgEvent({fmt:?}): {e}");
+                    return Ok(system_code(SystemError::HmplInvalidStrFormat));
+                }
+            };
+            if text.chars().count() > MAX_MESSAGE_CHARS {
+                return Ok(system_code(SystemError::HmplStrTooLong));
+            }
+            host.throttle()?;
+            Ok(host.send_event(EventKind::Message, 0, &text))
+        }),
+        Local::RunScheduler => lua.create_function(move |_, ()| {
+            host.beat();
+            std::thread::yield_now();
+            Ok(())
+        }),
+        Local::MutexLock => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let id = mutex_id(lua, &args)?;
+            loop {
+                match host.shared.try_lock(id, host.task) {
+                    Some(Lock::Acquired) => return Ok(()),
+                    Some(Lock::Twice) => host.stop_with_runtime_error(
+                        lua,
+                        SystemError::HmplMutexLockTwice,
+                        &format!("MutexLock({id}): this task holds the mutex already"),
+                    ),
+                    Some(Lock::HeldBy(owner)) => {
+                        let endpoint = host.endpoint.borrow();
+                        endpoint.slot().set_state(RunState::Blocked);
+                        host.shared.wait_for_mutex(id, owner, LIVENESS);
+                        endpoint.slot().set_state(RunState::Running);
+                        endpoint.check_controller().map_err(mlua::Error::external)?;
+                    }
+                    None => return Err(error_here(lua, format!("MutexLock: no mutex {id}"))),
+                }
+            }
+        }),
+        Local::MutexUnlock => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let id = mutex_id(lua, &args)?;
+            host.shared.unlock(id, host.task);
+            Ok(())
+        }),
+        Local::TimerInit => lua.create_function(move |_, ()| {
+            host.beat();
+            Ok(Timer::default())
+        }),
+        Local::TON | Local::TOF => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let timer = match args.front() {
+                Some(Value::UserData(ud)) if ud.is::<Timer>() => ud.clone(),
+                other => {
+                    let got = other.cloned().unwrap_or(Value::Nil);
+                    let what = format!("bad argument #1 to '{}' (Timer expected, got {}); make one with TimerInit()", spec.name, type_name(&got));
+                    return Err(error_here(lua, what));
+                }
+            };
+            let input = bool_arg(lua, spec, &args, 1)?;
+            let preset = int_arg(lua, spec, &args, 2)?.max(0) as u64;
+            let now = host.now_ms();
+            let mut timer = AnyUserData::borrow_mut::<Timer>(&timer)?;
+            Ok(if local == Local::TON { timer.on_delay(input, preset, now) } else { timer.off_delay(input, preset, now) })
+        }),
+        Local::SetUserTable => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            let values = doubles_arg(lua, spec, &args, 2)?;
+            let Some(range) = host.shared.user_table_range(start, num).filter(|r| r.len() <= values.len()) else {
+                return Ok(system_code(SystemError::HmplArgOutOfRange));
+            };
+            for (i, v) in range.zip(values) {
+                host.shared.set_user_table(i, v);
+            }
+            Ok(0)
+        }),
+        Local::GetUserTable => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            let Some(range) = host.shared.user_table_range(start, num) else {
+                return Ok((system_code(SystemError::HmplArgOutOfRange), lua.create_table()?));
+            };
+            let values = lua.create_sequence_from(range.map(|i| host.shared.user_table(i).unwrap_or(0.0)))?;
+            Ok((0, values))
+        }),
+        Local::SetTableValue => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (index, value) = (int_arg(lua, spec, &args, 0)?, double_arg(lua, spec, &args, 1)?);
+            let stored = usize::try_from(index).is_ok_and(|i| host.shared.set_user_table(i, value));
+            Ok(if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) })
+        }),
+        Local::GetTableValue => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let index = int_arg(lua, spec, &args, 0)?;
+            usize::try_from(index).ok().and_then(|i| host.shared.user_table(i)).ok_or_else(|| {
+                error_here(lua, format!("GetTableValue: index {index} is outside 0..511999 (0x138F)"))
+            })
+        }),
+        Local::SaveUserTable | Local::LoadUserTable => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            let Some(range) = host.shared.user_table_range(start, num) else {
+                return Ok(system_code(SystemError::HmplArgOutOfRange));
+            };
+            // Waiting on the disk is not a hang.
+            let slot_state = |state| host.endpoint.borrow().slot().set_state(state);
+            slot_state(RunState::Blocked);
+            let result = if local == Local::SaveUserTable {
+                user_table::save(&host.data_dir, &host.shared, range)
+                    .map_err(|e| (SystemError::HimcSaveConfigFail, e.to_string()))
+            } else {
+                user_table::load(&host.data_dir, &host.shared, range)
+                    .map_err(|e| (SystemError::HimcLoadConfigFail, e.to_string()))
+            };
+            slot_state(RunState::Running);
+            Ok(match result {
+                Ok(()) => 0,
+                Err((code, e)) => {
+                    eprintln!("warning: {}: {e}", spec.name);
+                    system_code(code)
+                }
+            })
+        }),
+    }
+}
+
+/// HMPL 2.22: mutex ids 0..7; another id is an error in the program.
+fn mutex_id(lua: &Lua, args: &MultiValue) -> mlua::Result<usize> {
+    match args.front() {
+        Some(Value::Integer(id)) if (0..MUTEXES as i64).contains(id) => Ok(*id as usize),
+        Some(Value::Number(id)) if id.fract() == 0.0 && (0.0..MUTEXES as f64).contains(id) => Ok(*id as usize),
+        other => {
+            let got = other.cloned().unwrap_or(Value::Nil);
+            Err(error_here(lua, format!("mutex ids are 0..7, not {} (0x138F)", type_name(&got))))
+        }
+    }
+}
+
+/// `Print`'s formatting of a call's arguments.
+fn format(args: &MultiValue) -> mlua::Result<Result<String, printf::FormatError>> {
+    let fmt = match args.front() {
+        Some(Value::String(s)) => s.to_str()?.to_string(),
+        Some(other) => other.to_string()?,
+        None => String::new(),
+    };
+    let values: Vec<Arg> = args.iter().skip(1).map(printf_arg).collect::<mlua::Result<_>>()?;
+    Ok(printf::format(&fmt, &values))
+}
+
+/// `Till` keeps waiting while its condition returns false, nil or 0.
+fn is_true(v: &Value) -> bool {
+    match v {
+        Value::Nil | Value::Boolean(false) => false,
+        Value::Integer(0) => false,
+        Value::Number(n) => *n != 0.0,
+        _ => true,
+    }
+}
+
+fn printf_arg(v: &Value) -> mlua::Result<Arg> {
+    Ok(match v {
+        Value::Integer(i) => Arg::Int(*i),
+        Value::Number(n) => Arg::Float(*n),
+        Value::Boolean(b) => Arg::Int(*b as i64),
+        Value::String(s) => Arg::Str(s.to_str()?.to_string()),
+        Value::Nil => Arg::Str("nil".into()),
+        other => Arg::Str(other.type_name().to_string()),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// HMPL 2.19 and fact 15: a burst of 100, then one event per ms of controller time.
+    #[test]
+    fn the_throttle_lets_1000_events_per_second_through() {
+        let mut t = Throttle::default();
+        let mut sent = 0;
+        let mut now = 0;
+        while now <= 2000 {
+            match t.take(now) {
+                Ok(()) => sent += 1,
+                Err(wait) => {
+                    assert!(wait >= 1);
+                    now += wait;
+                }
+            }
+        }
+        assert!((2090..=2101).contains(&sent), "{sent} events in 2 s");
+        assert_eq!(Throttle::default().take(5), Ok(()), "the first event goes at once");
+    }
+}
