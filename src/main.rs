@@ -10,6 +10,7 @@ use ipc::Namespace;
 use rt_core::config::{MAX_TASKS, MachineConfig, TaskConfig};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
+mod soak;
 mod tools;
 
 /// Small allocations of the RT thread come from a pre-touched pool (see rt_core::rt_alloc).
@@ -58,6 +59,31 @@ enum Cmd {
         #[arg(long)]
         count: Option<usize>,
     },
+    /// Soak-test the IPC and the cycle: latency and jitter under N scripts, beside this
+    /// machine's floors measured in the same run.
+    Soak(soak::SoakArgs),
+    /// (internal) One soak worker process.
+    #[command(hide = true)]
+    SoakWorker {
+        #[arg(long)]
+        ns: String,
+        #[arg(long)]
+        task: u8,
+        #[arg(long)]
+        axis: u8,
+        #[arg(long)]
+        duration_ms: u64,
+        #[arg(long)]
+        controller_pid: u32,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// (internal) The echoing side of the soak's transport floor.
+    #[command(hide = true)]
+    SoakPong {
+        #[arg(long)]
+        ns: String,
+    },
     /// Print the API reference generated from the registry.
     Api {
         #[arg(value_enum)]
@@ -97,6 +123,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Cmd::Run { config, ns, data_dir, trace, scripts } => run(config, &ns, data_dir, trace, scripts),
         Cmd::Tasks { ns } => tools::tasks(&ns),
+        Cmd::Soak(args) => soak::soak(args),
+        Cmd::SoakWorker { ns, task, axis, duration_ms, controller_pid, out } => {
+            soak::worker::run(soak::worker::WorkerArgs { ns, task, axis, duration_ms, controller_pid, out })
+                .map(|()| ExitCode::SUCCESS)
+        }
+        Cmd::SoakPong { ns } => soak::floor::pong(&ns).map(|()| ExitCode::SUCCESS),
         Cmd::Events { ns, count } => tools::events(&ns, count),
         Cmd::Api { format } => {
             print!(
@@ -143,6 +175,7 @@ fn init_logging(verbose: u8) {
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(default));
     let ansi = std::io::IsTerminal::is_terminal(&std::io::stderr());
     tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_ansi(ansi).init();
+    ipc::quiet_transport_logs();
 }
 
 /// `$XDG_STATE_HOME/luamotion/<ns>`, else `~/.local/state/luamotion/<ns>`.
@@ -182,7 +215,7 @@ fn run(
     };
     let exit_when_tasks_end = config.tasks.iter().any(|t| t.autorun);
     let data_dir = data_dir.unwrap_or_else(|| default_data_dir(ns.as_str()));
-    let options = rt_core::RunOptions { ns, launcher, exit_when_tasks_end, data_dir, trace };
+    let options = rt_core::RunOptions { ns, launcher, exit_when_tasks_end, data_dir, trace, stop: None };
     let report = rt_core::run(config, options)?;
 
     let mut failed = false;

@@ -252,9 +252,11 @@ fn the_tasks_and_events_tools() {
 #[test]
 fn two_tasks_commanding_one_axis_in_one_cycle() {
     let dir = tempfile::tempdir().unwrap();
+    // Both programs command on the cycles that are multiples of 4, so their commands land
+    // in the same cycle unless one of them is woken a whole cycle late.
     let hammer = "local refused, other = 0, 0\n\
         for i = 1, 300 do\n\
-          local next = system_fclk + 1\n\
+          local next = (system_fclk // 4 + 1) * 4\n\
           Till(function() return system_fclk >= next end)\n\
           local rc = MoveAbs(0, (i % 2) * 0.01)\n\
           if rc == 0x1000001F then refused = refused + 1 elseif rc ~= 0 then other = other + 1 end\n\

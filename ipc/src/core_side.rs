@@ -8,7 +8,7 @@ use iceoryx2::prelude::*;
 use crate::clock::monotonic_ns;
 use crate::messages::{Reply, Request, Snapshot};
 use crate::services::failed;
-use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StatePublisher, WakeNotifier};
+use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StatePublisher};
 use crate::shared::SharedData;
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskTable};
@@ -37,7 +37,6 @@ struct TaskChannel {
     id: u8,
     requests: RequestSubscriber,
     replies: ReplyPublisher,
-    notifier: WakeNotifier,
     /// Sequence number of the last wait request this task was woken for.
     last_woken_wait: Option<u16>,
     replied: bool,
@@ -51,7 +50,6 @@ pub struct CoreIpcStats {
     pub replies: u64,
     pub send_failures: u64,
     pub wakes: u64,
-    pub wake_failures: u64,
     pub publish_failures: u64,
 }
 
@@ -83,19 +81,7 @@ impl CoreEndpoint {
                 .publisher_builder()
                 .create()
                 .map_err(|e| failed(&format!("task {id} replies"), e))?;
-            let notifier = services::wake(&node, ns, id, Open::Create)?
-                .notifier_builder()
-                .create()
-                .map_err(|e| failed(&format!("task {id} notifier"), e))?;
-            tasks.push(TaskChannel {
-                id,
-                requests,
-                replies,
-                notifier,
-                last_woken_wait: None,
-                replied: false,
-                deferred: None,
-            });
+            tasks.push(TaskChannel { id, requests, replies, last_woken_wait: None, replied: false, deferred: None });
         }
         let table = Region::<TaskTable>::create(ns, "tasks")?;
         let shared = Region::<SharedData>::create(ns, "shared")?;
@@ -206,10 +192,8 @@ impl CoreEndpoint {
                 }
             }
             if due {
-                match task.notifier.notify() {
-                    Ok(_) => self.stats.wakes += 1,
-                    Err(_) => self.stats.wake_failures += 1,
-                }
+                slot.wake(monotonic_ns());
+                self.stats.wakes += 1;
             }
         }
     }

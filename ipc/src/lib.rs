@@ -4,7 +4,7 @@
 //! |---|---|---|
 //! | `state` | publish-subscribe, latest value | core -> everyone |
 //! | `task/<id>/cmd` | request-response | task <-> core |
-//! | `task/<id>/wake` | event | core -> task |
+//! | `task/<id>/cmd` wake-up | futex in the task table | core -> task |
 //! | `tasks` | shared memory (atomics) | task -> core: heartbeat, run state, wait requests |
 //! | `shared` | shared memory (atomics) | all: user table, test variables, mutexes, task variables |
 //! | `events` | publish-subscribe | tasks and controller -> tools: SendEvent, SendMsgEvent, alarms |
@@ -12,6 +12,8 @@
 pub mod clock;
 mod core_side;
 pub mod events;
+pub mod floor;
+mod futex;
 pub mod messages;
 mod monitor;
 mod namespace;
@@ -28,7 +30,7 @@ use iceoryx2::prelude::*;
 pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats, Disposition};
 pub use monitor::Monitor;
 pub use namespace::Namespace;
-pub use task_side::TaskEndpoint;
+pub use task_side::{CallTiming, ReplyCounters, TaskEndpoint};
 
 #[derive(Debug, thiserror::Error)]
 pub enum IpcError {
@@ -42,6 +44,8 @@ pub enum IpcError {
     Protocol(String),
     #[error("the controller is gone")]
     ControllerGone,
+    #[error("no reply to request {0} in time")]
+    ReplyLost(u64),
     #[error("a controller (pid {pid}) is already running in namespace {ns}")]
     NamespaceInUse { ns: String, pid: u32 },
 }
@@ -128,4 +132,11 @@ pub fn clean_dead_nodes(ns: &Namespace) {
         }
         CallbackProgression::Continue
     });
+}
+
+/// iceoryx2 logs to stderr on its own; keep it to errors unless `IOX2_LOG_LEVEL` says
+/// otherwise. Its one routine warning (no config file: every luamotion node is configured
+/// in code, see `Namespace::config`) would otherwise land in users' output.
+pub fn quiet_transport_logs() {
+    iceoryx2::prelude::set_log_level_from_env_or(iceoryx2::prelude::LogLevel::Error);
 }

@@ -107,7 +107,8 @@ pub fn replies(
     call_channel(node, ns, task, "reply", open)
 }
 
-/// `<ns>/task/<id>/wake`: "your reply is ready" / "your wake-up cycle has come".
+/// `<ns>/task/<id>/wake`: an iceoryx2 event. Tasks are woken through a futex in the task
+/// table (see `task_table`); the soak test's transport floor uses this event.
 pub fn wake(node: &Node<Ipc>, ns: &Namespace, task: u8, open: Open) -> Result<event::PortFactory<Ipc>, IpcError> {
     let builder = node
         .service_builder(&ns.service_name(&format!("task/{task}/wake"))?)

@@ -6,6 +6,7 @@
 use std::sync::atomic::{AtomicI64, AtomicU32, AtomicU64, Ordering};
 use std::time::Duration;
 
+use crate::futex;
 use crate::messages::MAX_TASKS;
 use crate::shm::Shareable;
 
@@ -105,7 +106,7 @@ impl SharedData {
     /// Sleeps until mutex `id` is no longer held by `owner`, or `timeout` passes.
     pub fn wait_for_mutex(&self, id: usize, owner: u8, timeout: Duration) {
         if let Some(word) = self.mutexes.get(id) {
-            futex_wait(word, owner as u32 + 1, timeout);
+            futex::wait(word, owner as u32 + 1, timeout);
         }
     }
 
@@ -114,7 +115,7 @@ impl SharedData {
         let Some(word) = self.mutexes.get(id) else { return false };
         let released = word.compare_exchange(task as u32 + 1, 0, Ordering::Release, Ordering::Relaxed).is_ok();
         if released {
-            futex_wake(word);
+            futex::wake(word);
         }
         released
     }
@@ -140,22 +141,6 @@ impl SharedData {
 pub enum TestValue {
     Int(i64),
     Double(f64),
-}
-
-fn futex_wait(word: &AtomicU32, expected: u32, timeout: Duration) {
-    let ts = libc::timespec { tv_sec: timeout.as_secs() as libc::time_t, tv_nsec: timeout.subsec_nanos() as _ };
-    // SAFETY: a FUTEX_WAIT on a live, aligned u32 of a mapping shared between processes
-    // (hence not FUTEX_PRIVATE); it returns at once if the word no longer holds `expected`.
-    unsafe {
-        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAIT, expected, &ts as *const libc::timespec);
-    }
-}
-
-fn futex_wake(word: &AtomicU32) {
-    // SAFETY: FUTEX_WAKE never blocks; it wakes whoever sleeps on this word.
-    unsafe {
-        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE, i32::MAX);
-    }
 }
 
 /// A value a persistent variable holds.

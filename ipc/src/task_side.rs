@@ -1,6 +1,6 @@
 //! A script's end: read the latest snapshot, call the core, wait on core time.
 //!
-//! Waiting blocks the process on its wake event, never spins. Every wait also watches the
+//! Waiting blocks the process on its wake-up word in the task table (a futex), never spins. Every wait also watches the
 //! controller: when it is gone, the wait fails and the script process ends.
 
 use std::time::Duration;
@@ -12,7 +12,7 @@ use crate::clock::monotonic_ns;
 use crate::events::EventSender;
 use crate::messages::{Reply, Request, Snapshot};
 use crate::services::failed;
-use crate::services::{self, Ipc, Open, ReplySubscriber, RequestPublisher, StateSubscriber, WakeListener};
+use crate::services::{self, Ipc, Open, ReplySubscriber, RequestPublisher, StateSubscriber};
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskSlot, TaskTable, WaitRequest};
 use crate::{IpcError, Namespace};
@@ -20,16 +20,49 @@ use crate::{IpcError, Namespace};
 /// How often a blocked script checks that its controller is still alive.
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
 
+/// When the legs of the last call happened (CLOCK_MONOTONIC, ns), for the soak test.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CallTiming {
+    /// The script sent the request.
+    pub sent_ns: u64,
+    /// The core took it (in the cycle that applied it).
+    pub taken_ns: u64,
+    /// The core sent the reply.
+    pub replied_ns: u64,
+    /// The core notified the task's wake event (after publishing the cycle's snapshot).
+    pub notified_ns: u64,
+    /// The script had the reply (after its wake-up).
+    pub reply_seen_ns: u64,
+    /// The call returned.
+    pub returned_ns: u64,
+}
+
+/// Replies that did not match their call: each should stay 0.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReplyCounters {
+    /// Calls whose reply did not come within the reply timeout.
+    pub lost: u64,
+    /// A reply for a call answered already.
+    pub duplicated: u64,
+    /// A reply for a call given up on, or for one not yet sent.
+    pub out_of_order: u64,
+}
+
 pub struct TaskEndpoint {
     task: u8,
     controller_pid: u32,
     seq: u64,
+    /// The last call that got its reply, and the calls given up on (the newest few).
+    answered: u64,
+    given_up: [u64; 8],
+    reply_timeout: Option<Duration>,
+    counters: ReplyCounters,
+    last_call: CallTiming,
     wait_seq: u16,
     latest: Option<Sample<Ipc, Snapshot, ()>>,
     state: StateSubscriber,
     requests: RequestPublisher,
     replies: ReplySubscriber,
-    listener: WakeListener,
     table: Region<TaskTable>,
     _node: Node<Ipc>,
 }
@@ -49,10 +82,6 @@ impl TaskEndpoint {
             .subscriber_builder()
             .create()
             .map_err(|e| failed(&format!("task {task} replies"), e))?;
-        let listener = services::wake(&node, ns, task, Open::Existing)?
-            .listener_builder()
-            .create()
-            .map_err(|e| failed(&format!("task {task} listener"), e))?;
         let table = Region::<TaskTable>::open(ns, "tasks")?;
         let wait_seq = table.slots[task as usize].wait_request().seq;
         let mut endpoint = TaskEndpoint {
@@ -61,12 +90,16 @@ impl TaskEndpoint {
             // Sequence numbers start from the pid: a reply meant for an earlier process of
             // this task can never match one of ours.
             seq: (std::process::id() as u64) << 32,
+            answered: 0,
+            given_up: [0; 8],
+            reply_timeout: None,
+            counters: ReplyCounters::default(),
+            last_call: CallTiming::default(),
             wait_seq,
             latest: None,
             state,
             requests,
             replies,
-            listener,
             table,
             _node: node,
         };
@@ -125,52 +158,99 @@ impl TaskEndpoint {
         self.slot().set_state(RunState::InCall);
         let result = self.exchange(request);
         self.slot().set_state(RunState::Running);
-        let reply = result?;
-        if reply.seq != request.seq {
-            return Err(IpcError::Protocol(format!(
-                "reply to request {} while waiting for {}",
-                reply.seq, request.seq
-            )));
+        let (reply, reply_seen_ns) = result?;
+        self.answered = reply.seq;
+        loop {
+            let seen = self.slot().wake_count();
+            if self.snapshot().cycle >= reply.cycle {
+                break;
+            }
+            self.sleep(seen)?;
         }
-        while self.snapshot().cycle < reply.cycle {
-            self.block()?;
-        }
+        self.last_call = CallTiming {
+            sent_ns: request.sent_ns,
+            taken_ns: reply.received_ns,
+            replied_ns: reply.sent_ns,
+            notified_ns: self.slot().notified_ns(),
+            reply_seen_ns,
+            returned_ns: monotonic_ns(),
+        };
         Ok(reply)
     }
 
-    fn exchange(&mut self, request: &Request) -> Result<Reply, IpcError> {
+    /// The timing of the last call that got its reply.
+    pub fn last_call(&self) -> CallTiming {
+        self.last_call
+    }
+
+    pub fn reply_counters(&self) -> ReplyCounters {
+        self.counters
+    }
+
+    /// Gives up on a call whose reply has not come within `timeout` (`IpcError::ReplyLost`);
+    /// `None` (the default) waits as long as the controller lives: calls like `MoveHome`
+    /// answer when the machine is done.
+    pub fn set_reply_timeout(&mut self, timeout: Option<Duration>) {
+        self.reply_timeout = timeout;
+    }
+
+    fn exchange(&mut self, request: &Request) -> Result<(Reply, u64), IpcError> {
         let delivered = self.requests.send_copy(*request).map_err(|e| failed("send request", e))?;
         if delivered == 0 {
             return Err(IpcError::ControllerGone);
         }
+        let deadline = self.reply_timeout.map(|t| request.sent_ns + t.as_nanos() as u64);
         loop {
+            let seen = self.slot().wake_count();
             match self.replies.receive() {
-                Ok(Some(reply)) if reply.payload().seq == request.seq => return Ok(*reply.payload()),
-                // A reply to an earlier call (one this process gave up on): skip it.
-                Ok(Some(_)) => continue,
+                Ok(Some(reply)) if reply.payload().seq == request.seq => return Ok((*reply.payload(), monotonic_ns())),
+                Ok(Some(reply)) => self.unexpected(reply.payload().seq),
                 Ok(None) => {}
                 Err(e) => return Err(IpcError::Service(format!("receive reply: {e:?}"))),
             }
-            self.block()?;
+            if deadline.is_some_and(|d| monotonic_ns() > d) {
+                self.counters.lost += 1;
+                self.given_up[(self.counters.lost % 8) as usize] = request.seq;
+                return Err(IpcError::ReplyLost(request.seq));
+            }
+            self.sleep(seen)?;
+        }
+    }
+
+    /// A reply for another call than the one waiting: an earlier process' late reply is
+    /// skipped quietly; anything else is counted.
+    fn unexpected(&mut self, seq: u64) {
+        let ours = seq >> 32 == self.seq >> 32;
+        if !ours {
+            return;
+        }
+        if seq <= self.answered && !self.given_up.contains(&seq) {
+            self.counters.duplicated += 1;
+        } else {
+            self.counters.out_of_order += 1;
         }
     }
 
     /// Blocks until core cycle `cycle` has been published.
     pub fn wait_until_cycle(&mut self, cycle: u64) -> Result<(), IpcError> {
-        while self.snapshot().cycle < cycle {
+        loop {
+            let seen = self.slot().wake_count();
+            if self.snapshot().cycle >= cycle {
+                return Ok(());
+            }
             self.wait_seq = self.wait_seq.wrapping_add(1);
             let request = WaitRequest { seq: self.wait_seq, cycle };
             self.table.slots[self.task as usize].begin_wait(request);
-            let woken = self.block();
+            let woken = self.sleep(seen);
             self.slot().set_state(RunState::Running);
             woken?;
         }
-        Ok(())
     }
 
-    /// Sleeps on the wake event (or until the liveness period passes).
-    fn block(&mut self) -> Result<(), IpcError> {
-        self.listener.timed_wait(|_| {}, LIVENESS_PERIOD).map_err(|e| failed("wait on wake event", e))?;
+    /// Sleeps until the core wakes this task, unless it did since `seen` was read (or
+    /// until the liveness period passes).
+    fn sleep(&self, seen: u32) -> Result<(), IpcError> {
+        self.slot().sleep(seen, LIVENESS_PERIOD);
         self.check_controller()
     }
 

@@ -5,6 +5,7 @@
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
+use crate::futex;
 use crate::messages::MAX_TASKS;
 use crate::shm::Shareable;
 
@@ -79,6 +80,10 @@ pub struct TaskSlot {
     end_code: AtomicU32,
     /// CPU time of the task's process (user + system), ms; written by the supervisor.
     cpu_ms: AtomicU64,
+    /// When the core last woke the task (CLOCK_MONOTONIC, ns).
+    notified_ns: AtomicU64,
+    /// The futex word the task sleeps on; the core bumps it to wake the task.
+    wake: AtomicU32,
     program: [AtomicU64; PROGRAM_BYTES / 8],
 }
 
@@ -161,6 +166,28 @@ impl TaskSlot {
 
     pub fn set_cpu_ms(&self, ms: u64) {
         self.cpu_ms.store(ms, Ordering::Relaxed);
+    }
+
+    pub fn notified_ns(&self) -> u64 {
+        self.notified_ns.load(Ordering::Acquire)
+    }
+
+    /// The core wakes the task: "your reply is ready" or "your wake cycle has come".
+    /// Never blocks.
+    pub fn wake(&self, now_ns: u64) {
+        self.notified_ns.store(now_ns, Ordering::Release);
+        self.wake.fetch_add(1, Ordering::Release);
+        futex::wake(&self.wake);
+    }
+
+    /// The wake-up count before a look at the condition the task waits for...
+    pub fn wake_count(&self) -> u32 {
+        self.wake.load(Ordering::Acquire)
+    }
+
+    /// ...then the sleep, unless a wake-up came in between; at most `timeout`.
+    pub fn sleep(&self, seen: u32, timeout: std::time::Duration) {
+        futex::wait(&self.wake, seen, timeout);
     }
 
     /// The program path, as the controller wrote it (truncated to `PROGRAM_BYTES`).

@@ -2,6 +2,7 @@
 //! up, start the RT thread, start the tasks, watch them, shut down in order.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
@@ -42,6 +43,8 @@ pub struct RunOptions {
     pub data_dir: PathBuf,
     /// A CSV file for every cycle's axis data (`--trace`).
     pub trace: Option<PathBuf>,
+    /// Set by the caller to shut the controller down (the soak test ends its run so).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 pub struct RunReport {
@@ -121,6 +124,9 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         // Ctrl-C (SIGINT) or SIGTERM: shut down in order.
         if ipc::termination_requested() {
             interrupted = true;
+            break;
+        }
+        if options.stop.as_ref().is_some_and(|stop| stop.load(Ordering::Acquire)) {
             break;
         }
         let idle = control.cycle() > 0 && control.active_tasks() == 0 && supervisor.running() == 0;

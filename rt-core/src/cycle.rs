@@ -102,6 +102,12 @@ pub struct CycleStats {
     pub execution: Histogram<u64>,
     pub ipc: CoreIpcStats,
     pub granted: Granted,
+    /// CPU time the RT thread used over the run, and the run's length, ns.
+    pub cpu_ns: u64,
+    pub wall_ns: u64,
+    /// Of the RT thread's time, the frame exchange with the simulated drives (their
+    /// servo loops and plants), ns: on a real machine, the drives' own hardware.
+    pub simulation_ns: u64,
 }
 
 impl CycleStats {
@@ -114,6 +120,9 @@ impl CycleStats {
             execution: histogram(),
             ipc: CoreIpcStats::default(),
             granted,
+            cpu_ns: 0,
+            wall_ns: 0,
+            simulation_ns: 0,
         }
     }
 }
@@ -129,6 +138,8 @@ pub struct CycleWork {
     /// previous cycle's execution time, ns.
     lateness_ns: u64,
     previous_execution_ns: u64,
+    /// Time spent exchanging the frame with the simulated drives, ns.
+    simulation_ns: u64,
     trace: Option<TraceSender>,
 }
 
@@ -145,6 +156,7 @@ impl CycleWork {
             overruns: 0,
             lateness_ns: 0,
             previous_execution_ns: 0,
+            simulation_ns: 0,
             trace: None,
         }
     }
@@ -165,7 +177,9 @@ impl CycleWork {
         let cycle = self.cycle;
         self.machine.cycle = cycle;
         let period = self.machine.period_ns;
+        let exchange_start = monotonic_ns();
         self.machine.network.exchange(period as f64 * 1e-9);
+        self.simulation_ns += monotonic_ns() - exchange_start;
         let machine = &mut self.machine;
         self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |task, request, reply| {
             dispatch::execute(machine, task, request, reply)
@@ -211,7 +225,9 @@ pub fn run(
     let period = machine.period_ns;
     let mut work = CycleWork::new(machine, endpoint).with_trace(trace);
     let mut stats = CycleStats::new(granted);
-    let mut deadline = monotonic_ns() + period;
+    let started_ns = monotonic_ns();
+    let started_cpu_ns = realtime::thread_cpu_ns();
+    let mut deadline = started_ns + period;
     let mut shutdown_since = None;
 
     loop {
@@ -248,5 +264,8 @@ pub fn run(
         }
     }
     stats.ipc = work.endpoint.stats();
+    stats.cpu_ns = realtime::thread_cpu_ns() - started_cpu_ns;
+    stats.simulation_ns = work.simulation_ns;
+    stats.wall_ns = monotonic_ns() - started_ns;
     stats
 }

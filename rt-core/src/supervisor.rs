@@ -216,8 +216,11 @@ impl Supervisor {
         if let Err(e) = self.events.send(&record) {
             tracing::debug!("alarm not published: {e}");
         }
-        let process_alarm = Alarm(report.alarm).event_code() != Event::CommandBufferBusy.code();
-        if process_alarm && let Some(running) = self.running.iter_mut().find(|r| r.id == report.task) {
+        // The alarms that explain why the core killed a process become its outcome; a
+        // program that ended by itself says best why, on its last line.
+        let killed =
+            matches!(Event::from_code(Alarm(report.alarm).event_code()), Event::Watchdog | Event::StartTimeout);
+        if killed && let Some(running) = self.running.iter_mut().find(|r| r.id == report.task) {
             running.alarm = Some(text);
         }
     }

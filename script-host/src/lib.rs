@@ -91,14 +91,15 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     })
     .map_err(|e| ScriptError::lua(e.to_string()))?;
     let slot = &table.slots[task];
-    let result = start(&lua, &source, &name, args.entry.as_deref(), slot);
-    slot.set_state(RunState::Finished);
-    let result = result.map_err(|e| describe(e, &name, slot.line(), memory_limit));
+    let result = start(&lua, &source, &name, args.entry.as_deref(), slot)
+        .map_err(|e| describe(e, &name, slot.line(), memory_limit));
     if let Err(e) = &result
         && slot.end_code() == 0
     {
         slot.set_end_code(e.end_code());
     }
+    // The end code first: the core reacts to a failed end as soon as it sees Finished.
+    slot.set_state(RunState::Finished);
     result
 }
 

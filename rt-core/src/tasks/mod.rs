@@ -11,7 +11,7 @@ use api::SystemError;
 use api::alarms::{Alarm, Event};
 use ipc::messages::{MAX_TASKS, TaskSnapshot, TaskState};
 use ipc::shared::SharedData;
-use ipc::task_table::{EndCode, TaskTable};
+use ipc::task_table::{EndCode, RunState, TaskTable};
 
 use crate::config::{FaultReaction, TaskConfig};
 pub use link::{AlarmReport, CoreLink, ENTRY_BYTES, Entry, Exit, Order, Report, SupervisorEnd, link};
@@ -164,8 +164,20 @@ impl Tasks {
         }
     }
 
-    /// A running (or starting) task stops: its motion reacts, its process is killed.
+    /// A running (or starting) task stops: its motion reacts, its process is killed unless
+    /// it is ending by itself.
     fn leave(&mut self, t: u8, cycle: u64, cause: StopCause, react: &mut dyn FnMut(u8, FaultReaction)) {
+        self.leave_with(t, cycle, cause, true, react);
+    }
+
+    fn leave_with(
+        &mut self,
+        t: u8,
+        cycle: u64,
+        cause: StopCause,
+        kill: bool,
+        react: &mut dyn FnMut(u8, FaultReaction),
+    ) {
         let task = &mut self.tasks[t as usize];
         if let Some(spec) = task.spec {
             react(t, spec.reaction);
@@ -185,7 +197,7 @@ impl Tasks {
                 TaskState::Error
             }
         };
-        if let Some(pid) = task.pid {
+        if let Some(pid) = task.pid.filter(|_| kill) {
             self.link.order(Order::Kill { task: t, pid });
         }
     }
@@ -237,6 +249,10 @@ impl Tasks {
                     task.start_result = Some(Err(SystemError::HmplStarttaskTimeout));
                     self.leave(t, cycle, StopCause::Fault(Alarm::task(t, Event::StartTimeout)), react);
                     self.raise(Alarm::task(t, Event::StartTimeout), t, cycle, 0, 0);
+                }
+                // A program that failed says so before its process is gone: react now.
+                TaskState::Running if slot.state() == RunState::Finished && slot.end_code() != 0 => {
+                    self.fail(t, Exit::Failed { end_code: slot.end_code() }, cycle, table, react);
                 }
                 TaskState::Running
                     if !task.spec.is_some_and(|s| s.external)
@@ -328,7 +344,8 @@ impl Tasks {
         }
     }
 
-    /// A process that ended by itself with a failure: the alarm its end calls for.
+    /// A program that ended by itself with a failure (its process is gone or going): the
+    /// alarm its end calls for.
     fn fail(&mut self, t: u8, exit: Exit, cycle: u64, table: &TaskTable, react: &mut dyn FnMut(u8, FaultReaction)) {
         let (event, detail) = match exit {
             Exit::Signal(signal) => (Event::ProcessDied, signal as i64),
@@ -340,7 +357,7 @@ impl Tasks {
             Exit::Finished => (Event::ProgramError, 0),
         };
         let alarm = Alarm::task(t, event);
-        self.leave(t, cycle, StopCause::Fault(alarm), react);
+        self.leave_with(t, cycle, StopCause::Fault(alarm), false, react);
         self.raise(alarm, t, cycle, table.slots[t as usize].line(), detail);
     }
 
@@ -364,7 +381,6 @@ impl Tasks {
 mod tests {
     use super::*;
     use ipc::shm::zeroed;
-    use ipc::task_table::RunState;
 
     struct Rig {
         tasks: Tasks,
@@ -449,6 +465,33 @@ mod tests {
             other => panic!("{other:?}"),
         };
         assert_eq!(alarm, 0x3001_4104, "RL core, task 1, process died");
+    }
+
+    /// A program that fails says so in its slot before its process is gone: the core
+    /// reacts in the next cycle and lets the process end by itself.
+    #[test]
+    fn a_failed_program_is_handled_before_its_process_is_gone() {
+        let mut rig = Rig::new();
+        rig.tasks.start(0, Entry::TOP_LEVEL, 0).unwrap();
+        rig.step();
+        rig.supervisor.report(Report::Spawned { task: 0, pid: 3 });
+        rig.script_runs(0, 3);
+        rig.step();
+        rig.orders();
+        let slot = &rig.table.slots[0];
+        slot.set_end_code(EndCode::OutOfMemory as u32);
+        slot.set_state(RunState::Finished);
+        rig.step();
+        assert_eq!(rig.tasks.state(0), TaskState::Error);
+        assert_eq!(rig.reactions, vec![(0, FaultReaction::Decelerate)]);
+        let orders = rig.orders();
+        assert!(
+            matches!(orders.as_slice(), [Order::Alarm(AlarmReport { alarm: 0x3000_4103, .. })]),
+            "the memory-limit alarm, and no kill: {orders:?}"
+        );
+        rig.supervisor.report(Report::Exited { task: 0, pid: 3, exit: Exit::Failed { end_code: 2 } });
+        rig.step();
+        assert_eq!((rig.tasks.state(0), rig.orders().len()), (TaskState::Error, 0), "its exit changes nothing");
     }
 
     #[test]

@@ -1,0 +1,324 @@
+//! `luamotion soak`: how steady the cycle is and what latency commands see, measured on
+//! this machine under the load of N script processes, beside the machine's own floors
+//! measured in the same run.
+//!
+//! 1. floors: a bare absolute-deadline loop at the cycle's period and scheduling class,
+//!    and an iceoryx2 ping-pong between two processes (`floor.rs`);
+//! 2. a controller with N attached task slots, and N worker processes running a mix of
+//!    commands and queries against it (`worker.rs`);
+//! 3. the merged histograms, the counters that must stay 0 and the targets (`report.rs`).
+
+pub mod floor;
+pub mod metrics;
+pub mod report;
+pub mod worker;
+
+use std::path::PathBuf;
+use std::process::{Command, ExitCode, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use ipc::{Monitor, Namespace};
+use rt_core::config::{AxisConfig, DC_CYCLES_US, MachineConfig, RtConfig, TaskConfig};
+use rt_core::supervisor::ScriptLauncher;
+
+use metrics::{Merged, WorkerResult};
+use report::{Counters, Report, Row, RunInfo, Target};
+
+#[derive(clap::Args, Debug)]
+pub struct SoakArgs {
+    /// Controller cycle, µs: 250, 500, 1000, 2000 or 4000.
+    #[arg(long, default_value_t = 1000)]
+    pub period_us: u32,
+    /// Script processes sending commands, 1..64.
+    #[arg(long, default_value_t = 8)]
+    pub scripts: usize,
+    /// Axes (simulated drives), at least one per script, up to 96.
+    #[arg(long)]
+    pub axes: Option<usize>,
+    /// Length of the measured run, s (the floors take a sixth of it more each, 2 to 20 s).
+    #[arg(long, default_value_t = 60)]
+    pub duration: u64,
+    /// Leave the RT thread unpinned (by default it gets the last CPU).
+    #[arg(long)]
+    pub no_pin: bool,
+    /// Keep every CPU busy with background work during the floors and the run.
+    #[arg(long)]
+    pub load: bool,
+    /// Write the report as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Write the latency distributions as an SVG plot.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Namespace of the soak's controller.
+    #[arg(long)]
+    pub ns: Option<String>,
+}
+
+/// Background work on every CPU at normal priority, until dropped.
+struct Load {
+    stop: Arc<AtomicBool>,
+    threads: Vec<std::thread::JoinHandle<()>>,
+}
+
+impl Load {
+    fn start(cpus: usize) -> Self {
+        let stop = Arc::new(AtomicBool::new(false));
+        let threads = (0..cpus)
+            .map(|i| {
+                let stop = stop.clone();
+                std::thread::spawn(move || {
+                    // Compute and stream through 8 MiB, so that caches and memory are busy too.
+                    let mut buffer = vec![i as u64; 1 << 20];
+                    let mut x = 0u64;
+                    while !stop.load(Ordering::Relaxed) {
+                        for v in buffer.iter_mut() {
+                            x = x.wrapping_mul(6364136223846793005).wrapping_add(*v);
+                            *v = x;
+                        }
+                    }
+                    std::hint::black_box(x);
+                })
+            })
+            .collect();
+        Load { stop, threads }
+    }
+}
+
+impl Drop for Load {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
+
+fn kernel_release() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/osrelease").map(|s| s.trim().to_string()).unwrap_or_default()
+}
+
+pub fn soak(args: SoakArgs) -> Result<ExitCode> {
+    if !DC_CYCLES_US.contains(&args.period_us) {
+        bail!("--period-us must be one of 250, 500, 1000, 2000, 4000 (the drives' DC cycles)");
+    }
+    if !(1..=64).contains(&args.scripts) {
+        bail!("--scripts must be 1..64 (HMPL tasks)");
+    }
+    let axes = args.axes.unwrap_or(args.scripts.max(4));
+    if axes < args.scripts || axes > 96 {
+        bail!("--axes must be {}..96: each script commands an axis of its own", args.scripts);
+    }
+    if args.duration == 0 {
+        bail!("--duration must be at least 1 s");
+    }
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let rt = RtConfig { cpu: if args.no_pin { None } else { RtConfig::default().cpu }, ..RtConfig::default() };
+    let period_ns = args.period_us as u64 * 1000;
+    let ns = args.ns.clone().unwrap_or_else(|| format!("soak-{}", std::process::id()));
+    let floor_time = Duration::from_secs((args.duration / 6).clamp(2, 20));
+    let _load = args.load.then(|| Load::start(cpus));
+
+    eprintln!("floors: a bare {} us loop and an iceoryx2 ping-pong, {} s each", args.period_us, floor_time.as_secs());
+    let bare = floor::bare_loop(&rt, period_ns, floor_time)?;
+    let floor_ns = Namespace::new(&format!("{ns}-floor"))?;
+    ipc::claim_namespace(&floor_ns)?;
+    let pinged = floor::ping_pong(floor_ns.as_str(), period_ns, floor_time);
+    ipc::remove_namespace_files(&floor_ns);
+    let (one_way, ping_round_trip) = pinged?;
+
+    let (merged, stats) = run(&args, &rt, axes, &ns)?;
+    let granted = stats.granted;
+
+    let floor_one_way = Row::new(floor::ONE_WAY, &one_way);
+    let floor_round_trip = Row::new(floor::PING_PONG, &ping_round_trip);
+    let floor_lateness = Row::new(floor::BARE_LATENESS, &bare);
+    let metric = |name: &str| Row::new(name, merged.get(name).unwrap_or(&metrics::histogram()));
+    let rows = vec![
+        metric(worker::ROUND_TRIP).beside(&floor_round_trip),
+        metric(worker::REQUEST),
+        metric(worker::REPLY).beside(&floor_one_way),
+        metric(worker::WAKE).beside(&floor_one_way),
+        metric(worker::SNAPSHOT_AGE),
+        Row::new("cycle lateness", &stats.lateness).beside(&floor_lateness),
+        Row::new("cycle execution", &stats.execution),
+        floor_one_way,
+        floor_round_trip,
+        floor_lateness,
+    ];
+    let percent = |ns: u64| if stats.wall_ns > 0 { ns as f64 * 100.0 / stats.wall_ns as f64 } else { 0.0 };
+    let counters = Counters {
+        calls: merged.counts,
+        cycles: stats.cycles,
+        overruns: stats.overruns,
+        rt_cpu_percent: percent(stats.cpu_ns),
+        simulation_cpu_percent: percent(stats.simulation_ns),
+    };
+    let run_info = RunInfo {
+        period_us: args.period_us,
+        scripts: args.scripts,
+        axes,
+        duration_s: args.duration,
+        pinned: !args.no_pin,
+        load: args.load,
+        cpus,
+        kernel: kernel_release(),
+        fifo_priority: granted.fifo_priority,
+        rt_cpu: granted.cpu,
+        memory_locked: granted.memory_locked,
+    };
+    let mut report = Report { run: run_info, metrics: rows, counters, targets: Vec::new() };
+    report.targets = targets(&report);
+    report.print();
+    if let Some(path) = &args.json {
+        report.write_json(path).with_context(|| format!("write {}", path.display()))?;
+    }
+    if let Some(path) = &args.plot {
+        report.plot(path).with_context(|| format!("plot {}", path.display()))?;
+    }
+    let clean = report.counters.calls.clean();
+    Ok(if clean { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+}
+
+/// The measured run: a controller with attached task slots, N worker processes.
+fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<(Merged, rt_core::cycle::CycleStats)> {
+    let exe = std::env::current_exe()?;
+    let config = MachineConfig {
+        cycle_us: args.period_us,
+        rt: rt.clone(),
+        axes: vec![AxisConfig::default(); axes],
+        tasks: (0..args.scripts as u8)
+            .map(|id| TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(id, exe.clone()) })
+            .collect(),
+    };
+    config.validate()?;
+    let dir = tempfile::tempdir()?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let options = rt_core::RunOptions {
+        ns: Namespace::new(ns)?,
+        launcher: ScriptLauncher { executable: exe.clone(), subcommand: vec!["script".into()] },
+        exit_when_tasks_end: false,
+        data_dir: dir.path().to_path_buf(),
+        trace: None,
+        stop: Some(stop.clone()),
+    };
+    let controller = std::thread::spawn(move || rt_core::run(config, options));
+    let namespace = Namespace::new(ns)?;
+    let up = Instant::now();
+    while ipc::controller_pid(&namespace)?.is_none() {
+        if controller.is_finished() || up.elapsed() > Duration::from_secs(10) {
+            stop.store(true, Ordering::Release);
+            controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))??;
+            bail!("the controller did not come up");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let mut monitor = Monitor::open(&namespace)?;
+
+    eprintln!(
+        "run: {} scripts against a {} us controller with {axes} axes, {} s",
+        args.scripts, args.period_us, args.duration
+    );
+    let mut workers = Vec::new();
+    for task in 0..args.scripts {
+        let out = dir.path().join(format!("worker-{task}.json"));
+        let child = Command::new(&exe)
+            .args(["soak-worker", "--ns", ns, "--task", &task.to_string(), "--axis", &task.to_string()])
+            .args(["--duration-ms", &(args.duration * 1000).to_string()])
+            .args(["--controller-pid", &std::process::id().to_string()])
+            .arg("--out")
+            .arg(&out)
+            .stdin(Stdio::null())
+            .spawn()?;
+        workers.push((child, out));
+    }
+    let bar = indicatif::ProgressBar::new(args.duration);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} s  {msg}")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    let started = Instant::now();
+    while workers.iter_mut().any(|(child, _)| matches!(child.try_wait(), Ok(None))) {
+        let snapshot = monitor.snapshot()?;
+        bar.set_position(started.elapsed().as_secs().min(args.duration));
+        bar.set_message(format!("cycle {}, overruns {}", snapshot.cycle, snapshot.overruns));
+        if started.elapsed() > Duration::from_secs(args.duration + 60) {
+            for (child, _) in &mut workers {
+                let _ = child.kill();
+            }
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    bar.finish_and_clear();
+    // The tools' view goes before the controller removes its services.
+    drop(monitor);
+
+    let mut merged = Merged::default();
+    let mut failures = Vec::new();
+    for (task, (mut child, out)) in workers.into_iter().enumerate() {
+        let status = child.wait()?;
+        match std::fs::read(&out).ok().and_then(|bytes| serde_json::from_slice::<WorkerResult>(&bytes).ok()) {
+            Some(result) if status.success() => merged.add(&result),
+            _ => failures.push(format!("worker {task}: {status}")),
+        }
+    }
+    stop.store(true, Ordering::Release);
+    let report = controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))??;
+    if !failures.is_empty() {
+        bail!("soak workers failed: {}", failures.join(", "));
+    }
+    Ok((merged, report.stats))
+}
+
+/// The targets, evaluated on this run.
+fn targets(report: &Report) -> Vec<Target> {
+    let mut out = Vec::new();
+    let row = |name: &str| report.row(name);
+    if let (Some(wake), Some(floor)) = (row(worker::WAKE), row(floor::ONE_WAY)) {
+        out.push(Target {
+            target: "transport p50 within 2x the raw iceoryx2 floor".into(),
+            measured: format!("wake-up p50 {:.1} us vs one way {:.1} us", wake.p50, floor.p50),
+            met: wake.ratio_p50.map(|r| r <= 2.0),
+        });
+    }
+    if let Some(rt) = row(worker::ROUND_TRIP) {
+        let limit = report.run.period_us as f64 + 100.0;
+        out.push(Target {
+            target: "command round trip p99.9 within one period + 100 us".into(),
+            measured: format!("{:.1} us, limit {limit:.0} us", rt.p99_9),
+            met: Some(rt.p99_9 <= limit),
+        });
+    }
+    if let (Some(late), Some(floor)) = (row("cycle lateness"), row(floor::BARE_LATENESS)) {
+        out.push(Target {
+            target: "cycle lateness p99.9 within 1.2x the bare-loop floor".into(),
+            measured: format!("{:.1} us vs {:.1} us", late.p99_9, floor.p99_9),
+            met: late.ratio_p99_9.map(|r| r <= 1.2),
+        });
+    }
+    let c = &report.counters;
+    out.push(Target {
+        target: "zero lost replies in 10^6 commands".into(),
+        measured: format!(
+            "{} lost, {} duplicated, {} out of order in {} commands",
+            c.calls.lost, c.calls.duplicated, c.calls.out_of_order, c.calls.commands
+        ),
+        met: (c.calls.commands >= 1_000_000).then_some(c.calls.clean()),
+    });
+    let r = &report.run;
+    let reference = r.period_us == 1000 && r.axes == 96 && r.scripts >= 16;
+    out.push(Target {
+        target: "RT thread CPU at most 10 % of a core at 1 kHz with 96 axes and 16 tasks".into(),
+        measured: format!(
+            "{:.1} % ({:.1} % simulating the drives) with {} axes and {} tasks at {} us",
+            c.rt_cpu_percent, c.simulation_cpu_percent, r.axes, r.scripts, r.period_us
+        ),
+        met: reference.then_some(c.rt_cpu_percent <= 10.0),
+    });
+    out
+}

@@ -1,0 +1,208 @@
+//! The soak report: a table on stdout, JSON, and a plot of the latency distributions.
+
+use std::path::Path;
+
+use anyhow::Result;
+use hdrhistogram::Histogram;
+use plotters::prelude::*;
+use serde::Serialize;
+
+use super::metrics::CallCounts;
+
+/// Percentiles of one metric, µs.
+#[derive(Debug, Serialize)]
+pub struct Row {
+    pub name: String,
+    pub count: u64,
+    pub p50: f64,
+    pub p90: f64,
+    pub p99: f64,
+    pub p99_9: f64,
+    pub p99_99: f64,
+    pub max: f64,
+    /// The floor this metric is compared with, and the ratios at p50 and p99.9.
+    pub floor: Option<String>,
+    pub ratio_p50: Option<f64>,
+    pub ratio_p99_9: Option<f64>,
+    #[serde(skip)]
+    pub histogram: Histogram<u64>,
+}
+
+fn us(ns: u64) -> f64 {
+    ns as f64 / 1000.0
+}
+
+impl Row {
+    pub fn new(name: &str, h: &Histogram<u64>) -> Self {
+        let q = |q: f64| if h.is_empty() { 0.0 } else { us(h.value_at_quantile(q)) };
+        Row {
+            name: name.to_string(),
+            count: h.len(),
+            p50: q(0.5),
+            p90: q(0.9),
+            p99: q(0.99),
+            p99_9: q(0.999),
+            p99_99: q(0.9999),
+            max: if h.is_empty() { 0.0 } else { us(h.max()) },
+            floor: None,
+            ratio_p50: None,
+            ratio_p99_9: None,
+            histogram: h.clone(),
+        }
+    }
+
+    /// Compares this metric with `floor`.
+    pub fn beside(mut self, floor: &Row) -> Self {
+        let ratio = |a: f64, b: f64| (b > 0.0).then(|| a / b);
+        self.ratio_p50 = ratio(self.p50, floor.p50);
+        self.ratio_p99_9 = ratio(self.p99_9, floor.p99_9);
+        self.floor = Some(floor.name.clone());
+        self
+    }
+}
+
+#[derive(Debug, Serialize)]
+pub struct Counters {
+    #[serde(flatten)]
+    pub calls: CallCounts,
+    pub cycles: u64,
+    pub overruns: u64,
+    /// CPU time of the RT thread over the run's length, percent of one core...
+    pub rt_cpu_percent: f64,
+    /// ...of which the simulated drives' share.
+    pub simulation_cpu_percent: f64,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Target {
+    pub target: String,
+    pub measured: String,
+    /// `None`: not applicable to this run's settings.
+    pub met: Option<bool>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct RunInfo {
+    pub period_us: u32,
+    pub scripts: usize,
+    pub axes: usize,
+    pub duration_s: u64,
+    pub pinned: bool,
+    pub load: bool,
+    pub cpus: usize,
+    pub kernel: String,
+    pub fifo_priority: Option<u8>,
+    pub rt_cpu: Option<usize>,
+    pub memory_locked: bool,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Report {
+    pub run: RunInfo,
+    pub metrics: Vec<Row>,
+    pub counters: Counters,
+    pub targets: Vec<Target>,
+}
+
+impl Report {
+    pub fn row(&self, name: &str) -> Option<&Row> {
+        self.metrics.iter().find(|r| r.name == name)
+    }
+
+    pub fn print(&self) {
+        let r = &self.run;
+        println!(
+            "luamotion soak: {} scripts, {} axes, {} us cycle, {} s{}{}; {} CPUs, Linux {}",
+            r.scripts,
+            r.axes,
+            r.period_us,
+            r.duration_s,
+            if r.pinned { ", pinned" } else { ", not pinned" },
+            if r.load { ", background load" } else { "" },
+            r.cpus,
+            r.kernel
+        );
+        println!(
+            "RT thread: SCHED_FIFO {}, CPU {}, memory {}",
+            r.fifo_priority.map_or("refused".to_string(), |p| p.to_string()),
+            r.rt_cpu.map_or("not pinned".to_string(), |c| c.to_string()),
+            if r.memory_locked { "locked" } else { "not locked" }
+        );
+        println!();
+        println!(
+            "{:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}  {:>12}",
+            "metric (us)", "count", "p50", "p90", "p99", "p99.9", "p99.99", "max", "x floor p50"
+        );
+        for row in &self.metrics {
+            let ratio = row.ratio_p50.map_or(String::new(), |x| format!("{x:.2}"));
+            println!(
+                "{:<28} {:>9} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1}  {:>12}",
+                row.name, row.count, row.p50, row.p90, row.p99, row.p99_9, row.p99_99, row.max, ratio
+            );
+        }
+        let c = &self.counters;
+        println!();
+        println!(
+            "commands {}, queries {}, lost {}, duplicated {}, out of order {}, call errors {}",
+            c.calls.commands,
+            c.calls.queries,
+            c.calls.lost,
+            c.calls.duplicated,
+            c.calls.out_of_order,
+            c.calls.call_errors
+        );
+        println!(
+            "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives)",
+            c.cycles, c.overruns, c.rt_cpu_percent, c.simulation_cpu_percent
+        );
+        println!();
+        for t in &self.targets {
+            let verdict = match t.met {
+                Some(true) => "met",
+                Some(false) => "MISSED",
+                None => "n/a",
+            };
+            println!("[{verdict:>6}] {}: {}", t.target, t.measured);
+        }
+    }
+
+    pub fn write_json(&self, path: &Path) -> Result<()> {
+        std::fs::write(path, serde_json::to_vec_pretty(self)?)?;
+        Ok(())
+    }
+
+    /// The latency distributions on log scales: x the percentile as 1/(1-p) (10 = p90,
+    /// 1000 = p99.9), y the latency in µs.
+    pub fn plot(&self, path: &Path) -> Result<()> {
+        let rows: Vec<&Row> = self.metrics.iter().filter(|r| r.count > 0).collect();
+        let max_us = rows.iter().map(|r| r.max).fold(1.0, f64::max) * 2.0;
+        let root = SVGBackend::new(path, (1100, 700)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let title = format!(
+            "luamotion soak: {} scripts, {} axes, {} us cycle, {} s",
+            self.run.scripts, self.run.axes, self.run.period_us, self.run.duration_s
+        );
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(70)
+            .build_cartesian_2d((1.0f64..1e6).log_scale(), (0.1f64..max_us).log_scale())?;
+        chart.configure_mesh().x_desc("percentile, as 1/(1-p): 10 = p90, 1000 = p99.9").y_desc("latency, us").draw()?;
+        for (i, row) in rows.iter().enumerate() {
+            let color = Palette99::pick(i).to_rgba();
+            let points: Vec<(f64, f64)> = row
+                .histogram
+                .iter_quantiles(1)
+                .map(|v| (1.0 / (1.0 - v.quantile_iterated_to()).max(1e-6), us(v.value_iterated_to()).max(0.1)))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(points, color.stroke_width(2)))?
+                .label(row.name.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+        }
+        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        root.present()?;
+        Ok(())
+    }
+}

@@ -1,0 +1,60 @@
+//! The soak test's smoke version: 5 seconds with 2 scripts. No reply lost, duplicated or
+//! out of order; a well-formed report on stdout, in JSON and as a plot. (The long run is
+//! `luamotion soak`, see the README.)
+
+mod common;
+
+use std::process::Command;
+
+use common::*;
+
+#[test]
+fn a_five_second_soak() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, plot) = (dir.path().join("soak.json"), dir.path().join("soak.svg"));
+    let ns = unique_ns("soak");
+    let out = Command::new(BIN)
+        .args(["soak", "--duration", "5", "--scripts", "2", "--ns", &ns, "--json"])
+        .arg(&json)
+        .arg("--plot")
+        .arg(&plot)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let counters = &report["counters"];
+    for zero in ["lost", "duplicated", "out_of_order", "call_errors"] {
+        assert_eq!(counters[zero], 0, "{zero}: {stdout}");
+    }
+    assert!(counters["commands"].as_u64().unwrap() > 1000, "{stdout}");
+    assert!(counters["cycles"].as_u64().unwrap() >= 5000, "{stdout}");
+    let metrics = report["metrics"].as_array().unwrap();
+    for name in [
+        "command round trip",
+        "script -> core",
+        "core -> script",
+        "wake-up",
+        "snapshot age",
+        "cycle lateness",
+        "cycle execution",
+        "floor: iceoryx2 one way",
+        "floor: iceoryx2 round trip",
+        "floor: bare loop lateness",
+    ] {
+        let m = metrics.iter().find(|m| m["name"] == name).unwrap_or_else(|| panic!("{name} in {report}"));
+        assert!(m["count"].as_u64().unwrap() > 0, "{name}");
+        let q: Vec<f64> =
+            ["p50", "p90", "p99", "p99_9", "p99_99", "max"].iter().map(|k| m[k].as_f64().unwrap()).collect();
+        assert!(q.windows(2).all(|w| w[0] <= w[1]) && q[0] > 0.0, "{name}: percentiles in order: {q:?}");
+        assert!(stdout.contains(name), "{name} in the table");
+    }
+    let round_trip = metrics.iter().find(|m| m["name"] == "command round trip").unwrap();
+    assert!(round_trip["ratio_p50"].as_f64().unwrap() > 1.0, "beside its floor");
+    assert_eq!(report["targets"].as_array().unwrap().len(), 5);
+
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("command round trip") && svg.contains("polyline"), "a plot");
+}
