@@ -966,6 +966,21 @@ function my_print(text) end
 ---@param seconds number
 function DELAY(seconds) end
 
+--- DRL: word `address` of the Modbus user areas, 0..65535: DV 0x0000..0x2FFF (volatile)
+--- or DH 0x8000..0xAFFF (kept across restarts). A Lua error outside them.
+---DXMC A.1 (script process)
+---@param address integer
+---@return integer
+function ReadModbusWord(address) end
+
+--- DRL: writes word `address` of DV or DH; the Modbus clients read it at once. 0, or
+--- 0x138F for an address outside DV and DH or a value outside 0..65535.
+---DXMC A.1 (script process)
+---@param address integer
+---@param value integer
+---@return integer
+function WriteModbusWord(address, value) end
+
 --- Sends event `evt_id` (0..65535) to the tools following the event stream. Blocks
 --- while the task sends faster than 1000 per second on average. Returns 0.
 ---HMPL 2.19 (script process)

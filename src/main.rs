@@ -10,6 +10,7 @@ use ipc::Namespace;
 use rt_core::config::{MAX_TASKS, MachineConfig, TaskConfig};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
+mod drl_cli;
 mod soak;
 mod tools;
 
@@ -31,21 +32,19 @@ struct Cli {
 enum Cmd {
     /// Start a controller and run Lua programs, one script process each.
     Run {
-        /// Machine file (TOML); without it, the built-in machine: 4 axes on D1 drives, mm, 1 ms.
-        #[arg(long)]
-        config: Option<PathBuf>,
-        /// Namespace of this controller's IPC resources (controllers side by side need different ones).
-        #[arg(long, default_value = "luamotion")]
-        ns: String,
-        /// Where SaveUserTable keeps the user table [default: $XDG_STATE_HOME/luamotion/<ns>].
-        #[arg(long)]
-        data_dir: Option<PathBuf>,
+        #[command(flatten)]
+        controller: ControllerArgs,
         /// Write every cycle's reference, feedback and status of the first 8 axes to this CSV file.
         #[arg(long)]
         trace: Option<PathBuf>,
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
     },
+    /// Start a controller that runs until stopped, with the Modbus TCP server and DRL
+    /// program control (DXMC appendix A).
+    Serve(drl_cli::ServeArgs),
+    /// Control DRL projects over Modbus TCP: open, run, stop, pause, step, breakpoints, status.
+    Drl(drl_cli::DrlArgs),
     /// Show the task table of a running controller: state, process, CPU, watchdog, last alarm.
     Tasks {
         #[arg(long, default_value = "luamotion")]
@@ -109,6 +108,37 @@ enum Cmd {
     },
 }
 
+/// What every command that starts a controller takes.
+#[derive(clap::Args, Debug)]
+pub struct ControllerArgs {
+    /// Machine file (TOML); without it, the built-in machine: 4 axes on D1 drives, mm, 1 ms.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Namespace of this controller's IPC resources (controllers side by side need different ones).
+    #[arg(long, default_value = "luamotion")]
+    ns: String,
+    /// Where the user table, DH and the DRL projects are kept [default: $XDG_STATE_HOME/luamotion/<ns>].
+    #[arg(long)]
+    data_dir: Option<PathBuf>,
+}
+
+impl ControllerArgs {
+    fn machine(&self) -> Result<MachineConfig> {
+        Ok(match &self.config {
+            Some(path) => MachineConfig::load(path)?,
+            None => MachineConfig::default(),
+        })
+    }
+
+    fn namespace(&self) -> Result<Namespace> {
+        Ok(Namespace::new(&self.ns)?)
+    }
+
+    fn data_dir(&self) -> PathBuf {
+        self.data_dir.clone().unwrap_or_else(|| default_data_dir(&self.ns))
+    }
+}
+
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum ApiFormat {
     /// Markdown reference (docs/api.md).
@@ -121,8 +151,10 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     init_logging(cli.verbose);
     let result = match cli.command {
-        Cmd::Run { config, ns, data_dir, trace, scripts } => run(config, &ns, data_dir, trace, scripts),
+        Cmd::Run { controller, trace, scripts } => run(&controller, trace, scripts),
         Cmd::Tasks { ns } => tools::tasks(&ns),
+        Cmd::Serve(args) => drl_cli::serve(args),
+        Cmd::Drl(args) => drl_cli::drl(args),
         Cmd::Soak(args) => soak::soak(args),
         Cmd::SoakWorker { ns, task, axis, duration_ms, controller_pid, out } => {
             soak::worker::run(soak::worker::WorkerArgs { ns, task, axis, duration_ms, controller_pid, out })
@@ -186,17 +218,8 @@ fn default_data_dir(ns: &str) -> PathBuf {
     state.unwrap_or_else(std::env::temp_dir).join("luamotion").join(ns)
 }
 
-fn run(
-    config_path: Option<PathBuf>,
-    ns: &str,
-    data_dir: Option<PathBuf>,
-    trace: Option<PathBuf>,
-    scripts: Vec<PathBuf>,
-) -> Result<ExitCode> {
-    let mut config = match &config_path {
-        Some(path) => MachineConfig::load(path)?,
-        None => MachineConfig::default(),
-    };
+fn run(controller: &ControllerArgs, trace: Option<PathBuf>, scripts: Vec<PathBuf>) -> Result<ExitCode> {
+    let mut config = controller.machine()?;
     if scripts.len() > MAX_TASKS {
         bail!("at most {MAX_TASKS} programs (HMPL tasks 0..63)");
     }
@@ -207,15 +230,15 @@ fn run(
     }
     config.tasks.sort_by_key(|t| t.id);
     config.validate()?;
-    let ns = Namespace::new(ns)?;
+    let ns = controller.namespace()?;
 
     let launcher = ScriptLauncher {
         executable: std::env::current_exe().context("locate the luamotion binary")?,
         subcommand: vec!["script".into()],
     };
     let exit_when_tasks_end = config.tasks.iter().any(|t| t.autorun);
-    let data_dir = data_dir.unwrap_or_else(|| default_data_dir(ns.as_str()));
-    let options = rt_core::RunOptions { ns, launcher, exit_when_tasks_end, data_dir, trace, stop: None };
+    let data_dir = controller.data_dir();
+    let options = rt_core::RunOptions { ns, launcher, exit_when_tasks_end, data_dir, trace, stop: None, console: None };
     let report = rt_core::run(config, options)?;
 
     let mut failed = false;

@@ -20,6 +20,12 @@ pub enum Source {
 pub enum Event {
     /// 0x001F: two tasks commanded the same axis in the same cycle.
     CommandBufferBusy,
+    /// 0x0020: a motion command while the controller is not in Run or Diagnosis.
+    WrongMode,
+    /// 0x7000: an invalid DRL control command (DXMC A.3, register 0x6B05).
+    DrlControl,
+    /// 0x4105: an unsupported PLC control command (DXMC A.3, register 0x6B10).
+    PlcControl,
     /// 0x4100: the program ended with a Lua error.
     ProgramError,
     /// 0x4102: the task ran Lua past its watchdog time without reaching the controller.
@@ -38,6 +44,9 @@ impl Event {
     pub fn code(self) -> u16 {
         match self {
             Event::CommandBufferBusy => 0x001F,
+            Event::WrongMode => 0x0020,
+            Event::DrlControl => 0x7000,
+            Event::PlcControl => 0x4105,
             Event::ProgramError => 0x4100,
             Event::Watchdog => 0x4102,
             Event::MemoryLimit => 0x4103,
@@ -51,6 +60,9 @@ impl Event {
     pub fn from_code(code: u16) -> Self {
         match code {
             0x001F => Event::CommandBufferBusy,
+            0x0020 => Event::WrongMode,
+            0x7000 => Event::DrlControl,
+            0x4105 => Event::PlcControl,
             0x4100 => Event::ProgramError,
             0x4102 => Event::Watchdog,
             0x4103 => Event::MemoryLimit,
@@ -63,6 +75,9 @@ impl Event {
     pub fn meaning(self) -> &'static str {
         match self {
             Event::CommandBufferBusy => "command buffer busy: two tasks commanded the same axis in one cycle",
+            Event::WrongMode => "the controller is not in Run or Diagnosis: motion commands are refused",
+            Event::DrlControl => "DRL control command error: check the DRL control function code",
+            Event::PlcControl => "unsupported PLC control command",
             Event::ProgramError => "the program stopped with an error",
             Event::Watchdog => "watchdog: the task ran past its watchdog time without reaching the controller",
             Event::MemoryLimit => "the task exceeded its memory limit",

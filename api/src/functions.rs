@@ -359,6 +359,12 @@ declare_functions! {
     ["DXMC 8.3 DRL"] fn my_print(text: Str);
     /// DRL: suspends the program for a number of seconds (fractions allowed) of controller time.
     ["DXMC 8.3 DRL"] fn DELAY(seconds: Double);
+    /// DRL: word `address` of the Modbus user areas, 0..65535: DV 0x0000..0x2FFF (volatile)
+    /// or DH 0x8000..0xAFFF (kept across restarts). A Lua error outside them.
+    ["DXMC A.1"] fn ReadModbusWord(address: Int) -> Int;
+    /// DRL: writes word `address` of DV or DH; the Modbus clients read it at once. 0, or
+    /// 0x138F for an address outside DV and DH or a value outside 0..65535.
+    ["DXMC A.1"] fn WriteModbusWord(address: Int, value: Int) -> Int;
 
     /// Sends event `evt_id` (0..65535) to the tools following the event stream. Blocks
     /// while the task sends faster than 1000 per second on average. Returns 0.

@@ -11,6 +11,7 @@
 
 pub mod clock;
 mod core_side;
+pub mod debug;
 pub mod events;
 pub mod floor;
 mod futex;

@@ -410,6 +410,8 @@ pub struct Snapshot {
     pub group_last_err: [u32; MAX_GROUPS],
     /// Cycles whose work ran past the next deadline, since start.
     pub overruns: u64,
+    /// DXMC 3.6, register 0x6A80: 0 Initial, 1 Fail, 2 Edit, 4 Run, 5 Diagnosis.
+    pub controller_state: u32,
     pub gpio: GpioSnapshot,
     pub tasks: [TaskSnapshot; MAX_TASKS],
     pub axes: [AxisSnapshot; MAX_AXES],
@@ -430,6 +432,7 @@ impl Default for Snapshot {
             slave_count: 0,
             group_last_err: [0; MAX_GROUPS],
             overruns: 0,
+            controller_state: 0,
             gpio: GpioSnapshot::default(),
             tasks: [TaskSnapshot::default(); MAX_TASKS],
             axes: [AxisSnapshot::default(); MAX_AXES],

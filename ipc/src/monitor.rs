@@ -59,6 +59,18 @@ impl Monitor {
         self.latest.as_deref().ok_or_else(|| IpcError::Service("no snapshot from the controller".into()))
     }
 
+    /// Takes the snapshots published since the last look, without waiting.
+    pub fn refresh(&mut self) {
+        while let Ok(Some(sample)) = self.state.receive() {
+            self.latest = Some(sample);
+        }
+    }
+
+    /// The newest snapshot taken by `refresh` or `snapshot`.
+    pub fn latest(&self) -> Option<&Snapshot> {
+        self.latest.as_deref()
+    }
+
     pub fn table(&self) -> &TaskTable {
         &self.table
     }

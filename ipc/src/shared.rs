@@ -3,7 +3,7 @@
 //! region per controller, read and written in place by the scripts; the core releases
 //! the mutexes of a task that stops.
 
-use std::sync::atomic::{AtomicI64, AtomicU32, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicI64, AtomicU16, AtomicU32, AtomicU64, Ordering};
 use std::time::Duration;
 
 use crate::futex;
@@ -31,6 +31,42 @@ pub struct SharedData {
     /// 0: free; otherwise the owner's task id + 1. Also the futex word waiters sleep on.
     mutexes: [AtomicU32; MUTEXES],
     task_vars: [TaskVars; MAX_TASKS],
+    /// DXMC A.1: the Modbus user areas, DV (volatile) and DH (kept by the controller).
+    dv: [AtomicU16; USER_AREA_WORDS],
+    dh: [AtomicU16; USER_AREA_WORDS],
+    /// Bumped by every write to DH: the controller saves DH when it moves.
+    dh_writes: AtomicU64,
+}
+
+/// Words of DV and of DH: 24 KiB each (DXMC A.1).
+pub const USER_AREA_WORDS: usize = 0x3000;
+/// DXMC A.1: DV at Modbus 0x0000..0x2FFF, DH at 0x8000..0xAFFF.
+pub const DV_BASE: u16 = 0x0000;
+pub const DH_BASE: u16 = 0x8000;
+
+/// A Modbus user area (DXMC A.1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UserArea {
+    /// Volatile.
+    Dv,
+    /// Retentive: kept across restarts.
+    Dh,
+}
+
+impl UserArea {
+    /// The area and word index of a Modbus address, if it is in DV or DH.
+    pub fn of(address: i64) -> Option<(UserArea, usize)> {
+        let words = USER_AREA_WORDS as i64;
+        match address {
+            a if (DV_BASE as i64..DV_BASE as i64 + words).contains(&a) => {
+                Some((UserArea::Dv, (a - DV_BASE as i64) as usize))
+            }
+            a if (DH_BASE as i64..DH_BASE as i64 + words).contains(&a) => {
+                Some((UserArea::Dh, (a - DH_BASE as i64) as usize))
+            }
+            _ => None,
+        }
+    }
 }
 
 // SAFETY: repr(C), only atomics, valid when zeroed (a zero table, free mutexes, no variables).
@@ -58,6 +94,45 @@ pub enum Lock {
 }
 
 impl SharedData {
+    fn area(&self, area: UserArea) -> &[AtomicU16; USER_AREA_WORDS] {
+        match area {
+            UserArea::Dv => &self.dv,
+            UserArea::Dh => &self.dh,
+        }
+    }
+
+    /// A word of DV or DH by Modbus address.
+    pub fn user_word(&self, address: i64) -> Option<u16> {
+        UserArea::of(address).map(|(area, i)| self.area(area)[i].load(Ordering::Relaxed))
+    }
+
+    /// Writes a word of DV or DH by Modbus address; false outside them.
+    pub fn set_user_word(&self, address: i64, value: u16) -> bool {
+        let Some((area, i)) = UserArea::of(address) else { return false };
+        self.area(area)[i].store(value, Ordering::Relaxed);
+        if area == UserArea::Dh {
+            self.dh_writes.fetch_add(1, Ordering::Release);
+        }
+        true
+    }
+
+    /// How many writes DH has had: a change means it must be saved.
+    pub fn dh_writes(&self) -> u64 {
+        self.dh_writes.load(Ordering::Acquire)
+    }
+
+    /// DH as bytes (big-endian words, as on the wire), for its file.
+    pub fn dh_bytes(&self) -> Vec<u8> {
+        self.dh.iter().flat_map(|w| w.load(Ordering::Relaxed).to_be_bytes()).collect()
+    }
+
+    /// Restores DH from its file's bytes (a short file restores what it holds).
+    pub fn load_dh(&self, bytes: &[u8]) {
+        for (word, pair) in self.dh.iter().zip(bytes.chunks_exact(2)) {
+            word.store(u16::from_be_bytes([pair[0], pair[1]]), Ordering::Relaxed);
+        }
+    }
+
     pub fn user_table(&self, index: usize) -> Option<f64> {
         self.user_table.get(index).map(|w| f64::from_bits(w.load(Ordering::Relaxed)))
     }

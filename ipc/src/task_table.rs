@@ -5,6 +5,7 @@
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
+use crate::debug::DebugBlock;
 use crate::futex;
 use crate::messages::MAX_TASKS;
 use crate::shm::Shareable;
@@ -25,6 +26,8 @@ pub enum RunState {
     Finished = 4,
     /// Blocked on another task (`MutexLock`): that task's watchdog answers for the wait.
     Blocked = 5,
+    /// Stopped by its debugger (a breakpoint, Pause, a step): the console holds it.
+    Paused = 6,
 }
 
 impl RunState {
@@ -35,6 +38,7 @@ impl RunState {
             3 => RunState::InCall,
             4 => RunState::Finished,
             5 => RunState::Blocked,
+            6 => RunState::Paused,
             _ => RunState::Idle,
         }
     }
@@ -85,6 +89,8 @@ pub struct TaskSlot {
     /// The futex word the task sleeps on; the core bumps it to wake the task.
     wake: AtomicU32,
     program: [AtomicU64; PROGRAM_BYTES / 8],
+    /// The debugger's words (DRL program control).
+    pub debug: DebugBlock,
 }
 
 /// Why a program ended, beyond HMPL's own codes.

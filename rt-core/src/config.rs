@@ -47,6 +47,73 @@ pub struct MachineConfig {
     pub rt: RtConfig,
     pub axes: Vec<AxisConfig>,
     pub tasks: Vec<TaskConfig>,
+    /// DRL projects and their program control (DXMC manual A.3).
+    pub drl: DrlConfig,
+    /// The Modbus TCP server of `luamotion serve` (DXMC manual 8.2).
+    pub modbus: ModbusConfig,
+}
+
+/// `[drl]`: where DRL projects live and how the one being run is supervised. The running
+/// project is a task like the others, in its own slot.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DrlConfig {
+    /// The HMPL task slot the DRL project runs in; no `[[tasks]]` entry may use it.
+    pub task: u8,
+    /// Folder of the projects, one folder per DRL id holding `main.lua` (the DXMC's FTP
+    /// area); relative to the machine file. Default: `<data dir>/projects`.
+    pub projects: Option<PathBuf>,
+    /// Folder projects are exported to and imported from (the DXMC's USB stick).
+    /// Default: `<data dir>/export`.
+    pub export: Option<PathBuf>,
+    pub watchdog_ms: u32,
+    pub memory_limit_mib: u32,
+    pub fault_reaction: FaultReaction,
+}
+
+impl Default for DrlConfig {
+    fn default() -> Self {
+        DrlConfig {
+            task: (MAX_TASKS - 1) as u8,
+            projects: None,
+            export: None,
+            watchdog_ms: TaskConfig::default_watchdog_ms(),
+            memory_limit_mib: TaskConfig::default_memory_limit_mib(),
+            fault_reaction: FaultReaction::default(),
+        }
+    }
+}
+
+impl DrlConfig {
+    /// The task slot's configuration; its program is set when a project is opened.
+    pub fn task_config(&self) -> TaskConfig {
+        TaskConfig {
+            id: self.task,
+            program: PathBuf::new(),
+            autorun: false,
+            watchdog_ms: self.watchdog_ms,
+            memory_limit_mib: self.memory_limit_mib,
+            fault_reaction: self.fault_reaction,
+            external: false,
+        }
+    }
+}
+
+/// `[modbus]`: the Modbus TCP server (DXMC manual 8.2: TCP port 502, station 1).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ModbusConfig {
+    pub bind: String,
+    /// 0 asks the OS for a free port (tests).
+    pub port: u16,
+    /// DXMC parameter 0-0, 1..247.
+    pub station: u8,
+}
+
+impl Default for ModbusConfig {
+    fn default() -> Self {
+        ModbusConfig { bind: "0.0.0.0".into(), port: 502, station: 1 }
+    }
 }
 
 /// How the RT thread asks the OS for real-time service. Each is tried and, where the OS
@@ -251,6 +318,8 @@ impl Default for MachineConfig {
                 })
                 .collect(),
             tasks: Vec::new(),
+            drl: DrlConfig::default(),
+            modbus: ModbusConfig::default(),
         }
     }
 }
@@ -302,8 +371,25 @@ impl MachineConfig {
                 task.program = base.join(&task.program);
             }
         }
+        for dir in [&mut config.drl.projects, &mut config.drl.export].into_iter().flatten() {
+            if dir.is_relative() {
+                *dir = base.join(&*dir);
+            }
+        }
         config.validate()?;
         Ok(config)
+    }
+
+    /// Adds the DRL project's task slot (`luamotion serve`).
+    pub fn with_drl_task(mut self) -> Result<Self, ConfigError> {
+        if self.tasks.iter().any(|t| t.id == self.drl.task) {
+            return Err(invalid(
+                "drl.task",
+                format!("task {} runs the DRL project; no [[tasks]] entry may use it", self.drl.task),
+            ));
+        }
+        self.tasks.push(self.drl.task_config());
+        Ok(self)
     }
 
     pub fn period_ns(&self) -> u64 {
@@ -347,6 +433,16 @@ impl MachineConfig {
             if !task.program.is_file() {
                 return Err(invalid(format!("{key}.program"), format!("{} is not a file", task.program.display())));
             }
+        }
+        let drl = &self.drl;
+        if drl.task as usize >= MAX_TASKS {
+            return Err(invalid("drl.task", format!("task ids are 0..63, not {}", drl.task)));
+        }
+        if drl.watchdog_ms == 0 || !(1..=4096).contains(&drl.memory_limit_mib) {
+            return Err(invalid("drl", "watchdog_ms must be at least 1 ms and memory_limit_mib 1..4096"));
+        }
+        if !(1..=247).contains(&self.modbus.station) {
+            return Err(invalid("modbus.station", "Modbus station numbers are 1..247 (DXMC parameter 0-0)"));
         }
         Ok(())
     }

@@ -9,6 +9,7 @@ use std::time::Duration;
 use ipc::{CoreEndpoint, Namespace};
 
 use crate::config::MachineConfig;
+use crate::console::ConsoleInbox;
 use crate::cycle::{self, CycleStats, Machine, RtControl};
 use crate::ecat::Network;
 use crate::motion::Kernel;
@@ -45,6 +46,8 @@ pub struct RunOptions {
     pub trace: Option<PathBuf>,
     /// Set by the caller to shut the controller down (the soak test ends its run so).
     pub stop: Option<Arc<AtomicBool>>,
+    /// The RT thread's end of a console (`console::channel`): the Modbus server's orders.
+    pub console: Option<ConsoleInbox>,
 }
 
 pub struct RunReport {
@@ -87,6 +90,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     let (ready_tx, ready_rx) = mpsc::channel();
     let rt = {
         let (ns, control, rt_config) = (options.ns.clone(), control.clone(), config.rt.clone());
+        let console = options.console;
         std::thread::Builder::new()
             .name("rt-cycle".into())
             .spawn(move || {
@@ -100,7 +104,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                     }
                 };
                 let _ = ready_tx.send(Ok(granted));
-                Some(cycle::run(machine, endpoint, control, granted, trace))
+                Some(cycle::run(machine, endpoint, control, granted, trace, console))
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };

@@ -16,9 +16,10 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use hdrhistogram::Histogram;
 use ipc::clock::monotonic_ns;
-use ipc::messages::Snapshot;
+use ipc::messages::{MAX_TASKS, Snapshot};
 use ipc::{CoreEndpoint, CoreIpcStats};
 
+use crate::console::{ConsoleInbox, ConsoleOrder, ControllerState};
 use crate::dispatch;
 use crate::ecat::Network;
 use crate::io::ControllerIo;
@@ -43,6 +44,10 @@ pub struct Machine {
     pub period_ns: u64,
     /// The cycle being run.
     pub cycle: u64,
+    /// DXMC 3.6: motion commands only in Run or Diagnosis.
+    pub state: ControllerState,
+    /// Each task's run speed, % (DXMC A.3, 0x6B03; 100 but for a DRL project).
+    pub run_speed: [u32; MAX_TASKS],
 }
 
 impl Machine {
@@ -55,7 +60,40 @@ impl Machine {
             forces: PdoForces::default(),
             period_ns,
             cycle: 0,
+            state: ControllerState::Run,
+            run_speed: [100; MAX_TASKS],
         }
+    }
+
+    /// A task's run speed as a factor.
+    pub fn run_speed(&self, task: u8) -> f64 {
+        self.run_speed[task as usize] as f64 / 100.0
+    }
+
+    /// DXMC 3.6, 0x6A81: a switch needs the EtherCAT network in Op, else the controller
+    /// is in Fail. Leaving Run or Diagnosis stops every axis as `StopAll` does.
+    pub fn switch_state(&mut self, target: ControllerState) {
+        let next = if self.network.state() == crate::ecat::AlState::Op { target } else { ControllerState::Fail };
+        if self.state.allows_motion() && !next.allows_motion() {
+            self.kernel.stop_all();
+        }
+        self.state = next;
+    }
+
+    fn carry_out(&mut self, order: ConsoleOrder) {
+        let Machine { tasks, kernel, cycle, .. } = self;
+        let result = match order {
+            ConsoleOrder::StartTask(t) => tasks.start(t as i64, crate::tasks::Entry::TOP_LEVEL, *cycle).map(|_| ()),
+            ConsoleOrder::StopTask(t) => {
+                tasks.stop(t as i64, *cycle, &mut |t, reaction| kernel.react(t, reaction)).map(|_| ())
+            }
+            ConsoleOrder::SwitchState(target) => {
+                self.switch_state(target);
+                Ok(())
+            }
+        };
+        // The console watches the tasks' states in the snapshot; a refusal changes none.
+        let _ = result;
     }
 
     /// HMPL 2.9, 9.1: every task stopped, every axis disabled.
@@ -141,6 +179,7 @@ pub struct CycleWork {
     /// Time spent exchanging the frame with the simulated drives, ns.
     simulation_ns: u64,
     trace: Option<TraceSender>,
+    console: Option<ConsoleInbox>,
 }
 
 impl CycleWork {
@@ -148,6 +187,10 @@ impl CycleWork {
         let mut snapshot = Snapshot { period_ns: machine.period_ns, ..Snapshot::default() };
         master::describe_slaves(&machine.network, &mut snapshot);
         snapshot.system_error = machine.network.start_error().is_some() as u32;
+        let mut machine = machine;
+        if machine.network.start_error().is_some() {
+            machine.state = ControllerState::Fail;
+        }
         CycleWork {
             machine,
             endpoint,
@@ -158,7 +201,14 @@ impl CycleWork {
             previous_execution_ns: 0,
             simulation_ns: 0,
             trace: None,
+            console: None,
         }
+    }
+
+    /// Takes the console's orders (the Modbus server's DRL and state registers).
+    pub fn with_console(mut self, console: Option<ConsoleInbox>) -> Self {
+        self.console = console;
+        self
     }
 
     /// Records every cycle into `trace`.
@@ -180,6 +230,7 @@ impl CycleWork {
         let exchange_start = monotonic_ns();
         self.machine.network.exchange(period as f64 * 1e-9);
         self.simulation_ns += monotonic_ns() - exchange_start;
+        self.follow_run_speeds();
         let machine = &mut self.machine;
         self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |task, request, reply| {
             dispatch::execute(machine, task, request, reply)
@@ -189,6 +240,11 @@ impl CycleWork {
             let Machine { tasks, kernel, .. } = &mut self.machine;
             let (table, shared) = (self.endpoint.table(), self.endpoint.shared());
             tasks.step(cycle, table, shared, deferred, &mut |t, reaction| kernel.react(t, reaction));
+        }
+        if let Some(console) = &self.console {
+            for order in console.drain() {
+                self.machine.carry_out(order);
+            }
         }
         if self.machine.io.emo_edge() {
             self.machine.emergency_stop();
@@ -202,6 +258,7 @@ impl CycleWork {
         self.snapshot.cycle = cycle;
         self.snapshot.time_in_ms = cycle * period / 1_000_000;
         self.snapshot.overruns = self.overruns;
+        self.snapshot.controller_state = self.machine.state as u32;
         self.snapshot.gpio = self.machine.io.snapshot();
         master::update_slaves(&self.machine.network, &mut self.snapshot);
         self.machine.kernel.fill(&mut self.snapshot);
@@ -214,6 +271,21 @@ impl CycleWork {
     }
 }
 
+impl CycleWork {
+    /// The run speed each task's slot asks for (a DRL project's 0x6B03): one relaxed load
+    /// per task, and the axes a task commands follow a change at once.
+    fn follow_run_speeds(&mut self) {
+        let table = self.endpoint.table();
+        for (t, slot) in table.slots.iter().enumerate() {
+            let pct = slot.debug.speed_pct();
+            if pct != self.machine.run_speed[t] {
+                self.machine.run_speed[t] = pct;
+                self.machine.kernel.set_run_speed(t as u8, pct as f64 / 100.0);
+            }
+        }
+    }
+}
+
 /// Runs cycles until a shutdown is requested and the axes are disabled.
 pub fn run(
     machine: Machine,
@@ -221,9 +293,10 @@ pub fn run(
     control: Arc<RtControl>,
     granted: Granted,
     trace: Option<TraceSender>,
+    console: Option<ConsoleInbox>,
 ) -> CycleStats {
     let period = machine.period_ns;
-    let mut work = CycleWork::new(machine, endpoint).with_trace(trace);
+    let mut work = CycleWork::new(machine, endpoint).with_trace(trace).with_console(console);
     let mut stats = CycleStats::new(granted);
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();

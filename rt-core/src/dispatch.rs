@@ -155,6 +155,9 @@ fn may_command(m: &mut Machine, caller: u8, a: i64) -> Result<u8, Failure> {
     if axis.is_emergency_stopped() {
         return Err(SystemError::EmergencyStop.into());
     }
+    if !m.state.allows_motion() {
+        return Err(Failure::Alarm(m.tasks.axis_alarm(caller, id, AlarmEvent::WrongMode, cycle)));
+    }
     if axis.check_claim(caller, cycle).is_err() {
         return Err(Failure::Alarm(m.tasks.axis_alarm(caller, id, AlarmEvent::CommandBufferBusy, cycle)));
     }
@@ -169,8 +172,9 @@ fn run(m: &mut Machine, caller: u8, command: Command, r: &Request, reply: &mut R
     let outcome = run_command(m, caller, command, r, reply);
     if let (Some(axis), Ok(_)) = (moved, &outcome) {
         let cycle = m.cycle;
+        let run_speed = m.run_speed(caller);
         if let Ok(axis) = m.kernel.axis_mut(axis as i64) {
-            axis.claim(caller, cycle);
+            axis.claim(caller, cycle, run_speed);
         }
     }
     outcome

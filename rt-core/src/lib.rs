@@ -4,6 +4,7 @@
 
 pub mod cia402;
 pub mod config;
+pub mod console;
 pub mod controller;
 pub mod cycle;
 pub mod dispatch;

@@ -87,8 +87,10 @@ impl Supervisor {
     ) -> Result<Self, ipc::IpcError> {
         let table = Region::<TaskTable>::open(&ns, "tasks")?;
         let mut configs = vec![None; MAX_TASKS];
-        for task in tasks {
+        for task in tasks.iter().filter(|t| !t.program.as_os_str().is_empty()) {
             table.slots[task.id as usize].set_program(&task.program.display().to_string());
+        }
+        for task in tasks {
             configs[task.id as usize] = Some(task.clone());
         }
         let node = services::node(&ns, "luamotion-supervisor")?;
@@ -140,10 +142,15 @@ impl Supervisor {
 
     fn start(&mut self, id: u8, entry: Entry) {
         let config = self.configs[id as usize].clone().filter(|_| !self.shutting_down);
-        let Some(task) = config else {
+        let Some(mut task) = config else {
             self.link.report(Report::SpawnFailed { task: id });
             return;
         };
+        // A slot without a program in the machine file (the DRL project's) runs what the
+        // console wrote into the task table.
+        if task.program.as_os_str().is_empty() {
+            task.program = PathBuf::from(self.table.slots[id as usize].program());
+        }
         match self.spawn(&task, entry) {
             Ok(pid) => self.link.report(Report::Spawned { task: id, pid }),
             Err(e) => {

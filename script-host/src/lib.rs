@@ -1,11 +1,14 @@
 //! A script process: one user program in one sandboxed Lua VM, talking to its controller.
 //!
 //! Every API call advances the task's heartbeat (see `bindings`), so that the controller's
-//! watchdog can tell a program stuck in Lua from a waiting one; the VM's instruction hook
-//! records the line being run, for the watchdog's report.
+//! watchdog can tell a program stuck in Lua from a waiting one; the VM's hook (`debugger`)
+//! records the line being run, for the watchdog's report, and carries out the console's
+//! program control (DXMC manual A.3).
 
 pub mod bindings;
+pub mod debugger;
 pub mod printf;
+pub mod require;
 pub mod sandbox;
 pub mod user_table;
 
@@ -16,12 +19,9 @@ use api::SystemError;
 use ipc::shm::Region;
 use ipc::task_table::{EndCode, RunState, TaskSlot, TaskTable};
 use ipc::{IpcError, Namespace, TaskEndpoint};
-use mlua::{HookTriggers, VmState};
 
 use bindings::Host;
-
-/// VM instructions between two looks at the line being run: a few microseconds of Lua.
-const LINE_INSTRUCTIONS: u32 = 1000;
+use debugger::{Debugger, SharedTable};
 
 pub struct ScriptArgs {
     pub ns: Namespace,
@@ -80,19 +80,18 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_system_variables(&lua, host).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_print(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
+    require::install(&lua, &args.program).map_err(|e| ScriptError::lua(e.to_string()))?;
 
     let name = args.program.display().to_string();
-    let hook_table = table.clone();
-    lua.set_hook(HookTriggers::new().every_nth_instruction(LINE_INSTRUCTIONS), move |_, debug| {
-        if let Some(line) = debug.current_line() {
-            hook_table.slots[task].set_line(line as u32);
-        }
-        Ok(VmState::Continue)
-    })
-    .map_err(|e| ScriptError::lua(e.to_string()))?;
+    let controller_pid = args.controller_pid;
+    let debugger =
+        Debugger::new(table.clone() as SharedTable, task, chunk_name(&name), move || controller_alive(controller_pid));
+    debugger.install(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
     let slot = &table.slots[task];
     let result = start(&lua, &source, &name, args.entry.as_deref(), slot)
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
+    // Before Finished: a console waiting for a step sees it carried out when the program ends.
+    debugger.finish();
     if let Err(e) = &result
         && slot.end_code() == 0
     {
@@ -103,11 +102,24 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     result
 }
 
+/// Whether the controller process still exists (the same check as `TaskEndpoint`'s, which
+/// a stopped program makes without borrowing the bindings' endpoint).
+fn controller_alive(pid: u32) -> bool {
+    // SAFETY: signal 0 only checks that the process exists.
+    unsafe { libc::kill(pid as libc::pid_t, 0) == 0 }
+}
+
+/// The program file's chunk name: Lua's messages give `<name>:<line>`, and the debugger
+/// stops in this chunk only.
+fn chunk_name(name: &str) -> String {
+    format!("@{name}")
+}
+
 /// HMPL 16.2/16.3: a program runs from its top level; with an entry, its top level runs
 /// first (declarations) and then the named function. The controller hears the task has
 /// started once the entry is known to exist.
 fn start(lua: &mlua::Lua, source: &str, name: &str, entry: Option<&str>, slot: &TaskSlot) -> mlua::Result<()> {
-    let chunk = lua.load(source).set_name(format!("@{name}")).into_function()?;
+    let chunk = lua.load(source).set_name(chunk_name(name)).into_function()?;
     let Some(entry) = entry else {
         slot.mark_started();
         return chunk.call(());

@@ -1,5 +1,7 @@
 //! The Lua VM a user program runs in: Lua 5.4 with base, table, string, math, coroutine
-//! and utf8 only (no io, os, package, debug), text chunks only, and a memory limit.
+//! and utf8 only (no io, os, package, debug), text chunks only, and a memory limit. The
+//! script process adds a `require` that reads modules from the program's own folder only
+//! (`crate::require`).
 
 use mlua::{Function, Lua, LuaOptions, MultiValue, StdLib, Value};
 

@@ -193,6 +193,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<(Merged,
         tasks: (0..args.scripts as u8)
             .map(|id| TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(id, exe.clone()) })
             .collect(),
+        ..MachineConfig::default()
     };
     config.validate()?;
     let dir = tempfile::tempdir()?;
@@ -204,6 +205,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<(Merged,
         data_dir: dir.path().to_path_buf(),
         trace: None,
         stop: Some(stop.clone()),
+        console: None,
     };
     let controller = std::thread::spawn(move || rt_core::run(config, options));
     let namespace = Namespace::new(ns)?;

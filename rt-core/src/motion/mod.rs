@@ -164,6 +164,13 @@ impl Kernel {
         }
     }
 
+    /// DXMC A.3, 0x6B03: task `task`'s run speed changed; its motion follows.
+    pub fn set_run_speed(&mut self, task: u8, factor: f64) {
+        for axis in self.axes.iter_mut().filter(|a| a.commander() == Some(task)) {
+            axis.set_run_speed(factor);
+        }
+    }
+
     /// HMPL 2.8: every axis stops with its kill deceleration and stays enabled.
     pub fn stop_all(&mut self) {
         for axis in &mut self.axes {

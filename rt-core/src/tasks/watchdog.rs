@@ -34,7 +34,7 @@ impl Watchdog {
             // Woken at the end of its wake cycle: from then on it must move.
             RunState::Waiting => slot.wait_request().cycle >= now,
             RunState::InCall => deferred,
-            RunState::Blocked | RunState::Idle | RunState::Finished => true,
+            RunState::Blocked | RunState::Paused | RunState::Idle | RunState::Finished => true,
         };
         if beat != self.last_beat || waiting_on_others {
             self.last_beat = beat;

@@ -276,6 +276,19 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 error_here(lua, format!("GetTableValue: index {index} is outside 0..511999 (0x138F)"))
             })
         }),
+        Local::ReadModbusWord => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let address = int_arg(lua, spec, &args, 0)?;
+            host.shared.user_word(address).ok_or_else(|| {
+                error_here(lua, format!("ReadModbusWord: 0x{address:X} is outside DV 0x0000..0x2FFF and DH 0x8000..0xAFFF"))
+            })
+        }),
+        Local::WriteModbusWord => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (address, value) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            let stored = u16::try_from(value).is_ok_and(|v| host.shared.set_user_word(address, v));
+            Ok(if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) })
+        }),
         Local::SaveUserTable | Local::LoadUserTable => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);

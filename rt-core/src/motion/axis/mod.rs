@@ -87,6 +87,8 @@ pub struct Axis {
     last_command: Option<(u64, u8)>,
     /// Stopped by an E-stop: motion is refused with 0x0064 until the axis is enabled again.
     emergency_stopped: bool,
+    /// The run speed of the commander's program (DXMC A.3, 0x6B03), as a factor.
+    run_speed: f64,
 }
 
 impl Axis {
@@ -129,6 +131,7 @@ impl Axis {
             commander: None,
             last_command: None,
             emergency_stopped: false,
+            run_speed: 1.0,
         };
         axis.generator.reset(0.0);
         axis
@@ -238,10 +241,21 @@ impl Axis {
         }
     }
 
-    /// `task` commanded motion in `cycle`: it owns the axis' motion from now on.
-    pub fn claim(&mut self, task: u8, cycle: u64) {
+    /// `task`, whose program runs at `run_speed` (a factor), commanded motion in `cycle`:
+    /// it owns the axis' motion from now on.
+    pub fn claim(&mut self, task: u8, cycle: u64, run_speed: f64) {
         self.last_command = Some((cycle, task));
         self.commander = Some(task);
+        self.set_run_speed(run_speed);
+    }
+
+    /// DXMC A.3, 0x6B03: the commanding program's run speed scales the velocity of its
+    /// motion, on top of `SetVelScale`, the move under way included.
+    pub fn set_run_speed(&mut self, factor: f64) {
+        if factor != self.run_speed {
+            self.run_speed = factor;
+            self.generator.set_scale(self.settings.vel_scale / 100.0 * factor);
+        }
     }
 
     /// The drive's quick stop (CiA 402); the axis ends disabled.
@@ -538,7 +552,7 @@ impl Axis {
             return Err(self.fail(AxisError::CmdInvalidVelScale));
         }
         self.settings.vel_scale = percent;
-        self.generator.set_scale(percent / 100.0);
+        self.generator.set_scale(percent / 100.0 * self.run_speed);
         Ok(())
     }
 

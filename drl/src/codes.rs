@@ -1,0 +1,205 @@
+//! The codes of the DRL registers, DXMC manual appendix A.3 ("程序流程"): execution state
+//! (0x6B01), control commands (0x6B05) and status (0x6B06).
+
+/// DXMC A.3, register 0x6B01: the current DRL execution state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u16)]
+pub enum ExecState {
+    Close = 0,
+    Running = 1,
+    BreakPoint = 2,
+    Pause = 3,
+    /// Opened, waiting for a run command.
+    PreRun = 4,
+}
+
+impl ExecState {
+    /// The program runs (or is stopped inside its run by the debugger).
+    pub fn is_running(self) -> bool {
+        matches!(self, ExecState::Running | ExecState::BreakPoint | ExecState::Pause)
+    }
+}
+
+/// DXMC A.3, register 0x6B05: the DRL control commands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    Open,
+    ReleaseRun,
+    Stop,
+    Pause,
+    OpenAndReleaseRun,
+    StepInto,
+    StepOver,
+    StepOut,
+    BlockRun,
+    OpenAndBlockRun,
+    DebugRun,
+    OpenAndDebugRun,
+    /// FTP area -> USB.
+    ExportProject,
+    /// USB -> FTP area.
+    ImportProject,
+    SetBp,
+    AddBp,
+    DeleteBp,
+}
+
+impl Control {
+    /// DXMC A.3: 1, 2, 3, 4, 6, 11, 12, 13, 21, 22, 44, 45, 31, 32, 41, 42, 43; any other
+    /// code is alarm 0x7000.
+    pub fn from_code(code: u16) -> Option<Self> {
+        Some(match code {
+            1 => Control::Open,
+            2 => Control::ReleaseRun,
+            3 => Control::Stop,
+            4 => Control::Pause,
+            6 => Control::OpenAndReleaseRun,
+            11 => Control::StepInto,
+            12 => Control::StepOver,
+            13 => Control::StepOut,
+            21 => Control::BlockRun,
+            22 => Control::OpenAndBlockRun,
+            44 => Control::DebugRun,
+            45 => Control::OpenAndDebugRun,
+            31 => Control::ExportProject,
+            32 => Control::ImportProject,
+            41 => Control::SetBp,
+            42 => Control::AddBp,
+            43 => Control::DeleteBp,
+            _ => return None,
+        })
+    }
+}
+
+/// DXMC A.3, register 0x6B06: the DRL status display. Each command family has a
+/// "cannot", an "in progress" and a "done" code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u16)]
+pub enum Status {
+    Busy = 0,
+    Checking = 1,
+    Failed = 2,
+    CannotOpen = 10,
+    Opening = 11,
+    Opened = 12,
+    CannotRun = 20,
+    Running = 21,
+    CannotStop = 30,
+    Stopping = 31,
+    Stopped = 32,
+    CannotPause = 40,
+    Paused = 41,
+    CannotStep = 50,
+    Stepped = 51,
+    PasswordError = 60,
+    FtpIdError = 61,
+    UsbMountError = 62,
+    Exporting = 63,
+    UsbUnmountError = 64,
+    ExportDone = 65,
+    UsbIdChecking = 66,
+    UsbIdError = 67,
+    Importing = 68,
+    ImportDone = 69,
+    CannotSetBp = 70,
+    BpSetting = 71,
+    BpSet = 72,
+    CannotAddBp = 73,
+    BpAdded = 74,
+    CannotDeleteBp = 75,
+    BpDeleted = 76,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// DXMC A.3, 0x6B01 (testable fact 17).
+    #[test]
+    fn execution_states() {
+        let rows = [
+            (ExecState::Close, 0),
+            (ExecState::Running, 1),
+            (ExecState::BreakPoint, 2),
+            (ExecState::Pause, 3),
+            (ExecState::PreRun, 4),
+        ];
+        for (state, code) in rows {
+            assert_eq!(state as u16, code, "{state:?}");
+        }
+    }
+
+    /// DXMC A.3, 0x6B05 (testable fact 18); codes not in the table are alarm 0x7000 (fact 22).
+    #[test]
+    fn control_codes() {
+        let rows = [
+            (1, Control::Open),
+            (2, Control::ReleaseRun),
+            (3, Control::Stop),
+            (4, Control::Pause),
+            (6, Control::OpenAndReleaseRun),
+            (11, Control::StepInto),
+            (12, Control::StepOver),
+            (13, Control::StepOut),
+            (21, Control::BlockRun),
+            (22, Control::OpenAndBlockRun),
+            (44, Control::DebugRun),
+            (45, Control::OpenAndDebugRun),
+            (31, Control::ExportProject),
+            (32, Control::ImportProject),
+            (41, Control::SetBp),
+            (42, Control::AddBp),
+            (43, Control::DeleteBp),
+        ];
+        for (code, control) in rows {
+            assert_eq!(Control::from_code(code), Some(control), "code {code}");
+        }
+        let valid: Vec<u16> = rows.iter().map(|r| r.0).collect();
+        for code in (0..=100).filter(|c| !valid.contains(c)) {
+            assert_eq!(Control::from_code(code), None, "code {code} is not a DRL control command");
+        }
+    }
+
+    /// DXMC A.3, 0x6B06 (testable fact 19).
+    #[test]
+    fn status_codes() {
+        use Status::*;
+        let rows = [
+            (Busy, 0),
+            (Checking, 1),
+            (Failed, 2),
+            (CannotOpen, 10),
+            (Opening, 11),
+            (Opened, 12),
+            (CannotRun, 20),
+            (Running, 21),
+            (CannotStop, 30),
+            (Stopping, 31),
+            (Stopped, 32),
+            (CannotPause, 40),
+            (Paused, 41),
+            (CannotStep, 50),
+            (Stepped, 51),
+            (PasswordError, 60),
+            (FtpIdError, 61),
+            (UsbMountError, 62),
+            (Exporting, 63),
+            (UsbUnmountError, 64),
+            (ExportDone, 65),
+            (UsbIdChecking, 66),
+            (UsbIdError, 67),
+            (Importing, 68),
+            (ImportDone, 69),
+            (CannotSetBp, 70),
+            (BpSetting, 71),
+            (BpSet, 72),
+            (CannotAddBp, 73),
+            (BpAdded, 74),
+            (CannotDeleteBp, 75),
+            (BpDeleted, 76),
+        ];
+        for (status, code) in rows {
+            assert_eq!(status as u16, code, "{status:?}");
+        }
+    }
+}

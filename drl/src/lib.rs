@@ -1,0 +1,84 @@
+//! DRL projects and their program control over Modbus TCP, as on a Delta DXMC (manual
+//! 8.2, 8.3 and appendix A): the register map (`registers.rs`) and its codes
+//! (`codes.rs`), the projects on disk (`projects.rs`), the program control state machine
+//! (`program.rs`), the console thread that owns the controller's side (`console.rs`), DH
+//! kept across restarts (`retentive.rs`) and the Modbus TCP server and client
+//! (`modbus.rs`).
+
+pub mod codes;
+pub mod console;
+pub mod modbus;
+pub mod program;
+pub mod projects;
+pub mod registers;
+pub mod retentive;
+
+use std::net::SocketAddr;
+use std::sync::mpsc;
+use std::thread::JoinHandle;
+
+pub use console::Setup;
+
+/// Requests queued for the console before clients are told the device is busy.
+const QUEUE: usize = 64;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ServerError {
+    #[error("cannot listen on {0}: {1}")]
+    Bind(String, std::io::Error),
+    #[error("the DRL console cannot reach the controller: {0}")]
+    Ipc(#[from] ipc::IpcError),
+    #[error("cannot start the Modbus server: {0}")]
+    Runtime(std::io::Error),
+}
+
+/// A running Modbus server and its console thread; both end when it is dropped.
+pub struct Server {
+    pub address: SocketAddr,
+    runtime: Option<tokio::runtime::Runtime>,
+    console: Option<JoinHandle<()>>,
+}
+
+impl Server {
+    /// Starts the console for a controller that is up, then listens on `bind:port`
+    /// (port 0: a free port, see `address`).
+    pub fn start(setup: Setup, bind: &str, port: u16) -> Result<Self, ServerError> {
+        let (requests, inbox) = mpsc::sync_channel(QUEUE);
+        let (ready_tx, ready_rx) = mpsc::channel();
+        let console = std::thread::Builder::new()
+            .name("drl-console".into())
+            .spawn(move || console::run(setup, inbox, ready_tx))
+            .map_err(ServerError::Runtime)?;
+        ready_rx.recv().map_err(|_| ServerError::Runtime(std::io::Error::other("the console thread died")))??;
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .thread_name("modbus")
+            .enable_all()
+            .build()
+            .map_err(ServerError::Runtime)?;
+        let listen = format!("{bind}:{port}");
+        let listener = runtime
+            .block_on(tokio::net::TcpListener::bind(&listen))
+            .map_err(|e| ServerError::Bind(listen.clone(), e))?;
+        let address = listener.local_addr().map_err(|e| ServerError::Bind(listen, e))?;
+        runtime.spawn(async move {
+            if let Err(e) = modbus::serve(listener, requests).await {
+                tracing::error!("the Modbus server stopped: {e}");
+            }
+        });
+        tracing::info!(%address, "Modbus TCP server up");
+        Ok(Server { address, runtime: Some(runtime), console: Some(console) })
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        // The runtime's end drops the last request sender: the console saves DH and ends.
+        if let Some(runtime) = self.runtime.take() {
+            runtime.shutdown_timeout(std::time::Duration::from_millis(200));
+        }
+        if let Some(console) = self.console.take() {
+            let _ = console.join();
+        }
+    }
+}

@@ -1,0 +1,512 @@
+//! DRL program control, DXMC manual appendix A.3: the state machine behind registers
+//! 0x6B00..0x6B0E. A command is answered at once with its "in progress" or "cannot"
+//! status; `poll` settles it to "done" as the task and its debugger move on, as a Modbus
+//! poller would observe on a DXMC.
+//!
+//! The manual names the commands but not every transition; the choices (Stop closes the
+//! project, Block Run stops before the first line, ...) are in docs/decisions.md.
+
+use std::path::{Path, PathBuf};
+
+use ipc::debug::{DebugBlock, DebugCommand, Halt, RunMode};
+use ipc::messages::TaskState;
+
+use crate::codes::{Control, ExecState, Status};
+use crate::projects::{MAX_ID, Projects};
+use crate::registers::BREAKPOINT_REGISTERS;
+
+/// What program control needs of the controller: the DRL task slot and its orders.
+pub trait Host {
+    /// The DRL task's state as the core publishes it.
+    fn task_state(&self) -> TaskState;
+    fn debug(&self) -> &DebugBlock;
+    /// Writes the program the next start runs into the task's slot.
+    fn set_program(&self, path: &Path);
+    /// Orders the start or the stop of the DRL task; false when the core is too busy.
+    fn start(&self) -> bool;
+    fn stop(&self) -> bool;
+    /// Wakes the script after a debugger command.
+    fn wake(&self);
+}
+
+/// What `control` waits for before the status settles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pending {
+    /// The task to run (status RUNNING).
+    Start,
+    /// The task to end (status STOPPED).
+    Stop,
+    /// A debugger command to be carried out, then this status.
+    Debug { seq: u32, done: Status },
+}
+
+#[derive(Debug)]
+pub struct ProgramControl {
+    projects: Projects,
+    selected: u16,
+    current: u16,
+    state: ExecState,
+    status: Status,
+    speed_pct: u16,
+    control: u16,
+    breakpoint_registers: [u16; BREAKPOINT_REGISTERS],
+    /// Set BP's lines, given to the debugger when the program starts.
+    breakpoints: Vec<u32>,
+    opened: Option<PathBuf>,
+    pending: Option<Pending>,
+}
+
+impl ProgramControl {
+    pub fn new(projects: Projects) -> Self {
+        ProgramControl {
+            projects,
+            selected: 0,
+            current: 0,
+            state: ExecState::Close,
+            status: Status::Stopped,
+            speed_pct: 100,
+            control: 0,
+            breakpoint_registers: [0; BREAKPOINT_REGISTERS],
+            breakpoints: Vec::new(),
+            opened: None,
+            pending: None,
+        }
+    }
+
+    pub fn current_id(&self) -> u16 {
+        self.current
+    }
+
+    pub fn state(&self) -> ExecState {
+        self.state
+    }
+
+    pub fn status(&self) -> Status {
+        self.status
+    }
+
+    pub fn selected(&self) -> u16 {
+        self.selected
+    }
+
+    pub fn speed_pct(&self) -> u16 {
+        self.speed_pct
+    }
+
+    pub fn last_control(&self) -> u16 {
+        self.control
+    }
+
+    pub fn breakpoint_register(&self, i: usize) -> u16 {
+        self.breakpoint_registers[i]
+    }
+
+    pub fn set_breakpoint_register(&mut self, i: usize, line: u16) {
+        self.breakpoint_registers[i] = line;
+    }
+
+    /// 0x6B04: false for an id over 9999 (testable fact 16).
+    pub fn select(&mut self, id: u16) -> bool {
+        let ok = id <= MAX_ID;
+        if ok {
+            self.selected = id;
+        }
+        ok
+    }
+
+    /// 0x6B03, 1..100 %: the project's motion follows at once.
+    pub fn set_speed(&mut self, pct: u16, host: &dyn Host) -> bool {
+        let ok = (1..=100).contains(&pct);
+        if ok {
+            self.speed_pct = pct;
+            host.debug().set_speed_pct(pct as u32);
+        }
+        ok
+    }
+
+    /// 0x6B05. `None` for a code the manual does not list: alarm 0x7000, nothing changes.
+    pub fn control(&mut self, code: u16, host: &dyn Host) -> Option<Status> {
+        let command = Control::from_code(code)?;
+        self.control = code;
+        self.status = self.carry_out(command, host);
+        Some(self.status)
+    }
+
+    fn carry_out(&mut self, command: Control, host: &dyn Host) -> Status {
+        match command {
+            Control::Open => self.open(host),
+            Control::ReleaseRun => self.run(RunMode::Release, host),
+            Control::DebugRun => self.run(RunMode::Debug, host),
+            Control::BlockRun => self.run(RunMode::Block, host),
+            Control::OpenAndReleaseRun => self.open_and_run(RunMode::Release, host),
+            Control::OpenAndDebugRun => self.open_and_run(RunMode::Debug, host),
+            Control::OpenAndBlockRun => self.open_and_run(RunMode::Block, host),
+            Control::Stop => self.stop(host),
+            Control::Pause => self.debug_command(DebugCommand::Pause, ExecState::Running, Status::Paused, host),
+            Control::StepInto => self.step(DebugCommand::StepInto, host),
+            Control::StepOver => self.step(DebugCommand::StepOver, host),
+            Control::StepOut => self.step(DebugCommand::StepOut, host),
+            Control::SetBp => self.set_breakpoints(),
+            Control::AddBp => self.add_breakpoint(host),
+            Control::DeleteBp => self.delete_breakpoint(host),
+            Control::ExportProject => self.export(),
+            Control::ImportProject => self.import(),
+        }
+    }
+
+    fn open(&mut self, host: &dyn Host) -> Status {
+        if self.state.is_running() || self.pending.is_some() {
+            return Status::CannotOpen;
+        }
+        match self.projects.check(self.selected) {
+            Ok(path) => {
+                host.set_program(&path);
+                self.opened = Some(path);
+                self.current = self.selected;
+                self.state = ExecState::PreRun;
+                Status::Opened
+            }
+            Err(e) => {
+                tracing::warn!("DRL open: {e}");
+                Status::CannotOpen
+            }
+        }
+    }
+
+    fn open_and_run(&mut self, mode: RunMode, host: &dyn Host) -> Status {
+        match self.open(host) {
+            Status::Opened => self.run(mode, host),
+            refused => refused,
+        }
+    }
+
+    /// Release Run, Debug Run, Block Run: from Pre-Run the program starts; from a stop
+    /// it runs on (in the new mode); while running, the mode changes.
+    fn run(&mut self, mode: RunMode, host: &dyn Host) -> Status {
+        match self.state {
+            ExecState::PreRun if self.pending.is_none() => {
+                let lines: Vec<u32> = if mode == RunMode::Release { Vec::new() } else { self.breakpoints.clone() };
+                host.debug().prepare(mode, &lines);
+                host.debug().set_speed_pct(self.speed_pct as u32);
+                if !host.start() {
+                    return Status::CannotRun;
+                }
+                self.pending = Some(Pending::Start);
+                self.state = ExecState::Running;
+                Status::Busy
+            }
+            ExecState::BreakPoint | ExecState::Pause => {
+                host.debug().set_mode(mode);
+                self.debug_command(DebugCommand::Continue, self.state, Status::Running, host)
+            }
+            ExecState::Running if self.pending.is_none() => {
+                host.debug().set_mode(mode);
+                Status::Running
+            }
+            _ => Status::CannotRun,
+        }
+    }
+
+    fn stop(&mut self, host: &dyn Host) -> Status {
+        match self.state {
+            ExecState::PreRun => {
+                self.close();
+                Status::Stopped
+            }
+            s if s.is_running() => {
+                if matches!(host.task_state(), TaskState::Stopped | TaskState::Error | TaskState::Empty) {
+                    // Ended already: nothing to stop.
+                    self.close();
+                    return Status::Stopped;
+                }
+                if !host.stop() {
+                    return Status::CannotStop;
+                }
+                self.pending = Some(Pending::Stop);
+                Status::Stopping
+            }
+            _ => Status::CannotStop,
+        }
+    }
+
+    fn step(&mut self, command: DebugCommand, host: &dyn Host) -> Status {
+        let from = self.state;
+        match from {
+            ExecState::BreakPoint | ExecState::Pause => {
+                match self.debug_command(command, from, Status::Stepped, host) {
+                    Status::Busy => Status::Busy,
+                    _ => Status::CannotStep,
+                }
+            }
+            _ => Status::CannotStep,
+        }
+    }
+
+    /// Sends a debugger command when the state is `needed`; the status settles to `done`.
+    fn debug_command(&mut self, command: DebugCommand, needed: ExecState, done: Status, host: &dyn Host) -> Status {
+        let cannot = match done {
+            Status::Paused => Status::CannotPause,
+            Status::Stepped => Status::CannotStep,
+            _ => Status::CannotRun,
+        };
+        if self.state != needed || self.pending.is_some() {
+            return cannot;
+        }
+        let seq = host.debug().send(command);
+        host.wake();
+        self.pending = Some(Pending::Debug { seq, done });
+        if command != DebugCommand::Pause {
+            self.state = ExecState::Running;
+        }
+        Status::Busy
+    }
+
+    /// Set BP: before a run, the lines in 0x6B07..0x6B0E (0 = unused) replace the set.
+    fn set_breakpoints(&mut self) -> Status {
+        if self.state.is_running() {
+            return Status::CannotSetBp;
+        }
+        let lines: Vec<u32> = self.breakpoint_registers.iter().filter(|&&l| l != 0).map(|&l| l as u32).collect();
+        if let Some(path) = &self.opened
+            && let Ok(source) = std::fs::read_to_string(path)
+        {
+            let last = source.lines().count() as u32;
+            if lines.iter().any(|&l| l > last) {
+                return Status::CannotSetBp;
+            }
+        }
+        self.breakpoints = lines;
+        Status::BpSet
+    }
+
+    /// Add BP: one line (0x6B07); while running it reaches the debugger at once.
+    fn add_breakpoint(&mut self, host: &dyn Host) -> Status {
+        let line = self.breakpoint_registers[0] as u32;
+        let added = if self.state.is_running() {
+            host.debug().add_breakpoint(line)
+        } else {
+            let fits = line != 0 && !self.breakpoints.contains(&line) && self.breakpoints.len() < BREAKPOINT_REGISTERS;
+            if fits {
+                self.breakpoints.push(line);
+            }
+            fits
+        };
+        if added { Status::BpAdded } else { Status::CannotAddBp }
+    }
+
+    fn delete_breakpoint(&mut self, host: &dyn Host) -> Status {
+        let line = self.breakpoint_registers[0] as u32;
+        let was_set = self.breakpoints.contains(&line);
+        self.breakpoints.retain(|&l| l != line);
+        let deleted = if self.state.is_running() { host.debug().delete_breakpoint(line) } else { was_set };
+        if deleted { Status::BpDeleted } else { Status::CannotDeleteBp }
+    }
+
+    fn export(&mut self) -> Status {
+        if !self.projects.has_project(self.selected) {
+            return Status::FtpIdError;
+        }
+        match self.projects.export(self.selected) {
+            Ok(()) => Status::ExportDone,
+            Err(e) => {
+                tracing::warn!("DRL export: {e}");
+                Status::UsbMountError
+            }
+        }
+    }
+
+    fn import(&mut self) -> Status {
+        if !self.projects.has_export(self.selected) {
+            return Status::UsbIdError;
+        }
+        if self.state != ExecState::Close && self.current == self.selected {
+            // The project in use is not replaced under the running program.
+            return Status::Failed;
+        }
+        match self.projects.import(self.selected) {
+            Ok(()) => Status::ImportDone,
+            Err(e) => {
+                tracing::warn!("DRL import: {e}");
+                Status::Failed
+            }
+        }
+    }
+
+    fn close(&mut self) {
+        self.state = ExecState::Close;
+        self.opened = None;
+        self.pending = None;
+    }
+
+    /// Follows the task and its debugger: settles pending commands, notices stops and
+    /// the end of the program. Called every few milliseconds.
+    pub fn poll(&mut self, host: &dyn Host) {
+        let task = host.task_state();
+        let alive = matches!(task, TaskState::Starting | TaskState::Running | TaskState::Stopping);
+        match self.pending {
+            Some(Pending::Start) => match task {
+                TaskState::Running => {
+                    self.pending = None;
+                    self.status = Status::Running;
+                }
+                TaskState::Error => {
+                    self.close();
+                    self.status = Status::Failed;
+                }
+                _ => {}
+            },
+            Some(Pending::Stop) if !alive => {
+                self.close();
+                self.status = Status::Stopped;
+            }
+            Some(Pending::Debug { seq, done }) if host.debug().done() == seq || !alive => {
+                self.pending = None;
+                self.status = done;
+            }
+            _ => {}
+        }
+        if self.state.is_running() && self.pending != Some(Pending::Start) && !alive {
+            // The program ended by itself, or failed.
+            let failed = task == TaskState::Error;
+            self.close();
+            self.status = if failed { Status::Failed } else { Status::Stopped };
+            return;
+        }
+        if self.state.is_running() && self.pending.is_none_or(|p| p != Pending::Stop) {
+            self.state = match host.debug().halt() {
+                Halt::BreakPoint => ExecState::BreakPoint,
+                Halt::Pause => ExecState::Pause,
+                Halt::None => ExecState::Running,
+            };
+        }
+    }
+
+    /// 0x6B02: the line of `main.lua` the program is at.
+    pub fn line(&self, host: &dyn Host) -> u16 {
+        if self.state == ExecState::Close { 0 } else { host.debug().main_line().min(u16::MAX as u32) as u16 }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::cell::{Cell, RefCell};
+
+    use super::*;
+
+    /// A DRL slot without a controller: the test plays the core and the script.
+    struct FakeHost {
+        block: Box<DebugBlock>,
+        state: Cell<TaskState>,
+        program: RefCell<Option<PathBuf>>,
+    }
+
+    impl Host for FakeHost {
+        fn task_state(&self) -> TaskState {
+            self.state.get()
+        }
+        fn debug(&self) -> &DebugBlock {
+            &self.block
+        }
+        fn set_program(&self, path: &Path) {
+            *self.program.borrow_mut() = Some(path.to_path_buf());
+        }
+        fn start(&self) -> bool {
+            self.state.set(TaskState::Starting);
+            true
+        }
+        fn stop(&self) -> bool {
+            self.state.set(TaskState::Stopping);
+            true
+        }
+        fn wake(&self) {}
+    }
+
+    fn setup() -> (tempfile::TempDir, ProgramControl, FakeHost) {
+        let dir = tempfile::tempdir().unwrap();
+        let projects = Projects { dir: dir.path().join("p"), export: dir.path().join("usb") };
+        std::fs::create_dir_all(dir.path().join("p/5")).unwrap();
+        std::fs::write(projects.main_lua(5), "local a = 1\nlocal b = 2\nmy_print(a + b)\n").unwrap();
+        let host = FakeHost {
+            // SAFETY: only atomics, valid when zeroed.
+            block: Box::new(unsafe { std::mem::zeroed() }),
+            state: Cell::new(TaskState::Stopped),
+            program: RefCell::new(None),
+        };
+        (dir, ProgramControl::new(projects), host)
+    }
+
+    #[test]
+    fn open_then_run_then_the_program_ends() {
+        let (_dir, mut p, host) = setup();
+        assert!(!p.select(10000), "DRL ids are 0..9999");
+        assert!(p.select(5));
+        assert_eq!(p.control(1, &host), Some(Status::Opened));
+        assert_eq!(p.state(), ExecState::PreRun);
+        assert!(host.program.borrow().as_ref().unwrap().ends_with("5/main.lua"));
+        assert_eq!(p.control(2, &host), Some(Status::Busy));
+        host.state.set(TaskState::Running);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Running, Status::Running));
+        host.state.set(TaskState::Stopped);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Close, Status::Stopped));
+    }
+
+    #[test]
+    fn commands_that_do_not_fit_the_state_are_refused() {
+        let (_dir, mut p, host) = setup();
+        assert_eq!(p.control(2, &host), Some(Status::CannotRun), "nothing opened");
+        assert_eq!(p.control(3, &host), Some(Status::CannotStop));
+        assert_eq!(p.control(4, &host), Some(Status::CannotPause));
+        assert_eq!(p.control(12, &host), Some(Status::CannotStep));
+        p.select(6);
+        assert_eq!(p.control(1, &host), Some(Status::CannotOpen), "no project 6");
+        assert_eq!(p.control(5, &host), None, "code 5: alarm 0x7000");
+        assert_eq!(p.status(), Status::CannotOpen, "an invalid code changes nothing");
+        assert_eq!(p.last_control(), 1);
+    }
+
+    #[test]
+    fn a_breakpoint_stop_a_step_and_stop() {
+        let (_dir, mut p, host) = setup();
+        p.select(5);
+        assert_eq!(p.control(1, &host), Some(Status::Opened));
+        p.set_breakpoint_register(0, 9);
+        assert_eq!(p.control(41, &host), Some(Status::CannotSetBp), "main.lua has 3 lines");
+        p.set_breakpoint_register(0, 2);
+        assert_eq!(p.control(41, &host), Some(Status::BpSet));
+        assert_eq!(p.control(44, &host), Some(Status::Busy));
+        assert_eq!(host.block.mode(), RunMode::Debug);
+        assert_eq!(host.block.breakpoint_lines(), vec![2]);
+        host.state.set(TaskState::Running);
+        host.block.set_main_line(2);
+        host.block.set_halt(Halt::BreakPoint);
+        p.poll(&host);
+        assert_eq!((p.state(), p.line(&host)), (ExecState::BreakPoint, 2));
+        assert_eq!(p.control(12, &host), Some(Status::Busy));
+        let (seq, command) = host.block.pending().unwrap();
+        assert_eq!(command, DebugCommand::StepOver);
+        host.block.set_main_line(3);
+        host.block.set_halt(Halt::Pause);
+        host.block.mark_done(seq);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status(), p.line(&host)), (ExecState::Pause, Status::Stepped, 3));
+        assert_eq!(p.control(41, &host), Some(Status::CannotSetBp), "Set BP only before a run");
+        p.set_breakpoint_register(0, 3);
+        assert_eq!(p.control(42, &host), Some(Status::BpAdded));
+        assert_eq!(p.control(43, &host), Some(Status::BpDeleted));
+        assert_eq!(p.control(43, &host), Some(Status::CannotDeleteBp));
+        assert_eq!(p.control(3, &host), Some(Status::Stopping));
+        host.state.set(TaskState::Stopped);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Close, Status::Stopped));
+    }
+
+    #[test]
+    fn run_speed_is_1_to_100_percent() {
+        let (_dir, mut p, host) = setup();
+        assert!(!p.set_speed(0, &host) && !p.set_speed(101, &host));
+        assert!(p.set_speed(50, &host));
+        assert_eq!(host.block.speed_pct(), 50);
+    }
+}

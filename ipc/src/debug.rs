@@ -1,0 +1,270 @@
+//! The debugger's shared words in a task's slot: the console (the DRL registers of the
+//! Modbus server) writes the mode, the breakpoints, the run speed and commands; the
+//! script's debugger reads them in its hook and reports where the program stopped.
+//! DXMC manual, appendix A.3, registers 0x6B01 to 0x6B05.
+
+use std::sync::atomic::{AtomicU32, Ordering};
+
+/// Breakpoints a program can hold at once: 8 set before a run, more added one at a time.
+pub const MAX_BREAKPOINTS: usize = 16;
+
+/// Why the program is not running Lua, as the script reports it (DXMC A.3, 0x6B01).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Halt {
+    /// Running (or not started).
+    None = 0,
+    /// Stopped on a breakpoint's line.
+    BreakPoint = 2,
+    /// Stopped by Pause, a step, or Block Run's first line.
+    Pause = 3,
+}
+
+/// What the console asks of the debugger (DXMC A.3, 0x6B05 codes 4, 11, 12, 13 and the
+/// resume of 2 and 44).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum DebugCommand {
+    /// Stop at the next line of the main chunk.
+    Pause = 1,
+    /// Run on from a stop (breakpoints honoured in debug mode).
+    Continue = 2,
+    /// Stop at the next line of the main chunk, in whatever function.
+    StepInto = 3,
+    /// Stop at the next line of the main chunk in this function or a caller.
+    StepOver = 4,
+    /// Stop at the next line of the main chunk in a caller.
+    StepOut = 5,
+}
+
+impl DebugCommand {
+    fn from_u32(v: u32) -> Option<Self> {
+        Some(match v {
+            1 => DebugCommand::Pause,
+            2 => DebugCommand::Continue,
+            3 => DebugCommand::StepInto,
+            4 => DebugCommand::StepOver,
+            5 => DebugCommand::StepOut,
+            _ => return None,
+        })
+    }
+}
+
+/// How a program runs (DXMC A.3, 0x6B05 codes 2, 44, 21).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum RunMode {
+    /// Release Run: breakpoints ignored; Pause still works.
+    Release = 0,
+    /// Debug Run: breakpoints honoured.
+    Debug = 1,
+    /// Block Run: Debug Run that stops before the first line of the main chunk.
+    Block = 2,
+}
+
+impl RunMode {
+    fn from_u32(v: u32) -> Self {
+        match v {
+            1 => RunMode::Debug,
+            2 => RunMode::Block,
+            _ => RunMode::Release,
+        }
+    }
+}
+
+/// The debugger's words. Zeroed: release mode, no breakpoints, no command, speed 100 %.
+#[repr(C)]
+pub struct DebugBlock {
+    mode: AtomicU32,
+    /// `(sequence << 8) | DebugCommand`: a new sequence number is a new command.
+    command: AtomicU32,
+    /// The sequence number of the last command the debugger carried out (a step is
+    /// carried out when the program has stopped again, or has ended).
+    done: AtomicU32,
+    /// Bumped by every change of the breakpoints.
+    generation: AtomicU32,
+    /// Line numbers of the main chunk; 0 is a free entry.
+    breakpoints: [AtomicU32; MAX_BREAKPOINTS],
+    halt: AtomicU32,
+    /// The line of the main chunk last run (DXMC A.3, 0x6B02: `main.lua` only).
+    main_line: AtomicU32,
+    /// Run speed in % of the programmed velocity; 0 reads as 100 (DXMC A.3, 0x6B03).
+    speed_pct: AtomicU32,
+}
+
+impl DebugBlock {
+    // The console's side.
+
+    /// Before a start: the mode, the breakpoints, no pending command, not halted.
+    pub fn prepare(&self, mode: RunMode, breakpoints: &[u32]) {
+        self.mode.store(mode as u32, Ordering::Relaxed);
+        for (i, slot) in self.breakpoints.iter().enumerate() {
+            slot.store(breakpoints.get(i).copied().unwrap_or(0), Ordering::Relaxed);
+        }
+        self.halt.store(Halt::None as u32, Ordering::Relaxed);
+        self.main_line.store(0, Ordering::Relaxed);
+        self.done.store(self.command.load(Ordering::Relaxed) >> 8, Ordering::Relaxed);
+        self.generation.fetch_add(1, Ordering::Release);
+    }
+
+    /// Sets the mode of a running program (Debug Run from a Release Run's pause).
+    pub fn set_mode(&self, mode: RunMode) {
+        self.mode.store(mode as u32, Ordering::Relaxed);
+        self.generation.fetch_add(1, Ordering::Release);
+    }
+
+    /// Sends a command; returns its sequence number, to compare with `done`.
+    pub fn send(&self, command: DebugCommand) -> u32 {
+        let seq = ((self.command.load(Ordering::Relaxed) >> 8) + 1) & 0x00FF_FFFF;
+        self.command.store(seq << 8 | command as u32, Ordering::Release);
+        seq
+    }
+
+    /// Adds one breakpoint; false when the table is full or the line is 0 or already set.
+    pub fn add_breakpoint(&self, line: u32) -> bool {
+        if line == 0 || self.breakpoint_lines().contains(&line) {
+            return false;
+        }
+        let Some(free) = self.breakpoints.iter().find(|b| b.load(Ordering::Relaxed) == 0) else { return false };
+        free.store(line, Ordering::Relaxed);
+        self.generation.fetch_add(1, Ordering::Release);
+        true
+    }
+
+    /// Deletes one breakpoint; false when none is set on that line.
+    pub fn delete_breakpoint(&self, line: u32) -> bool {
+        let Some(slot) = self.breakpoints.iter().find(|b| line != 0 && b.load(Ordering::Relaxed) == line) else {
+            return false;
+        };
+        slot.store(0, Ordering::Relaxed);
+        self.generation.fetch_add(1, Ordering::Release);
+        true
+    }
+
+    pub fn set_speed_pct(&self, pct: u32) {
+        self.speed_pct.store(pct, Ordering::Relaxed);
+    }
+
+    // Both sides.
+
+    pub fn mode(&self) -> RunMode {
+        RunMode::from_u32(self.mode.load(Ordering::Relaxed))
+    }
+
+    pub fn generation(&self) -> u32 {
+        self.generation.load(Ordering::Acquire)
+    }
+
+    /// The breakpoints set, in no particular order.
+    pub fn breakpoint_lines(&self) -> Vec<u32> {
+        self.breakpoints.iter().map(|b| b.load(Ordering::Relaxed)).filter(|&l| l != 0).collect()
+    }
+
+    /// Whether `line` of the main chunk has a breakpoint (the hook's question: no allocation).
+    pub fn has_breakpoint(&self, line: u32) -> bool {
+        line != 0 && self.breakpoints.iter().any(|b| b.load(Ordering::Relaxed) == line)
+    }
+
+    /// The pending command and its sequence number, if it was not carried out yet.
+    pub fn pending(&self) -> Option<(u32, DebugCommand)> {
+        let word = self.command.load(Ordering::Acquire);
+        let seq = word >> 8;
+        if seq == self.done.load(Ordering::Acquire) {
+            return None;
+        }
+        DebugCommand::from_u32(word & 0xFF).map(|c| (seq, c))
+    }
+
+    pub fn done(&self) -> u32 {
+        self.done.load(Ordering::Acquire)
+    }
+
+    pub fn halt(&self) -> Halt {
+        match self.halt.load(Ordering::Acquire) {
+            2 => Halt::BreakPoint,
+            3 => Halt::Pause,
+            _ => Halt::None,
+        }
+    }
+
+    pub fn main_line(&self) -> u32 {
+        self.main_line.load(Ordering::Relaxed)
+    }
+
+    /// Run speed, 1..100 %.
+    pub fn speed_pct(&self) -> u32 {
+        match self.speed_pct.load(Ordering::Relaxed) {
+            0 => 100,
+            pct => pct,
+        }
+    }
+
+    // The script's side.
+
+    /// The command `seq` is carried out.
+    pub fn mark_done(&self, seq: u32) {
+        self.done.store(seq, Ordering::Release);
+    }
+
+    pub fn set_halt(&self, halt: Halt) {
+        self.halt.store(halt as u32, Ordering::Release);
+    }
+
+    pub fn set_main_line(&self, line: u32) {
+        self.main_line.store(line, Ordering::Relaxed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn block() -> DebugBlock {
+        // SAFETY: only atomics, valid when zeroed.
+        unsafe { std::mem::zeroed() }
+    }
+
+    #[test]
+    fn a_command_is_pending_until_done() {
+        let b = block();
+        b.prepare(RunMode::Debug, &[]);
+        assert_eq!(b.pending(), None);
+        let seq = b.send(DebugCommand::StepOver);
+        assert_eq!(b.pending(), Some((seq, DebugCommand::StepOver)));
+        b.mark_done(seq);
+        assert_eq!(b.pending(), None);
+        let next = b.send(DebugCommand::Continue);
+        assert_eq!(b.pending(), Some((next, DebugCommand::Continue)));
+        b.prepare(RunMode::Release, &[]);
+        assert_eq!(b.pending(), None, "a new run forgets the old command");
+    }
+
+    #[test]
+    fn breakpoints_are_set_added_and_deleted_one_at_a_time() {
+        let b = block();
+        b.prepare(RunMode::Debug, &[3, 7]);
+        let g = b.generation();
+        assert!(b.has_breakpoint(7) && !b.has_breakpoint(4));
+        assert!(b.add_breakpoint(4));
+        assert!(!b.add_breakpoint(4), "already set");
+        assert!(!b.add_breakpoint(0));
+        assert!(b.generation() > g);
+        assert!(b.delete_breakpoint(3));
+        assert!(!b.delete_breakpoint(3));
+        let mut lines = b.breakpoint_lines();
+        lines.sort();
+        assert_eq!(lines, vec![4, 7]);
+        for line in 100..100 + MAX_BREAKPOINTS as u32 - 2 {
+            assert!(b.add_breakpoint(line));
+        }
+        assert!(!b.add_breakpoint(999), "full");
+    }
+
+    #[test]
+    fn speed_reads_100_until_set() {
+        let b = block();
+        assert_eq!(b.speed_pct(), 100);
+        b.set_speed_pct(40);
+        assert_eq!(b.speed_pct(), 40);
+    }
+}

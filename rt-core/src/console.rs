@@ -1,0 +1,133 @@
+//! The console's way into the core: the DRL program control and the controller state of
+//! the Modbus server (DXMC manual appendix A.3) are carried out in the RT thread, which
+//! owns the tasks and the axes. A bounded lock-free queue, as between the core and the
+//! supervisor: the console never waits for a cycle, the cycle never waits for the console.
+
+use std::sync::Arc;
+
+use crossbeam::queue::ArrayQueue;
+
+/// Orders in flight; a console sends a few per Modbus request.
+const CAPACITY: usize = 64;
+/// Orders the RT thread carries out per cycle.
+const ORDERS_PER_CYCLE: usize = 8;
+
+/// DXMC manual 3.6 and A.3, registers 0x6A80 (current) and 0x6A81 (target).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum ControllerState {
+    Initial = 0,
+    /// A switch failed (here: the EtherCAT network is not in Op).
+    Fail = 1,
+    /// "Standby": motion commands are refused (DXMC 0x0020).
+    Edit = 2,
+    /// "Online operation".
+    Run = 4,
+    /// "Online diagnosis": motion allowed, as in Run.
+    Diagnosis = 5,
+}
+
+impl ControllerState {
+    /// A target state the console may ask for (0x6A81 takes 2, 4 and 5).
+    pub fn target(value: u16) -> Option<Self> {
+        match value {
+            2 => Some(ControllerState::Edit),
+            4 => Some(ControllerState::Run),
+            5 => Some(ControllerState::Diagnosis),
+            _ => None,
+        }
+    }
+
+    pub fn from_u32(value: u32) -> Self {
+        match value {
+            1 => ControllerState::Fail,
+            2 => ControllerState::Edit,
+            4 => ControllerState::Run,
+            5 => ControllerState::Diagnosis,
+            _ => ControllerState::Initial,
+        }
+    }
+
+    /// DXMC 0x0020: motion commands need online operation or online diagnosis.
+    pub fn allows_motion(self) -> bool {
+        matches!(self, ControllerState::Run | ControllerState::Diagnosis)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConsoleOrder {
+    /// Start a task's program at its top level (its program path is in its slot).
+    StartTask(u8),
+    /// Stop a task as `StopTask` does.
+    StopTask(u8),
+    /// Switch the controller state (0x6A81).
+    SwitchState(ControllerState),
+}
+
+/// The console's end.
+#[derive(Clone)]
+pub struct Console {
+    orders: Arc<ArrayQueue<ConsoleOrder>>,
+}
+
+/// The RT thread's end.
+pub struct ConsoleInbox {
+    orders: Arc<ArrayQueue<ConsoleOrder>>,
+}
+
+pub fn channel() -> (Console, ConsoleInbox) {
+    let orders = Arc::new(ArrayQueue::new(CAPACITY));
+    (Console { orders: orders.clone() }, ConsoleInbox { orders })
+}
+
+#[derive(Debug, thiserror::Error)]
+#[error("the controller is busy: too many console orders in flight")]
+pub struct ConsoleBusy;
+
+impl Console {
+    pub fn send(&self, order: ConsoleOrder) -> Result<(), ConsoleBusy> {
+        self.orders.push(order).map_err(|_| ConsoleBusy)
+    }
+}
+
+impl ConsoleInbox {
+    /// The orders for this cycle, at most `ORDERS_PER_CYCLE`.
+    pub fn drain(&self) -> impl Iterator<Item = ConsoleOrder> + '_ {
+        std::iter::from_fn(|| self.orders.pop()).take(ORDERS_PER_CYCLE)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// DXMC A.3: 0x6A80 reads 0 Initial, 1 Fail, 2 Edit, 4 Run, 5 Diagnosis; 0x6A81 takes 2, 4, 5.
+    #[test]
+    fn controller_state_codes() {
+        let rows = [
+            (0, ControllerState::Initial, None),
+            (1, ControllerState::Fail, None),
+            (2, ControllerState::Edit, Some(ControllerState::Edit)),
+            (3, ControllerState::Initial, None),
+            (4, ControllerState::Run, Some(ControllerState::Run)),
+            (5, ControllerState::Diagnosis, Some(ControllerState::Diagnosis)),
+        ];
+        for (code, current, target) in rows {
+            assert_eq!(ControllerState::from_u32(code), current, "0x6A80 = {code}");
+            assert_eq!(ControllerState::target(code as u16), target, "0x6A81 = {code}");
+        }
+        assert!(ControllerState::Run.allows_motion() && ControllerState::Diagnosis.allows_motion());
+        assert!(!ControllerState::Edit.allows_motion());
+    }
+
+    #[test]
+    fn at_most_a_few_orders_per_cycle() {
+        let (console, inbox) = channel();
+        for t in 0..20 {
+            console.send(ConsoleOrder::StartTask(t)).unwrap();
+        }
+        assert_eq!(inbox.drain().count(), ORDERS_PER_CYCLE);
+        assert_eq!(inbox.drain().count(), ORDERS_PER_CYCLE);
+        assert_eq!(inbox.drain().count(), 4);
+    }
+}

@@ -1,0 +1,230 @@
+//! `luamotion serve`: a controller that runs until stopped, with the Modbus TCP server
+//! and DRL program control; `luamotion drl ...`: a Modbus client of the same registers.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use drl::codes::{ExecState, Status};
+use drl::modbus::Client;
+use drl::program::ProgramControl;
+use drl::projects::Projects;
+use rt_core::supervisor::ScriptLauncher;
+
+#[derive(clap::Args, Debug)]
+pub struct ServeArgs {
+    #[command(flatten)]
+    controller: crate::ControllerArgs,
+    /// Modbus TCP port [default: the machine file's, 502]; 0 asks the OS for a free one.
+    #[arg(long)]
+    modbus_port: Option<u16>,
+    /// DRL projects folder [default: the machine file's, else <data dir>/projects].
+    #[arg(long)]
+    projects: Option<PathBuf>,
+    /// Export/import folder [default: the machine file's, else <data dir>/export].
+    #[arg(long)]
+    export: Option<PathBuf>,
+}
+
+pub fn serve(args: ServeArgs) -> Result<ExitCode> {
+    let config = args.controller.machine()?;
+    config.validate()?;
+    let config = config.with_drl_task()?;
+    let ns = args.controller.namespace()?;
+    let data_dir = args.controller.data_dir();
+    let projects = Projects {
+        dir: args.projects.or(config.drl.projects.clone()).unwrap_or_else(|| data_dir.join("projects")),
+        export: args.export.or(config.drl.export.clone()).unwrap_or_else(|| data_dir.join("export")),
+    };
+    std::fs::create_dir_all(&projects.dir).with_context(|| format!("create {}", projects.dir.display()))?;
+    let port = args.modbus_port.unwrap_or(config.modbus.port);
+    let bind = config.modbus.bind.clone();
+    let drl_task = config.drl.task;
+    let plc_tasks = config.tasks.iter().filter(|t| t.id != drl_task).map(|t| (t.id, t.autorun)).collect();
+
+    let (console, inbox) = rt_core::console::channel();
+    let stop = Arc::new(AtomicBool::new(false));
+    let options = rt_core::RunOptions {
+        ns: ns.clone(),
+        launcher: ScriptLauncher {
+            executable: std::env::current_exe().context("locate the luamotion binary")?,
+            subcommand: vec!["script".into()],
+        },
+        exit_when_tasks_end: false,
+        data_dir: data_dir.clone(),
+        trace: None,
+        stop: Some(stop.clone()),
+        console: Some(inbox),
+    };
+    let controller = std::thread::spawn(move || rt_core::run(config, options));
+    let up = Instant::now();
+    while ipc::controller_pid(&ns)?.is_none() {
+        if controller.is_finished() || up.elapsed() > Duration::from_secs(10) {
+            stop.store(true, Ordering::Release);
+            controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))??;
+            bail!("the controller did not come up");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let setup =
+        drl::Setup { ns, console, program: ProgramControl::new(projects.clone()), drl_task, plc_tasks, data_dir };
+    let server = match drl::Server::start(setup, &bind, port) {
+        Ok(server) => server,
+        Err(e) => {
+            stop.store(true, Ordering::Release);
+            let _ = controller.join();
+            return Err(e.into());
+        }
+    };
+    println!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
+    // The controller ends on Ctrl-C or SIGTERM; the server goes with it.
+    let report = controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))?;
+    drop(server);
+    let report = report?;
+    Ok(if report.interrupted { ExitCode::from(130) } else { ExitCode::SUCCESS })
+}
+
+#[derive(clap::Args, Debug)]
+pub struct DrlArgs {
+    /// The controller's Modbus TCP address.
+    #[arg(long, default_value = "127.0.0.1:502")]
+    at: SocketAddr,
+    #[command(subcommand)]
+    command: DrlCommand,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum DrlCommand {
+    /// Select project ID and open it (Open, code 1); with --run, Open & Release Run (6),
+    /// with --debug, Open & Debug Run (45).
+    Open {
+        id: u16,
+        #[arg(long)]
+        run: bool,
+        #[arg(long, conflicts_with = "run")]
+        debug: bool,
+    },
+    /// Release Run (2), or Debug Run (44) with --debug: run the opened project or go on
+    /// from a stop.
+    Run {
+        #[arg(long)]
+        debug: bool,
+    },
+    /// Stop (3).
+    Stop,
+    /// Pause (4).
+    Pause,
+    /// Step into (11), over (12) or out (13).
+    Step {
+        #[arg(value_enum, default_value = "over")]
+        kind: StepKind,
+    },
+    /// Breakpoints: set up to 8 lines before a run (41), add (42) or delete (43) one.
+    Bp {
+        #[arg(value_enum)]
+        action: BpAction,
+        lines: Vec<u16>,
+    },
+    /// Set the run speed, 1..100 % (0x6B03).
+    Speed { percent: u16 },
+    /// Print the DRL registers.
+    Status,
+}
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum StepKind {
+    Into,
+    Over,
+    Out,
+}
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum BpAction {
+    Set,
+    Add,
+    Delete,
+}
+
+/// DXMC A.3 registers.
+const ID_SELECT: u16 = 0x6B04;
+const CONTROL: u16 = 0x6B05;
+const RUN_SPEED: u16 = 0x6B03;
+const BREAKPOINTS: u16 = 0x6B07;
+
+pub fn drl(args: DrlArgs) -> Result<ExitCode> {
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
+    runtime.block_on(async move {
+        let mut client = Client::connect(args.at, 1).await?;
+        let control = match args.command {
+            DrlCommand::Open { id, run, debug } => {
+                client.write(ID_SELECT, &[id]).await?;
+                Some(if run {
+                    6
+                } else if debug {
+                    45
+                } else {
+                    1
+                })
+            }
+            DrlCommand::Run { debug } => Some(if debug { 44 } else { 2 }),
+            DrlCommand::Stop => Some(3),
+            DrlCommand::Pause => Some(4),
+            DrlCommand::Step { kind } => Some(match kind {
+                StepKind::Into => 11,
+                StepKind::Over => 12,
+                StepKind::Out => 13,
+            }),
+            DrlCommand::Bp { action, lines } => {
+                let (code, words) = match action {
+                    BpAction::Set if lines.len() <= 8 => {
+                        (41, (0..8).map(|i| lines.get(i).copied().unwrap_or(0)).collect::<Vec<_>>())
+                    }
+                    BpAction::Set => bail!("Set BP takes at most 8 lines"),
+                    BpAction::Add | BpAction::Delete if lines.len() == 1 => {
+                        (if matches!(action, BpAction::Add) { 42 } else { 43 }, lines.clone())
+                    }
+                    _ => bail!("Add BP and Delete BP take one line at a time"),
+                };
+                client.write(BREAKPOINTS, &words).await?;
+                Some(code)
+            }
+            DrlCommand::Speed { percent } => {
+                client.write(RUN_SPEED, &[percent]).await?;
+                None
+            }
+            DrlCommand::Status => None,
+        };
+        if let Some(code) = control {
+            client.write(CONTROL, &[code]).await?;
+            settle(&mut client).await?;
+        }
+        print_status(&mut client).await?;
+        Ok(ExitCode::SUCCESS)
+    })
+}
+
+/// Waits until the status is no longer BUSY (at most 5 s), as an HMI would poll.
+async fn settle(client: &mut Client) -> Result<()> {
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while client.read(0x6B06, 1).await?[0] == Status::Busy as u16 && Instant::now() < deadline {
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    Ok(())
+}
+
+async fn print_status(client: &mut Client) -> Result<()> {
+    let r = client.read(0x6B00, 7).await?;
+    let state = match r[1] {
+        s if s == ExecState::Close as u16 => "Close",
+        s if s == ExecState::Running as u16 => "Running",
+        s if s == ExecState::BreakPoint as u16 => "Break Point",
+        s if s == ExecState::Pause as u16 => "Pause",
+        _ => "Pre-Run",
+    };
+    println!("id {}  state {} ({state})  line {}  speed {} %  status {}", r[0], r[1], r[2], r[3], r[6]);
+    Ok(())
+}
