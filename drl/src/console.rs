@@ -179,8 +179,14 @@ impl State {
     fn follow(&mut self) {
         self.res.monitor.refresh();
         self.program.poll(&self.res);
-        if self.res.shared.dh_writes() != self.res.dh_saved && self.res.dh_saved_at.elapsed() >= DH_SAVE_PERIOD {
-            self.res.save_dh();
+        if self.res.dh_saved_at.elapsed() >= DH_SAVE_PERIOD {
+            if self.res.shared.dh_writes() != self.res.dh_saved {
+                self.res.save_dh();
+            }
+            self.res.dh_saved_at = Instant::now();
+            if let Err(e) = self.res.events.greet_new_readers() {
+                tracing::debug!("{e}");
+            }
         }
     }
 

@@ -24,6 +24,14 @@ impl EventSender {
     pub fn send(&self, record: &EventRecord) -> Result<(), IpcError> {
         self.publisher.send_copy(*record).map(|_| ()).map_err(|e| failed("send event", e))
     }
+
+    /// Hands the recent history to readers that started since the last send: iceoryx2
+    /// delivers it only when the publisher looks at its connections. Called now and then
+    /// by the long-lived writers, so that `luamotion events` shows the alarms it missed.
+    pub fn greet_new_readers(&self) -> Result<(), IpcError> {
+        use iceoryx2::port::update_connections::UpdateConnections;
+        self.publisher.update_connections().map_err(|e| failed("update event readers", e))
+    }
 }
 
 /// A reader of the stream, with its own node.

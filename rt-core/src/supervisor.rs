@@ -132,6 +132,9 @@ impl Supervisor {
         }
         if self.last_cpu_read.elapsed() >= CPU_PERIOD {
             self.last_cpu_read = Instant::now();
+            if let Err(e) = self.events.greet_new_readers() {
+                tracing::debug!("{e}");
+            }
             for task in &self.running {
                 if let Some(ms) = cpu_ms(task.child.id()) {
                     self.table.slots[task.id as usize].set_cpu_ms(ms);

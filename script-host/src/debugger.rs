@@ -177,7 +177,7 @@ impl Debugger {
         }
         self.take_command(lua);
         if event.event() == DebugEvent::Line {
-            if self.wants_lines() && self.is_main_chunk(event) {
+            if self.may_stop_at(line) && self.is_main_chunk(event) {
                 self.on_main_line(lua, line)?;
             }
             // This thread runs at line speed: back to counting once nothing needs lines.
@@ -213,6 +213,15 @@ impl Debugger {
             || self.block_start.get()
             || self.step.borrow().is_some()
             || matches!(self.debug().pending(), Some((_, DebugCommand::Pause)))
+    }
+
+    /// Whether this line could stop the program. With only breakpoints armed, just their
+    /// lines can: the others skip the costlier question of which chunk they are in.
+    fn may_stop_at(&self, line: u32) -> bool {
+        self.block_start.get()
+            || self.step.borrow().is_some()
+            || matches!(self.debug().pending(), Some((_, DebugCommand::Pause)))
+            || (self.breakpoints_armed.get() && self.debug().has_breakpoint(line))
     }
 
     fn is_main_chunk(&self, event: &Debug) -> bool {
