@@ -4,8 +4,6 @@
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
@@ -47,7 +45,6 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let plc_tasks = config.tasks.iter().filter(|t| t.id != drl_task).map(|t| (t.id, t.autorun)).collect();
 
     let (console, inbox) = rt_core::console::channel();
-    let stop = Arc::new(AtomicBool::new(false));
     let options = rt_core::RunOptions {
         ns: ns.clone(),
         launcher: ScriptLauncher {
@@ -57,32 +54,22 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
         exit_when_tasks_end: false,
         data_dir: data_dir.clone(),
         trace: None,
-        stop: Some(stop.clone()),
+        stop: None,
         console: Some(inbox),
     };
-    let controller = std::thread::spawn(move || rt_core::run(config, options));
-    let up = Instant::now();
-    while ipc::controller_pid(&ns)?.is_none() {
-        if controller.is_finished() || up.elapsed() > Duration::from_secs(10) {
-            stop.store(true, Ordering::Release);
-            controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))??;
-            bail!("the controller did not come up");
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    let controller = rt_core::controller::Background::start(config, options)?;
     let setup =
         drl::Setup { ns, console, program: ProgramControl::new(projects.clone()), drl_task, plc_tasks, data_dir };
     let server = match drl::Server::start(setup, &bind, port) {
         Ok(server) => server,
         Err(e) => {
-            stop.store(true, Ordering::Release);
-            let _ = controller.join();
+            let _ = controller.stop();
             return Err(e.into());
         }
     };
     println!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
     // The controller ends on Ctrl-C or SIGTERM; the server goes with it.
-    let report = controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))?;
+    let report = controller.join();
     drop(server);
     let report = report?;
     Ok(if report.interrupted { ExitCode::from(130) } else { ExitCode::SUCCESS })

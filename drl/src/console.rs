@@ -100,18 +100,10 @@ impl Host for Resources {
 }
 
 /// Runs the console in the calling thread until the request channel closes: opens the
-/// controller's resources (it must be up), restores DH from its file, says whether it is
+/// controller's resources (it must be ready: `ipc::controller_ready`), restores DH from its file, says whether it is
 /// ready, then serves.
 pub fn run(setup: Setup, requests: Receiver<Request>, ready: Sender<Result<(), IpcError>>) {
-    // The supervisor creates the event stream a moment after the cycle starts.
-    let deadline = Instant::now() + Duration::from_secs(5);
-    let opened = loop {
-        match open_resources(&setup) {
-            Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
-            result => break result,
-        }
-    };
-    match opened.map(|parts| assemble(setup, parts)) {
+    match open_resources(&setup).map(|parts| assemble(setup, parts)) {
         Ok(state) => {
             let _ = ready.send(Ok(()));
             state.serve(requests);

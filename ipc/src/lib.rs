@@ -66,6 +66,16 @@ pub fn controller_pid(ns: &Namespace) -> Result<Option<u32>, IpcError> {
     scan_nodes(ns, false)
 }
 
+/// Whether a live controller in `ns` serves everything a program attaches to: its event
+/// stream, which its supervisor creates last, is up.
+pub fn controller_ready(ns: &Namespace) -> Result<bool, IpcError> {
+    if controller_pid(ns)?.is_none() {
+        return Ok(false);
+    }
+    let node = services::node(ns, &format!("luamotion-probe-{}", std::process::id()))?;
+    Ok(services::events(&node, ns, services::Open::Existing).is_ok())
+}
+
 /// Lists the namespace's nodes: the live controller's pid, removing dead nodes if asked.
 fn scan_nodes(ns: &Namespace, remove_dead: bool) -> Result<Option<u32>, IpcError> {
     let mut alive_core = None;

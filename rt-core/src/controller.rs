@@ -164,6 +164,50 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     Ok(RunReport { tasks: supervisor.into_reports(), stats, interrupted })
 }
 
+/// A controller running in a thread of this process (`luamotion soak`, `luamotion serve`).
+pub struct Background {
+    thread: std::thread::JoinHandle<Result<RunReport, ControllerError>>,
+    stop: Arc<AtomicBool>,
+}
+
+/// How long a controller may take to come up.
+const START_PATIENCE: Duration = Duration::from_secs(10);
+
+impl Background {
+    /// Starts a controller and returns once programs can attach to it.
+    pub fn start(config: MachineConfig, mut options: RunOptions) -> Result<Self, ControllerError> {
+        let stop = options.stop.get_or_insert_with(Default::default).clone();
+        let ns = options.ns.clone();
+        let thread = std::thread::spawn(move || run(config, options));
+        let since = std::time::Instant::now();
+        loop {
+            if ipc::controller_ready(&ns)? {
+                return Ok(Background { thread, stop });
+            }
+            if thread.is_finished() || since.elapsed() > START_PATIENCE {
+                stop.store(true, Ordering::Release);
+                return Err(match thread.join() {
+                    Ok(Err(e)) => e,
+                    Ok(Ok(_)) => ControllerError::RtStart("the controller ended at once".into()),
+                    Err(panic) => ControllerError::RtDied(panic_message(&panic)),
+                });
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Shuts the controller down in order and returns its report.
+    pub fn stop(self) -> Result<RunReport, ControllerError> {
+        self.stop.store(true, Ordering::Release);
+        self.join()
+    }
+
+    /// Waits for the controller to end (on Ctrl-C or SIGTERM).
+    pub fn join(self) -> Result<RunReport, ControllerError> {
+        self.thread.join().map_err(|panic| ControllerError::RtDied(panic_message(&panic)))?
+    }
+}
+
 fn panic_message(panic: &Box<dyn std::any::Any + Send>) -> String {
     panic
         .downcast_ref::<&str>()

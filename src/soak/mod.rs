@@ -197,27 +197,17 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<(Merged,
     };
     config.validate()?;
     let dir = tempfile::tempdir()?;
-    let stop = Arc::new(AtomicBool::new(false));
     let options = rt_core::RunOptions {
         ns: Namespace::new(ns)?,
         launcher: ScriptLauncher { executable: exe.clone(), subcommand: vec!["script".into()] },
         exit_when_tasks_end: false,
         data_dir: dir.path().to_path_buf(),
         trace: None,
-        stop: Some(stop.clone()),
+        stop: None,
         console: None,
     };
-    let controller = std::thread::spawn(move || rt_core::run(config, options));
+    let controller = rt_core::controller::Background::start(config, options)?;
     let namespace = Namespace::new(ns)?;
-    let up = Instant::now();
-    while ipc::controller_pid(&namespace)?.is_none() {
-        if controller.is_finished() || up.elapsed() > Duration::from_secs(10) {
-            stop.store(true, Ordering::Release);
-            controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))??;
-            bail!("the controller did not come up");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
     let mut monitor = Monitor::open(&namespace)?;
 
     eprintln!(
@@ -269,8 +259,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<(Merged,
             _ => failures.push(format!("worker {task}: {status}")),
         }
     }
-    stop.store(true, Ordering::Release);
-    let report = controller.join().map_err(|_| anyhow::anyhow!("the controller panicked"))??;
+    let report = controller.stop()?;
     if !failures.is_empty() {
         bail!("soak workers failed: {}", failures.join(", "));
     }
