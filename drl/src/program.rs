@@ -7,6 +7,7 @@
 //! project, Block Run stops before the first line, ...) are in docs/decisions.md.
 
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use ipc::debug::{DebugBlock, DebugCommand, Halt, RunMode};
 use ipc::messages::TaskState;
@@ -14,6 +15,10 @@ use ipc::messages::TaskState;
 use crate::codes::{Control, ExecState, Status};
 use crate::projects::{MAX_ID, Projects};
 use crate::registers::BREAKPOINT_REGISTERS;
+
+/// How long a start may go unseen before it counts as refused (the core answers within a
+/// cycle or two).
+const START_UNSEEN: Duration = Duration::from_secs(2);
 
 /// What program control needs of the controller: the DRL task slot and its orders.
 pub trait Host {
@@ -32,8 +37,9 @@ pub trait Host {
 /// What `control` waits for before the status settles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Pending {
-    /// The task to run (status RUNNING).
-    Start,
+    /// The task to run (status RUNNING). Until the core shows it starting, the task's
+    /// state is the previous run's (a failed one reads Error): `seen` says it has moved.
+    Start { seen: bool, since: Instant },
     /// The task to end (status STOPPED).
     Stop,
     /// A debugger command to be carried out, then this status.
@@ -191,7 +197,7 @@ impl ProgramControl {
                 if !host.start() {
                     return Status::CannotRun;
                 }
-                self.pending = Some(Pending::Start);
+                self.pending = Some(Pending::Start { seen: false, since: Instant::now() });
                 self.state = ExecState::Running;
                 Status::Busy
             }
@@ -344,14 +350,23 @@ impl ProgramControl {
         let task = host.task_state();
         let alive = matches!(task, TaskState::Starting | TaskState::Running | TaskState::Stopping);
         match self.pending {
-            Some(Pending::Start) => match task {
+            Some(Pending::Start { seen, since }) => match task {
+                TaskState::Starting => self.pending = Some(Pending::Start { seen: true, since }),
                 TaskState::Running => {
                     self.pending = None;
                     self.status = Status::Running;
                 }
-                TaskState::Error => {
+                // Ended before a poll saw it run: a short program, or one that failed.
+                TaskState::Stopped | TaskState::Error if seen => {
+                    let failed = task == TaskState::Error;
                     self.close();
-                    self.status = Status::Failed;
+                    self.status = if failed { Status::Failed } else { Status::Stopped };
+                    return;
+                }
+                _ if since.elapsed() > START_UNSEEN => {
+                    self.close();
+                    self.status = Status::CannotRun;
+                    return;
                 }
                 _ => {}
             },
@@ -365,7 +380,8 @@ impl ProgramControl {
             }
             _ => {}
         }
-        if self.state.is_running() && self.pending != Some(Pending::Start) && !alive {
+        let starting = matches!(self.pending, Some(Pending::Start { .. }));
+        if self.state.is_running() && !starting && !alive {
             // The program ended by itself, or failed.
             let failed = task == TaskState::Error;
             self.close();
@@ -450,6 +466,22 @@ mod tests {
         host.state.set(TaskState::Stopped);
         p.poll(&host);
         assert_eq!((p.state(), p.status()), (ExecState::Close, Status::Stopped));
+    }
+
+    #[test]
+    fn a_new_run_is_not_judged_by_the_last_runs_end() {
+        let (_dir, mut p, host) = setup();
+        p.select(5);
+        host.state.set(TaskState::Error);
+        assert_eq!(p.control(6, &host), Some(Status::Busy));
+        host.state.set(TaskState::Error);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Running, Status::Busy), "the old Error is stale");
+        host.state.set(TaskState::Starting);
+        p.poll(&host);
+        host.state.set(TaskState::Stopped);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Close, Status::Stopped), "ended between two polls");
     }
 
     #[test]
