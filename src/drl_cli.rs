@@ -194,10 +194,11 @@ pub fn drl(args: DrlArgs) -> Result<ExitCode> {
     })
 }
 
-/// Waits until the status is no longer BUSY (at most 5 s), as an HMI would poll.
+/// Waits until the status has settled (BUSY, STOPPING, ... are over; at most 5 s), as an
+/// HMI would poll.
 async fn settle(client: &mut Client) -> Result<()> {
     let deadline = Instant::now() + Duration::from_secs(5);
-    while client.read(0x6B06, 1).await?[0] == Status::Busy as u16 && Instant::now() < deadline {
+    while Status::in_progress(client.read(0x6B06, 1).await?[0]) && Instant::now() < deadline {
         tokio::time::sleep(Duration::from_millis(10)).await;
     }
     Ok(())

@@ -110,6 +110,17 @@ pub enum Status {
     BpDeleted = 76,
 }
 
+impl Status {
+    /// The statuses that still change by themselves (DXMC A.3): BUSY, CHECKING, OPENING,
+    /// STOPPING, EXPORTING, USB_ID_CHECKING, IMPORTING, BP_SETTING.
+    pub fn in_progress(code: u16) -> bool {
+        [Status::Busy, Status::Checking, Status::Opening, Status::Stopping, Status::Exporting]
+            .into_iter()
+            .chain([Status::UsbIdChecking, Status::Importing, Status::BpSetting])
+            .any(|s| s as u16 == code)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -200,6 +211,10 @@ mod tests {
         ];
         for (status, code) in rows {
             assert_eq!(status as u16, code, "{status:?}");
+        }
+        let settling = [0, 1, 11, 31, 63, 66, 68, 71];
+        for code in 0..=80 {
+            assert_eq!(Status::in_progress(code), settling.contains(&code), "status {code}");
         }
     }
 }

@@ -25,8 +25,9 @@ use crate::retentive;
 
 /// How often the console follows the DRL task when no request comes.
 const TICK: Duration = Duration::from_millis(5);
-/// DH written by scripts is saved at most this often (a Modbus write is saved at once).
-const DH_SAVE_PERIOD: Duration = Duration::from_millis(100);
+/// How often the console saves DH written by scripts (a Modbus write is saved at once)
+/// and hands the event history to new readers.
+const HOUSEKEEPING_PERIOD: Duration = Duration::from_millis(100);
 
 /// A Modbus request in register terms.
 #[derive(Debug)]
@@ -69,7 +70,7 @@ struct Resources {
     target: ControllerState,
     plc_control: u16,
     dh_saved: u64,
-    dh_saved_at: Instant,
+    housekept_at: Instant,
 }
 
 /// The DRL slot as program control sees it.
@@ -146,7 +147,7 @@ fn assemble(setup: Setup, (monitor, shared, events, node): Parts) -> State {
         target: ControllerState::Run,
         plc_control: 0,
         dh_saved,
-        dh_saved_at: Instant::now(),
+        housekept_at: Instant::now(),
     };
     State { program, res }
 }
@@ -167,15 +168,16 @@ impl State {
         self.res.save_dh();
     }
 
-    /// The newest snapshot, the DRL task's progress, DH written by scripts.
+    /// The newest snapshot, the DRL task's progress; now and then DH written by scripts
+    /// and the event history for new readers.
     fn follow(&mut self) {
         self.res.monitor.refresh();
         self.program.poll(&self.res);
-        if self.res.dh_saved_at.elapsed() >= DH_SAVE_PERIOD {
+        if self.res.housekept_at.elapsed() >= HOUSEKEEPING_PERIOD {
             if self.res.shared.dh_writes() != self.res.dh_saved {
                 self.res.save_dh();
             }
-            self.res.dh_saved_at = Instant::now();
+            self.res.housekept_at = Instant::now();
             if let Err(e) = self.res.events.greet_new_readers() {
                 tracing::debug!("{e}");
             }
@@ -219,7 +221,6 @@ impl Resources {
             Ok(()) => self.dh_saved = writes,
             Err(e) => tracing::error!("DH not saved: {e}"),
         }
-        self.dh_saved_at = Instant::now();
     }
 
     fn read(&self, register: Register, program: &ProgramControl) -> u16 {
@@ -319,8 +320,8 @@ impl Resources {
 fn check(register: Register, value: u16) -> Result<(), Refusal> {
     let ok = match register {
         Register::TargetState => ControllerState::target(value).is_some(),
-        Register::IdSelect => value <= crate::projects::MAX_ID,
-        Register::RunSpeed => (1..=100).contains(&value),
+        Register::IdSelect => ProgramControl::valid_id(value),
+        Register::RunSpeed => ProgramControl::valid_speed(value),
         _ => true,
     };
     if ok { Ok(()) } else { Err(Refusal::IllegalValue) }

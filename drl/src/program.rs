@@ -111,9 +111,19 @@ impl ProgramControl {
         self.breakpoint_registers[i] = line;
     }
 
-    /// 0x6B04: false for an id over 9999 (testable fact 16).
+    /// 0x6B04 takes 0..9999 (testable fact 16).
+    pub fn valid_id(id: u16) -> bool {
+        id <= MAX_ID
+    }
+
+    /// 0x6B03 takes 1..100 %.
+    pub fn valid_speed(pct: u16) -> bool {
+        (1..=100).contains(&pct)
+    }
+
+    /// 0x6B04: false for an id over 9999.
     pub fn select(&mut self, id: u16) -> bool {
-        let ok = id <= MAX_ID;
+        let ok = Self::valid_id(id);
         if ok {
             self.selected = id;
         }
@@ -122,7 +132,7 @@ impl ProgramControl {
 
     /// 0x6B03, 1..100 %: the project's motion follows at once.
     pub fn set_speed(&mut self, pct: u16, host: &dyn Host) -> bool {
-        let ok = (1..=100).contains(&pct);
+        let ok = Self::valid_speed(pct);
         if ok {
             self.speed_pct = pct;
             host.debug().set_speed_pct(pct as u32);

@@ -48,9 +48,7 @@ impl Monitor {
     pub fn snapshot(&mut self) -> Result<&Snapshot, IpcError> {
         let deadline = std::time::Instant::now() + std::time::Duration::from_secs(1);
         loop {
-            while let Ok(Some(sample)) = self.state.receive() {
-                self.latest = Some(sample);
-            }
+            self.refresh();
             if self.latest.is_some() || std::time::Instant::now() > deadline {
                 break;
             }

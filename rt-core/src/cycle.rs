@@ -80,20 +80,19 @@ impl Machine {
         self.state = next;
     }
 
+    /// The console watches the tasks' states in the snapshot: a refused start or stop
+    /// changes none, so its error is not passed on.
     fn carry_out(&mut self, order: ConsoleOrder) {
         let Machine { tasks, kernel, cycle, .. } = self;
-        let result = match order {
-            ConsoleOrder::StartTask(t) => tasks.start(t as i64, crate::tasks::Entry::TOP_LEVEL, *cycle).map(|_| ()),
+        match order {
+            ConsoleOrder::StartTask(t) => {
+                let _ = tasks.start(t as i64, crate::tasks::Entry::TOP_LEVEL, *cycle);
+            }
             ConsoleOrder::StopTask(t) => {
-                tasks.stop(t as i64, *cycle, &mut |t, reaction| kernel.react(t, reaction)).map(|_| ())
+                let _ = tasks.stop(t as i64, *cycle, &mut |t, reaction| kernel.react(t, reaction));
             }
-            ConsoleOrder::SwitchState(target) => {
-                self.switch_state(target);
-                Ok(())
-            }
-        };
-        // The console watches the tasks' states in the snapshot; a refusal changes none.
-        let _ = result;
+            ConsoleOrder::SwitchState(target) => self.switch_state(target),
+        }
     }
 
     /// HMPL 2.9, 9.1: every task stopped, every axis disabled.
