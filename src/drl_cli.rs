@@ -72,7 +72,7 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let report = controller.join();
     drop(server);
     let report = report?;
-    Ok(if report.interrupted { ExitCode::from(130) } else { ExitCode::SUCCESS })
+    Ok(report.interrupted.map_or(ExitCode::SUCCESS, crate::exit_code_of_signal))
 }
 
 #[derive(clap::Args, Debug)]

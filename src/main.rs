@@ -236,9 +236,16 @@ fn run(controller: &ControllerArgs, trace: Option<PathBuf>, scripts: Vec<PathBuf
         executable: std::env::current_exe().context("locate the luamotion binary")?,
         subcommand: vec!["script".into()],
     };
-    let exit_when_tasks_end = config.tasks.iter().any(|t| t.autorun);
+    if !config.tasks.iter().any(|t| t.autorun) {
+        eprintln!(
+            "error: nothing to run: name a program (`luamotion run a.lua`) or give a machine file with a task \
+             that has `autorun = true`; `luamotion serve` keeps a controller running without programs"
+        );
+        return Ok(ExitCode::from(2));
+    }
     let data_dir = controller.data_dir();
-    let options = rt_core::RunOptions { ns, launcher, exit_when_tasks_end, data_dir, trace, stop: None, console: None };
+    let options =
+        rt_core::RunOptions { ns, launcher, exit_when_tasks_end: true, data_dir, trace, stop: None, console: None };
     let report = rt_core::run(config, options)?;
 
     let mut failed = false;
@@ -261,13 +268,18 @@ fn run(controller: &ControllerArgs, trace: Option<PathBuf>, scripts: Vec<PathBuf
         execution_p99_us = stats.execution.value_at_quantile(0.99) as f64 / 1000.0,
         "cycle statistics"
     );
-    Ok(if report.interrupted {
-        ExitCode::from(130)
+    Ok(if let Some(signal) = report.interrupted {
+        exit_code_of_signal(signal)
     } else if failed {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// The shell's convention: a run ended by signal N exits with 128 + N (130 for Ctrl-C).
+fn exit_code_of_signal(signal: i32) -> ExitCode {
+    ExitCode::from(128u8.saturating_add(signal as u8))
 }
 
 fn script(args: script_host::ScriptArgs) -> ExitCode {

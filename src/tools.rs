@@ -77,7 +77,7 @@ pub fn events(ns: &str, count: Option<usize>) -> Result<ExitCode> {
                 return Ok(ExitCode::SUCCESS);
             }
         }
-        if ipc::termination_requested() {
+        if rt_core::signals::termination_requested() {
             return Ok(ExitCode::from(130));
         }
         if last_check.elapsed() > Duration::from_millis(200) {

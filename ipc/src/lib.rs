@@ -115,19 +115,13 @@ pub fn remove_namespace_files(ns: &Namespace) {
     }
 }
 
-/// True once SIGINT or SIGTERM has arrived (consumes it). iceoryx2 owns these signals in
-/// every process that uses it, so this is where they are seen.
-pub fn termination_requested() -> bool {
-    iceoryx2_bb_posix::signal::SignalHandler::termination_requested()
-}
-
 /// Gives the process the default action again for the signals iceoryx2 (and Rust's
 /// runtime) catch: SIGINT and SIGTERM end it, and a crash (SIGSEGV, SIGBUS, SIGILL,
 /// SIGFPE, SIGABRT) kills it, whether the fault is real or the signal was sent. Script
 /// processes use it, so that the controller can stop them and sees their crashes.
 pub fn restore_default_signals() {
     // Creating iceoryx2's handler first: it is installed once, so it cannot replace ours later.
-    let _ = termination_requested();
+    let _ = iceoryx2_bb_posix::signal::SignalHandler::last_signal();
     for signal in [libc::SIGTERM, libc::SIGINT, libc::SIGSEGV, libc::SIGBUS, libc::SIGILL, libc::SIGFPE, libc::SIGABRT]
     {
         // SAFETY: resetting a signal to its default action.

@@ -20,6 +20,8 @@ use crate::trace;
 
 /// How often the supervisor looks at its processes and the core's orders.
 const POLL_PERIOD: Duration = Duration::from_millis(1);
+/// How long the tasks have to be stopped in order at shutdown before the rest are killed.
+const STOP_PATIENCE: Duration = Duration::from_secs(2);
 
 #[derive(Debug, thiserror::Error)]
 pub enum ControllerError {
@@ -53,11 +55,13 @@ pub struct RunOptions {
 pub struct RunReport {
     pub tasks: Vec<TaskReport>,
     pub stats: CycleStats,
-    pub interrupted: bool,
+    /// The stop signal that ended the run, if one did.
+    pub interrupted: Option<i32>,
 }
 
 /// Runs a controller until its tasks end or it is interrupted.
 pub fn run(config: MachineConfig, options: RunOptions) -> Result<RunReport, ControllerError> {
+    crate::signals::install();
     let ns = options.ns.clone();
     ipc::claim_namespace(&ns)?;
     let result = run_claimed(config, options);
@@ -121,13 +125,13 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         &config.tasks,
         supervisor_end,
     )?;
-    let mut interrupted = false;
+    let mut interrupted = None;
     let mut failure = None;
     loop {
         supervisor.poll();
-        // Ctrl-C (SIGINT) or SIGTERM: shut down in order.
-        if ipc::termination_requested() {
-            interrupted = true;
+        // Ctrl-C, SIGTERM, SIGHUP, SIGQUIT: shut down in order.
+        if let Some(signal) = crate::signals::received() {
+            interrupted = Some(signal);
             break;
         }
         if options.stop.as_ref().is_some_and(|stop| stop.load(Ordering::Acquire)) {
@@ -144,7 +148,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         std::thread::sleep(POLL_PERIOD);
     }
 
-    supervisor.stop_all();
+    stop_tasks(&mut supervisor, &control);
     control.request_shutdown();
     let stats = match rt.join() {
         Ok(Some(stats)) => stats,
@@ -162,6 +166,19 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         return Err(e);
     }
     Ok(RunReport { tasks: supervisor.into_reports(), stats, interrupted })
+}
+
+/// The end of a run: every task is stopped as `StopAllTask` stops them (their motion reacts,
+/// no alarm: the user asked for it), then whatever process is left is killed.
+fn stop_tasks(supervisor: &mut Supervisor, control: &RtControl) {
+    supervisor.refuse_starts();
+    control.request_stop_tasks();
+    let since = std::time::Instant::now();
+    while (supervisor.running() > 0 || control.active_tasks() > 0) && since.elapsed() < STOP_PATIENCE {
+        supervisor.poll();
+        std::thread::sleep(POLL_PERIOD);
+    }
+    supervisor.stop_all();
 }
 
 /// A controller running in a thread of this process (`luamotion soak`, `luamotion serve`).

@@ -98,6 +98,11 @@ impl Machine {
     /// HMPL 2.9, 9.1: every task stopped, every axis disabled.
     pub fn emergency_stop(&mut self) {
         self.kernel.emergency_stop();
+        self.stop_all_tasks();
+    }
+
+    /// HMPL 16.5: every task that runs is stopped; its motion reacts as configured.
+    pub fn stop_all_tasks(&mut self) {
         let Machine { tasks, kernel, cycle, .. } = self;
         tasks.stop_all(*cycle, &mut |t, reaction| kernel.react(t, reaction));
     }
@@ -107,6 +112,7 @@ impl Machine {
 #[derive(Default)]
 pub struct RtControl {
     shutdown: AtomicBool,
+    stop_tasks: AtomicBool,
     cycle: AtomicU64,
     active_tasks: AtomicU64,
 }
@@ -115,6 +121,11 @@ impl RtControl {
     /// Asks the RT thread to disable the axes and stop.
     pub fn request_shutdown(&self) {
         self.shutdown.store(true, Ordering::Release);
+    }
+
+    /// Asks the RT thread to stop every task, as `StopAllTask` does, and start no other.
+    pub fn request_stop_tasks(&self) {
+        self.stop_tasks.store(true, Ordering::Release);
     }
 
     /// The last cycle completed.
@@ -308,6 +319,9 @@ pub fn run(
         work.lateness_ns = woke.saturating_sub(deadline);
         let _ = stats.lateness.record(work.lateness_ns.max(1));
 
+        if control.stop_tasks.load(Ordering::Acquire) {
+            work.machine.stop_all_tasks();
+        }
         if shutdown_since.is_none() && control.shutdown.load(Ordering::Acquire) {
             shutdown_since = Some(work.cycle);
             work.machine.kernel.disable_all();

@@ -16,6 +16,7 @@ pub mod motion;
 pub mod profile;
 pub mod realtime;
 pub mod rt_alloc;
+pub mod signals;
 pub mod supervisor;
 pub mod tasks;
 pub mod trace;

@@ -270,9 +270,14 @@ impl Supervisor {
         self.running.len()
     }
 
+    /// From now on, starts no script process (the controller is shutting down).
+    pub fn refuse_starts(&mut self) {
+        self.shutting_down = true;
+    }
+
     /// Ends every script process (shutdown) and reaps them; starts no new ones.
     pub fn stop_all(&mut self) {
-        self.shutting_down = true;
+        self.refuse_starts();
         loop {
             for task in self.running.iter_mut().filter(|t| !t.kill_ordered) {
                 task.kill_ordered = true;
@@ -297,7 +302,11 @@ pub fn describe(report: &AlarmReport) -> String {
     let alarm = Alarm(report.alarm);
     let event = Event::from_code(alarm.event_code());
     let what = match event {
-        Event::Watchdog => format!("watchdog: no progress for {} ms at line {}", report.detail, report.line),
+        Event::Watchdog => format!(
+            "watchdog: no progress for {} ms at line {} (a program that computes this long without calling \
+             the API needs a larger `watchdog_ms` for task {} in the machine file)",
+            report.detail, report.line, report.task
+        ),
         Event::ProcessDied => format!("the task's process died of signal {}", report.detail),
         Event::CommandBufferBusy => {
             format!("command buffer busy: axis {} is commanded by another task in this cycle", report.detail)

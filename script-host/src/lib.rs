@@ -90,6 +90,9 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     let slot = &table.slots[task];
     let result = start(&lua, &source, &name, args.entry.as_deref(), slot)
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
+    // Closing the VM runs the finalizers (`__gc`) left: user code, so still under the
+    // watchdog as a running task, before the controller hears the program has ended.
+    drop(lua);
     // Before Finished: a console waiting for a step sees it carried out when the program ends.
     debugger.finish();
     if let Err(e) = &result

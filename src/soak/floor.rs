@@ -42,7 +42,7 @@ pub fn bare_loop(rt: &RtConfig, period_ns: u64, duration: Duration) -> Result<Hi
 /// `luamotion soak-pong`: echoes pings until terminated.
 pub fn pong(ns: &str) -> Result<()> {
     let pong = Pong::create(&Namespace::new(ns)?)?;
-    pong.serve(ipc::termination_requested)?;
+    pong.serve(rt_core::signals::termination_requested)?;
     Ok(())
 }
 

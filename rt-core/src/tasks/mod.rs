@@ -19,6 +19,8 @@ use watchdog::Watchdog;
 
 /// How long a process may take from `StartTask` to running its entry (then 0x1772).
 const START_TIMEOUT_MS: u64 = 5000;
+/// How long a process whose program has ended may take to be gone, at least.
+const EXIT_TIMEOUT_MS: u64 = 1000;
 
 #[derive(Clone, Copy, Debug)]
 struct Spec {
@@ -121,6 +123,7 @@ impl Tasks {
         let t = Self::task_id(id)?;
         let Some(spec) = self.tasks[t as usize].spec else { return Err(SystemError::TaskEmpty) };
         let limit = self.cycles(spec.watchdog_ms as u64);
+        let exit_limit = self.cycles(EXIT_TIMEOUT_MS);
         let task = &mut self.tasks[t as usize];
         if matches!(task.state, TaskState::Starting | TaskState::Running) {
             return Err(SystemError::TaskIsRunning);
@@ -136,7 +139,7 @@ impl Tasks {
         task.entry = entry;
         task.ordered = false;
         task.start_result = None;
-        task.watchdog = Watchdog::new(limit);
+        task.watchdog = Watchdog::new(limit, exit_limit);
         Ok(t)
     }
 
