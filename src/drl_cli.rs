@@ -17,6 +17,10 @@ use rt_core::supervisor::ScriptLauncher;
 pub struct ServeArgs {
     #[command(flatten)]
     controller: crate::ControllerArgs,
+    /// Address the Modbus TCP server listens on [default: the machine file's, 127.0.0.1];
+    /// 0.0.0.0 serves every network the host is on.
+    #[arg(long)]
+    bind: Option<String>,
     /// Modbus TCP port [default: the machine file's, 502]; 0 asks the OS for a free one.
     #[arg(long)]
     modbus_port: Option<u16>,
@@ -40,7 +44,11 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     };
     std::fs::create_dir_all(&projects.dir).with_context(|| format!("create {}", projects.dir.display()))?;
     let port = args.modbus_port.unwrap_or(config.modbus.port);
-    let bind = config.modbus.bind.clone();
+    let bind = args.bind.unwrap_or_else(|| config.modbus.bind.clone());
+    let limits = drl::modbus::Limits {
+        max_connections: config.modbus.max_connections as usize,
+        idle_timeout: Duration::from_millis(config.modbus.idle_timeout_ms),
+    };
     let drl_task = config.drl.task;
     let plc_tasks = config.tasks.iter().filter(|t| t.id != drl_task).map(|t| (t.id, t.autorun)).collect();
 
@@ -60,7 +68,7 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let controller = rt_core::controller::Background::start(config, options)?;
     let setup =
         drl::Setup { ns, console, program: ProgramControl::new(projects.clone()), drl_task, plc_tasks, data_dir };
-    let server = match drl::Server::start(setup, &bind, port) {
+    let server = match drl::Server::start(setup, &bind, port, limits) {
         Ok(server) => server,
         Err(e) => {
             let _ = controller.stop();
@@ -77,8 +85,8 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
 
 #[derive(clap::Args, Debug)]
 pub struct DrlArgs {
-    /// The controller's Modbus TCP address.
-    #[arg(long, default_value = "127.0.0.1:502")]
+    /// The controller's Modbus TCP address, HOST:PORT (before or after the subcommand).
+    #[arg(long, global = true, default_value = "127.0.0.1:502")]
     at: SocketAddr,
     #[command(subcommand)]
     command: DrlCommand,
@@ -89,15 +97,19 @@ enum DrlCommand {
     /// Select project ID and open it (Open, code 1); with --run, Open & Release Run (6),
     /// with --debug, Open & Debug Run (45).
     Open {
+        /// DRL id, 0..9999: the project folder `<projects>/<id>` holding `main.lua`.
         id: u16,
+        /// Run it at once (Open & Release Run, 6).
         #[arg(long)]
         run: bool,
+        /// Run it at once under the debugger (Open & Debug Run, 45).
         #[arg(long, conflicts_with = "run")]
         debug: bool,
     },
     /// Release Run (2), or Debug Run (44) with --debug: run the opened project or go on
     /// from a stop.
     Run {
+        /// Honour breakpoints (Debug Run, 44).
         #[arg(long)]
         debug: bool,
     },
@@ -107,32 +119,44 @@ enum DrlCommand {
     Pause,
     /// Step into (11), over (12) or out (13).
     Step {
+        /// Which step.
         #[arg(value_enum, default_value = "over")]
         kind: StepKind,
     },
     /// Breakpoints: set up to 8 lines before a run (41), add (42) or delete (43) one.
     Bp {
+        /// What to do with the lines.
         #[arg(value_enum)]
         action: BpAction,
+        /// Lines of `main.lua`: up to 8 for set, one for add and delete.
         lines: Vec<u16>,
     },
     /// Set the run speed, 1..100 % (0x6B03).
-    Speed { percent: u16 },
+    Speed {
+        /// Run speed, 1..100 %.
+        percent: u16,
+    },
     /// Print the DRL registers.
     Status,
 }
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 enum StepKind {
+    /// Step Into (11): the next line of `main.lua`, into called functions.
     Into,
+    /// Step Over (12): the next line in the same function or a caller.
     Over,
+    /// Step Out (13): on in the caller.
     Out,
 }
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 enum BpAction {
+    /// Set BP (41): up to 8 lines, before a run.
     Set,
+    /// Add BP (42): one line, also while running.
     Add,
+    /// Delete BP (43): one line.
     Delete,
 }
 
@@ -146,18 +170,18 @@ pub fn drl(args: DrlArgs) -> Result<ExitCode> {
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build()?;
     runtime.block_on(async move {
         let mut client = Client::connect(args.at, 1).await?;
-        let control = match args.command {
+        let control = match &args.command {
             DrlCommand::Open { id, run, debug } => {
-                client.write(ID_SELECT, &[id]).await?;
-                Some(if run {
+                client.write(ID_SELECT, &[*id]).await?;
+                Some(if *run {
                     6
-                } else if debug {
+                } else if *debug {
                     45
                 } else {
                     1
                 })
             }
-            DrlCommand::Run { debug } => Some(if debug { 44 } else { 2 }),
+            DrlCommand::Run { debug } => Some(if *debug { 44 } else { 2 }),
             DrlCommand::Stop => Some(3),
             DrlCommand::Pause => Some(4),
             DrlCommand::Step { kind } => Some(match kind {
@@ -180,39 +204,54 @@ pub fn drl(args: DrlArgs) -> Result<ExitCode> {
                 Some(code)
             }
             DrlCommand::Speed { percent } => {
-                client.write(RUN_SPEED, &[percent]).await?;
+                client.write(RUN_SPEED, &[*percent]).await?;
                 None
             }
             DrlCommand::Status => None,
         };
-        if let Some(code) = control {
-            client.write(CONTROL, &[code]).await?;
-            settle(&mut client).await?;
-        }
+        let status = match control {
+            Some(code) => {
+                client.write(CONTROL, &[code]).await?;
+                Some(settle(&mut client).await?)
+            }
+            None => None,
+        };
         print_status(&mut client).await?;
-        Ok(ExitCode::SUCCESS)
+        match status.and_then(Status::from_code) {
+            Some(status) if status.is_failure() => bail!("{}", refusal(&args.command, status)),
+            _ => Ok(ExitCode::SUCCESS),
+        }
     })
 }
 
+/// Why a command failed, as far as the registers tell (the controller's log has the reason).
+fn refusal(command: &DrlCommand, status: Status) -> String {
+    let code = format!("status {} {}", status as u16, status.name());
+    match (command, status) {
+        (DrlCommand::Open { id, .. }, Status::CannotOpen) => format!(
+            "the controller cannot open project {id} ({code}): it has no projects/{id}/main.lua, or that does not compile"
+        ),
+        _ => format!("the controller did not carry out the command ({code}); its log says why"),
+    }
+}
+
 /// Waits until the status has settled (BUSY, STOPPING, ... are over; at most 5 s), as an
-/// HMI would poll.
-async fn settle(client: &mut Client) -> Result<()> {
+/// HMI would poll; returns the last status read.
+async fn settle(client: &mut Client) -> Result<u16> {
     let deadline = Instant::now() + Duration::from_secs(5);
-    while Status::in_progress(client.read(0x6B06, 1).await?[0]) && Instant::now() < deadline {
+    loop {
+        let status = client.read(0x6B06, 1).await?[0];
+        if !Status::in_progress(status) || Instant::now() >= deadline {
+            return Ok(status);
+        }
         tokio::time::sleep(Duration::from_millis(10)).await;
     }
-    Ok(())
 }
 
 async fn print_status(client: &mut Client) -> Result<()> {
     let r = client.read(0x6B00, 7).await?;
-    let state = match r[1] {
-        s if s == ExecState::Close as u16 => "Close",
-        s if s == ExecState::Running as u16 => "Running",
-        s if s == ExecState::BreakPoint as u16 => "Break Point",
-        s if s == ExecState::Pause as u16 => "Pause",
-        _ => "Pre-Run",
-    };
-    println!("id {}  state {} ({state})  line {}  speed {} %  status {}", r[0], r[1], r[2], r[3], r[6]);
+    let state = ExecState::from_code(r[1]).map_or("unknown", ExecState::name);
+    let status = Status::from_code(r[6]).map_or("unknown", Status::name);
+    println!("id {}  state {} ({state})  line {}  speed {} %  status {} ({status})", r[0], r[1], r[2], r[3], r[6]);
     Ok(())
 }

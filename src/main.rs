@@ -47,11 +47,13 @@ enum Cmd {
     Drl(drl_cli::DrlArgs),
     /// Show the task table of a running controller: state, process, CPU, watchdog, last alarm.
     Tasks {
+        /// Namespace of the controller to look at.
         #[arg(long, default_value = "luamotion")]
         ns: String,
     },
     /// Follow a running controller's events: SendEvent, SendMsgEvent and alarms.
     Events {
+        /// Namespace of the controller to look at.
         #[arg(long, default_value = "luamotion")]
         ns: String,
         /// Stop after this many events.
@@ -64,46 +66,60 @@ enum Cmd {
     /// (internal) One soak worker process.
     #[command(hide = true)]
     SoakWorker {
+        /// Namespace of the soak's controller.
         #[arg(long)]
         ns: String,
+        /// The task slot this worker attaches to.
         #[arg(long)]
         task: u8,
+        /// The axis it commands.
         #[arg(long)]
         axis: u8,
+        /// How long it sends commands, ms.
         #[arg(long)]
         duration_ms: u64,
+        /// The soak's process: the worker ends when it is gone.
         #[arg(long)]
         controller_pid: u32,
+        /// File the worker writes its timings to.
         #[arg(long)]
         out: PathBuf,
     },
     /// (internal) The echoing side of the soak's transport floor.
     #[command(hide = true)]
     SoakPong {
+        /// Namespace of the soak's floor services.
         #[arg(long)]
         ns: String,
     },
     /// Print the API reference generated from the registry.
     Api {
+        /// Which reference.
         #[arg(value_enum)]
         format: ApiFormat,
     },
     /// (internal) One script process; the controller starts these.
     #[command(hide = true)]
     Script {
+        /// Namespace of the controller.
         #[arg(long)]
         ns: String,
+        /// The task id (slot) this process runs.
         #[arg(long)]
         task: u8,
+        /// The controller's process: the script ends when it is gone.
         #[arg(long)]
         controller_pid: u32,
+        /// Memory limit of the Lua VM, MiB.
         #[arg(long, default_value_t = 64)]
         memory_limit_mib: u32,
+        /// The controller's data directory (user table).
         #[arg(long)]
         data_dir: PathBuf,
         /// StartTaskFunc: the function to run after the program's top level.
         #[arg(long)]
         entry: Option<String>,
+        /// The Lua program.
         program: PathBuf,
     },
 }
@@ -294,5 +310,43 @@ fn script(args: script_host::ScriptArgs) -> ExitCode {
             eprintln!("{e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// Every argument of every command, hidden ones included, and every value of an
+    /// argument that takes a fixed set, says in `--help` what it is.
+    #[test]
+    fn every_argument_has_a_description() {
+        fn walk(command: &clap::Command, path: &str, missing: &mut Vec<String>) {
+            for arg in command.get_arguments() {
+                let id = arg.get_id().as_str();
+                if matches!(id, "help" | "version") {
+                    continue;
+                }
+                if arg.get_help().is_none() {
+                    missing.push(format!("{path} <{id}>"));
+                }
+                // A flag's true/false are not values a user types.
+                let values = if arg.get_action().takes_values() { arg.get_possible_values() } else { Vec::new() };
+                for value in values {
+                    if value.get_help().is_none() {
+                        missing.push(format!("{path} <{id}> value {}", value.get_name()));
+                    }
+                }
+            }
+            for sub in command.get_subcommands() {
+                if sub.get_about().is_none() {
+                    missing.push(format!("{path} {}", sub.get_name()));
+                }
+                walk(sub, &format!("{path} {}", sub.get_name()), missing);
+            }
+        }
+        let mut missing = Vec::new();
+        walk(&super::Cli::command(), "luamotion", &mut missing);
+        assert!(missing.is_empty(), "without a description in --help: {missing:#?}");
     }
 }

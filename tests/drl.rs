@@ -5,12 +5,12 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::OnceLock;
 use std::time::Duration;
 
+use common::serve::serve;
 use common::{BIN, unique_ns};
 
 /// The project the HMI drives: it moves axis 0 back and forth and writes the axis'
@@ -68,41 +68,6 @@ fn python() -> &'static Path {
     })
 }
 
-/// A running `luamotion serve`, stopped with SIGTERM when dropped (also when a test fails).
-struct Serving(Child);
-
-impl Drop for Serving {
-    fn drop(&mut self) {
-        // SAFETY: plain kill(2) of our own child.
-        unsafe { libc::kill(self.0.id() as i32, libc::SIGTERM) };
-        if !common::eventually(Duration::from_secs(10), || self.0.try_wait().ok().flatten().is_some()) {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
-}
-
-/// `luamotion serve` on a free port; returns the process and the port.
-fn serve(ns: &str, dir: &Path) -> (Serving, u16) {
-    let mut child = Command::new(BIN)
-        .args(["serve", "--ns", ns, "--modbus-port", "0"])
-        .arg("--data-dir")
-        .arg(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start luamotion serve");
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().expect("stdout")).read_line(&mut line).expect("first line");
-    let port = line
-        .split_once("Modbus TCP on ")
-        .and_then(|(_, rest)| rest.split(';').next())
-        .and_then(|address| address.rsplit(':').next())
-        .and_then(|port| port.parse().ok())
-        .unwrap_or_else(|| panic!("no port in {line:?}"));
-    (Serving(child), port)
-}
-
 fn client(port: u16, args: &[&str]) -> String {
     let output = Command::new(python())
         .arg(common::repo_path("tests/python/drl_client.py"))
@@ -126,7 +91,8 @@ fn an_hmi_runs_steps_and_stops_a_drl_project() {
     let project = dir.path().join("projects/5");
     std::fs::create_dir_all(&project).unwrap();
     std::fs::write(project.join("main.lua"), PROJECT).unwrap();
-    let (server, port) = serve(&ns, dir.path());
+    let server = serve(&ns, dir.path(), &[]);
+    let port = server.port;
     let events = Command::new(BIN)
         .args(["events", "--ns", &ns, "--count", "1"])
         .stdout(Stdio::piped())
@@ -147,7 +113,8 @@ fn motion_only_in_run_or_diagnosis_and_projects_export_and_import() {
     let project = dir.path().join("projects/6");
     std::fs::create_dir_all(&project).unwrap();
     std::fs::write(project.join("main.lua"), MOVER).unwrap();
-    let (server, port) = serve(&ns, dir.path());
+    let server = serve(&ns, dir.path(), &[]);
+    let port = server.port;
     let out = client(port, &["controller-state"]);
     drop(server);
     assert!(out.contains("as the manual says"), "{out}");
@@ -158,11 +125,65 @@ fn motion_only_in_run_or_diagnosis_and_projects_export_and_import() {
 fn dh_is_kept_across_restarts() {
     let ns = unique_ns("dh");
     let dir = tempfile::tempdir().unwrap();
-    let (server, port) = serve(&ns, dir.path());
+    let server = serve(&ns, dir.path(), &[]);
+    let port = server.port;
     client(port, &["dh-write", "4321"]);
     drop(server);
-    let (server, port) = serve(&ns, dir.path());
+    let server = serve(&ns, dir.path(), &[]);
+    let port = server.port;
     let out = client(port, &["dh-read"]);
     drop(server);
     assert!(out.contains("DH 4321"), "{out}");
+}
+
+/// `luamotion drl <args> --at 127.0.0.1:<port>`, to its end.
+fn drl(port: u16, args: &[&str]) -> common::Finished {
+    let at = format!("127.0.0.1:{port}");
+    let child = Command::new(BIN)
+        .arg("drl")
+        .args(args)
+        .args(["--at", &at])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("luamotion drl");
+    common::finish(child, Duration::from_secs(30))
+}
+
+#[test]
+fn drl_commands_the_controller_refuses_fail_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = serve(&unique_ns("drl-cli"), dir.path(), &[]);
+    for args in [&["open", "42"][..], &["open", "42", "--run"]] {
+        let out = drl(server.port, args);
+        assert!(!out.status.success(), "drl {args:?} of a missing project: {}", out.stdout);
+        assert!(
+            out.stderr.contains("cannot open project 42") && out.stderr.contains("CANNOT_OPEN"),
+            "drl {args:?}: {}",
+            out.stderr
+        );
+    }
+    let out = drl(server.port, &["run"]);
+    assert!(!out.status.success() && out.stderr.contains("CANNOT_RUN"), "run with nothing open: {}", out.stderr);
+}
+
+#[test]
+fn drl_status_names_the_codes_and_takes_at_before_or_after_the_subcommand() {
+    let dir = tempfile::tempdir().unwrap();
+    let project = dir.path().join("projects/5");
+    std::fs::create_dir_all(&project).unwrap();
+    std::fs::write(project.join("main.lua"), PROJECT).unwrap();
+    let server = serve(&unique_ns("drl-status"), dir.path(), &[]);
+    let out = drl(server.port, &["status"]);
+    assert!(out.status.success(), "drl status --at: {}", out.stderr);
+    assert!(out.stdout.contains("state 0 (Close)") && out.stdout.contains("status 32 (STOPPED)"), "{}", out.stdout);
+    let out = drl(server.port, &["open", "5"]);
+    assert!(out.status.success(), "{}", out.stderr);
+    assert!(out.stdout.contains("state 4 (Pre-Run)") && out.stdout.contains("status 12 (OPENED)"), "{}", out.stdout);
+    let at = format!("127.0.0.1:{}", server.port);
+    let out = common::finish(
+        Command::new(BIN).args(["drl", "--at", &at, "status"]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap(),
+        Duration::from_secs(30),
+    );
+    assert!(out.status.success() && out.stdout.contains("id 5"), "drl --at ... status: {}{}", out.stdout, out.stderr);
 }

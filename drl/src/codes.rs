@@ -18,6 +18,23 @@ impl ExecState {
     pub fn is_running(self) -> bool {
         matches!(self, ExecState::Running | ExecState::BreakPoint | ExecState::Pause)
     }
+
+    pub fn from_code(code: u16) -> Option<Self> {
+        [ExecState::Close, ExecState::Running, ExecState::BreakPoint, ExecState::Pause, ExecState::PreRun]
+            .into_iter()
+            .find(|s| *s as u16 == code)
+    }
+
+    /// The manual's name (DXMC A.3).
+    pub fn name(self) -> &'static str {
+        match self {
+            ExecState::Close => "Close",
+            ExecState::Running => "Running",
+            ExecState::BreakPoint => "Break Point",
+            ExecState::Pause => "Pause",
+            ExecState::PreRun => "Pre-Run",
+        }
+    }
 }
 
 /// DXMC A.3, register 0x6B05: the DRL control commands.
@@ -110,7 +127,75 @@ pub enum Status {
     BpDeleted = 76,
 }
 
+/// Every status with the manual's name (DXMC A.3), in code order.
+const STATUS_NAMES: [(Status, &str); 32] = [
+    (Status::Busy, "BUSY"),
+    (Status::Checking, "CHECKING"),
+    (Status::Failed, "FAILED"),
+    (Status::CannotOpen, "CANNOT_OPEN"),
+    (Status::Opening, "OPENING"),
+    (Status::Opened, "OPENED"),
+    (Status::CannotRun, "CANNOT_RUN"),
+    (Status::Running, "RUNNING"),
+    (Status::CannotStop, "CANNOT_STOP"),
+    (Status::Stopping, "STOPPING"),
+    (Status::Stopped, "STOPPED"),
+    (Status::CannotPause, "CANNOT_PAUSE"),
+    (Status::Paused, "PAUSED"),
+    (Status::CannotStep, "CANNOT_STEP"),
+    (Status::Stepped, "STEPPED"),
+    (Status::PasswordError, "PASSWORD_ERROR"),
+    (Status::FtpIdError, "FTP_ID_ERROR"),
+    (Status::UsbMountError, "USB_MOUNT_ERROR"),
+    (Status::Exporting, "EXPORTING"),
+    (Status::UsbUnmountError, "USB_UNMOUNT_ERROR"),
+    (Status::ExportDone, "EXPORT_DONE"),
+    (Status::UsbIdChecking, "USB_ID_CHECKING"),
+    (Status::UsbIdError, "USB_ID_ERROR"),
+    (Status::Importing, "IMPORTING"),
+    (Status::ImportDone, "IMPORT_DONE"),
+    (Status::CannotSetBp, "CANNOT_SETBP"),
+    (Status::BpSetting, "BP_SETTING"),
+    (Status::BpSet, "BP_SET"),
+    (Status::CannotAddBp, "CANNOT_ADDBP"),
+    (Status::BpAdded, "BP_ADDED"),
+    (Status::CannotDeleteBp, "CANNOT_DELETEBP"),
+    (Status::BpDeleted, "BP_DELETED"),
+];
+
 impl Status {
+    pub fn from_code(code: u16) -> Option<Self> {
+        STATUS_NAMES.iter().map(|(s, _)| *s).find(|s| *s as u16 == code)
+    }
+
+    /// The manual's name (DXMC A.3), e.g. `CANNOT_OPEN`.
+    pub fn name(self) -> &'static str {
+        STATUS_NAMES.iter().find(|(s, _)| *s == self).map_or("", |(_, name)| name)
+    }
+
+    /// The command was not carried out: FAILED, the CANNOT_x codes and the
+    /// export/import errors (DXMC A.3).
+    pub fn is_failure(self) -> bool {
+        use Status::*;
+        matches!(
+            self,
+            Failed
+                | CannotOpen
+                | CannotRun
+                | CannotStop
+                | CannotPause
+                | CannotStep
+                | PasswordError
+                | FtpIdError
+                | UsbMountError
+                | UsbUnmountError
+                | UsbIdError
+                | CannotSetBp
+                | CannotAddBp
+                | CannotDeleteBp
+        )
+    }
+
     /// The statuses that still change by themselves (DXMC A.3): BUSY, CHECKING, OPENING,
     /// STOPPING, EXPORTING, USB_ID_CHECKING, IMPORTING, BP_SETTING.
     pub fn in_progress(code: u16) -> bool {
@@ -137,7 +222,10 @@ mod tests {
         ];
         for (state, code) in rows {
             assert_eq!(state as u16, code, "{state:?}");
+            assert_eq!(ExecState::from_code(code), Some(state));
         }
+        assert_eq!(ExecState::PreRun.name(), "Pre-Run");
+        assert_eq!(ExecState::from_code(5), None);
     }
 
     /// DXMC A.3, 0x6B05 (testable fact 18); codes not in the table are alarm 0x7000 (fact 22).
@@ -211,7 +299,13 @@ mod tests {
         ];
         for (status, code) in rows {
             assert_eq!(status as u16, code, "{status:?}");
+            assert_eq!(Status::from_code(code), Some(status));
+            let name = status.name();
+            assert!(!name.is_empty() && name.chars().all(|c| c.is_ascii_uppercase() || c == '_'), "{name}");
+            assert_eq!(status.is_failure(), name.contains("CANNOT") || name.contains("ERROR") || name == "FAILED");
         }
+        assert_eq!(Status::CannotOpen.name(), "CANNOT_OPEN");
+        assert_eq!(Status::from_code(3), None);
         let settling = [0, 1, 11, 31, 63, 66, 68, 71];
         for code in 0..=80 {
             assert_eq!(Status::in_progress(code), settling.contains(&code), "status {code}");

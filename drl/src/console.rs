@@ -128,6 +128,11 @@ fn open_resources(setup: &Setup) -> Result<Parts, IpcError> {
 }
 
 fn assemble(setup: Setup, (monitor, shared, events, node): Parts) -> State {
+    match retentive::remove_leftovers(&setup.data_dir) {
+        Ok(0) => {}
+        Ok(n) => tracing::info!("removed {n} temporary DH file(s) of an earlier run that was killed"),
+        Err(e) => tracing::warn!("temporary DH files of an earlier run not removed: {e}"),
+    }
     match retentive::load(&setup.data_dir) {
         Ok(Some(bytes)) => shared.load_dh(&bytes),
         Ok(None) => {}

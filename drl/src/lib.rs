@@ -41,8 +41,8 @@ pub struct Server {
 
 impl Server {
     /// Starts the console for a controller that is up, then listens on `bind:port`
-    /// (port 0: a free port, see `address`).
-    pub fn start(setup: Setup, bind: &str, port: u16) -> Result<Self, ServerError> {
+    /// (port 0: a free port, see `address`) within `limits`.
+    pub fn start(setup: Setup, bind: &str, port: u16, limits: modbus::Limits) -> Result<Self, ServerError> {
         let (requests, inbox) = mpsc::sync_channel(QUEUE);
         let (ready_tx, ready_rx) = mpsc::channel();
         let console = std::thread::Builder::new()
@@ -61,11 +61,7 @@ impl Server {
             .block_on(tokio::net::TcpListener::bind(&listen))
             .map_err(|e| ServerError::Bind(listen.clone(), e))?;
         let address = listener.local_addr().map_err(|e| ServerError::Bind(listen, e))?;
-        runtime.spawn(async move {
-            if let Err(e) = modbus::serve(listener, requests).await {
-                tracing::error!("the Modbus server stopped: {e}");
-            }
-        });
+        runtime.spawn(modbus::serve(listener, requests, limits));
         tracing::info!(%address, "Modbus TCP server up");
         Ok(Server { address, runtime: Some(runtime), console: Some(console) })
     }

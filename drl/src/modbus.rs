@@ -1,15 +1,24 @@
 //! The Modbus TCP server (DXMC manual 8.2: FC 03, 06 and 16, at most 10 words per request)
-//! and the client `luamotion drl` uses. Each connection is served by tokio; every request
-//! goes to the console thread, which answers them one at a time.
+//! and the client `luamotion drl` uses. Every request goes to the console thread, which
+//! answers them one at a time.
+//!
+//! The server reads the frames itself (MBAP header, then the PDU) rather than through
+//! tokio-modbus's server, which closes a connection on any frame it cannot decode: the
+//! Modbus Application Protocol (v1.1b3, 6 and 7) wants an exception for those. Only a
+//! header that cannot be answered (protocol id not 0, a length outside 2..254) closes.
+//! Resources are bounded: at most `max_connections` at once (the excess is accepted and
+//! closed at once), a whole frame must arrive within the idle timeout, and a failed
+//! accept (out of file descriptors) is retried with a back-off instead of ending the server.
 
-use std::future::Future;
 use std::net::SocketAddr;
-use std::pin::Pin;
+use std::sync::Arc;
 use std::sync::mpsc::SyncSender;
+use std::time::{Duration, Instant};
 
-use tokio::sync::oneshot;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{Semaphore, oneshot};
 use tokio_modbus::prelude::*;
-use tokio_modbus::server::tcp::{Server, accept_tcp_connection};
 
 use crate::console::{Op, Request as ConsoleRequest};
 use crate::registers::Refusal;
@@ -24,59 +33,205 @@ impl From<Refusal> for ExceptionCode {
     }
 }
 
-/// One connection's service: the same console for every connection.
-#[derive(Clone)]
-struct Registers {
-    console: SyncSender<ConsoleRequest>,
+/// What one client may hold of the server (machine file `[modbus]`).
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Connections served at once; more are closed as soon as they are accepted.
+    pub max_connections: usize,
+    /// The longest wait for a whole request frame (and for a client to take its answer).
+    pub idle_timeout: Duration,
 }
 
-impl tokio_modbus::server::Service for Registers {
-    type Request = Request<'static>;
-    type Response = Response;
-    type Exception = ExceptionCode;
-    type Future = Pin<Box<dyn Future<Output = Result<Response, ExceptionCode>> + Send>>;
-
-    fn call(&self, request: Self::Request) -> Self::Future {
-        let console = self.console.clone();
-        Box::pin(async move {
-            match request {
-                Request::ReadHoldingRegisters(address, count) => {
-                    answer(&console, Op::Read { address, count }).await.map(Response::ReadHoldingRegisters)
-                }
-                Request::WriteSingleRegister(address, value) => {
-                    answer(&console, Op::Write { address, values: vec![value] }).await?;
-                    Ok(Response::WriteSingleRegister(address, value))
-                }
-                Request::WriteMultipleRegisters(address, values) => {
-                    let count = values.len() as u16;
-                    answer(&console, Op::Write { address, values: values.into_owned() }).await?;
-                    Ok(Response::WriteMultipleRegisters(address, count))
-                }
-                _ => Err(ExceptionCode::IllegalFunction),
-            }
-        })
-    }
-}
-
-async fn answer(console: &SyncSender<ConsoleRequest>, op: Op) -> Result<Vec<u16>, ExceptionCode> {
-    let (tx, rx) = oneshot::channel();
-    // A full queue means the console thread is far behind: the client is told the device is busy.
-    console.try_send((op, tx)).map_err(|_| ExceptionCode::ServerDeviceBusy)?;
-    let answer = rx.await.map_err(|_| ExceptionCode::ServerDeviceFailure)?;
-    answer.map_err(ExceptionCode::from)
-}
+/// The first wait after a failed accept; it doubles up to `MAX_BACKOFF`.
+const MIN_BACKOFF: Duration = Duration::from_millis(10);
+const MAX_BACKOFF: Duration = Duration::from_secs(1);
+/// Refused connections are logged at most this often, with a count (a flood must not flood the log).
+const LOG_PERIOD: Duration = Duration::from_secs(1);
 
 /// Serves Modbus TCP on `listener` until the runtime stops. Every unit id is answered
 /// (Modbus TCP clients often send 0 or 255 for the one device behind an address).
-pub async fn serve(listener: tokio::net::TcpListener, console: SyncSender<ConsoleRequest>) -> std::io::Result<()> {
-    let server = Server::new(listener);
-    let service = Registers { console };
-    let on_connected = |stream, address: SocketAddr| {
-        let service = service.clone();
-        async move { accept_tcp_connection(stream, address, move |_| Ok(Some(service.clone()))) }
+pub async fn serve(listener: TcpListener, console: SyncSender<ConsoleRequest>, limits: Limits) {
+    let slots = Arc::new(Semaphore::new(limits.max_connections));
+    let mut backoff = MIN_BACKOFF;
+    let mut refused = Throttled::default();
+    loop {
+        let (stream, peer) = match listener.accept().await {
+            Ok(accepted) => accepted,
+            Err(e) => {
+                // EMFILE/ENFILE end when connections close; the listener stays readable
+                // meanwhile, so retrying at once would only spin.
+                tracing::warn!("Modbus: accept failed ({e}); retrying in {} ms", backoff.as_millis());
+                tokio::time::sleep(backoff).await;
+                backoff = (backoff * 2).min(MAX_BACKOFF);
+                continue;
+            }
+        };
+        backoff = MIN_BACKOFF;
+        let Ok(slot) = slots.clone().try_acquire_owned() else {
+            if let Some(count) = refused.tick() {
+                tracing::warn!(
+                    "Modbus: {count} connection(s) refused, the last from {peer}: {} already open (modbus.max_connections)",
+                    limits.max_connections
+                );
+            }
+            continue;
+        };
+        let console = console.clone();
+        tokio::spawn(async move {
+            let _slot = slot;
+            match connection(stream, &console, limits.idle_timeout).await {
+                Ok(()) => tracing::debug!(%peer, "Modbus connection ended"),
+                Err(e) => tracing::debug!(%peer, "Modbus connection closed: {e}"),
+            }
+        });
+    }
+}
+
+/// Counts events and says when to log them: at most once per `LOG_PERIOD`.
+#[derive(Default)]
+struct Throttled {
+    count: u64,
+    logged_at: Option<Instant>,
+}
+
+impl Throttled {
+    fn tick(&mut self) -> Option<u64> {
+        self.count += 1;
+        if self.logged_at.is_some_and(|t| t.elapsed() < LOG_PERIOD) {
+            return None;
+        }
+        self.logged_at = Some(Instant::now());
+        Some(std::mem::take(&mut self.count))
+    }
+}
+
+/// MBAP header (Modbus TCP): transaction id, protocol id, length, unit id.
+const HEADER: usize = 7;
+/// The largest PDU (Modbus Application Protocol 4.1): 253 bytes, so the length field
+/// (unit id + PDU) is at most 254.
+const MAX_PDU: usize = 253;
+
+#[derive(Debug, thiserror::Error)]
+enum ConnectionError {
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    #[error("no whole request within the idle timeout")]
+    Idle,
+    #[error("MBAP header with protocol id {protocol} and length {length} cannot be answered")]
+    Header { protocol: u16, length: u16 },
+}
+
+/// One client: frame after frame until it closes, sends a header that cannot be
+/// answered, or is idle too long.
+async fn connection(
+    mut stream: TcpStream,
+    console: &SyncSender<ConsoleRequest>,
+    idle: Duration,
+) -> Result<(), ConnectionError> {
+    let mut frame = [0u8; HEADER + MAX_PDU];
+    loop {
+        // The whole frame within the timeout, not each byte: a client trickling a
+        // byte at a time is idle too.
+        let Some(pdu_len) = tokio::time::timeout(idle, read_frame(&mut stream, &mut frame))
+            .await
+            .map_err(|_| ConnectionError::Idle)??
+        else {
+            return Ok(());
+        };
+        let pdu = &frame[HEADER..HEADER + pdu_len];
+        let response = match decode(pdu) {
+            Ok(request) => answer(console, request).await,
+            Err(exception) => Err(exception),
+        };
+        let response = encode(&frame[..HEADER], pdu[0], response);
+        tokio::time::timeout(idle, stream.write_all(&response)).await.map_err(|_| ConnectionError::Idle)??;
+    }
+}
+
+/// Reads one frame into `frame`; its PDU length, or `None` when the client closed
+/// between frames.
+async fn read_frame(stream: &mut TcpStream, frame: &mut [u8]) -> Result<Option<usize>, ConnectionError> {
+    match stream.read_exact(&mut frame[..HEADER]).await {
+        Ok(_) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return Ok(None),
+        Err(e) => return Err(e.into()),
+    }
+    let protocol = u16::from_be_bytes([frame[2], frame[3]]);
+    let length = u16::from_be_bytes([frame[4], frame[5]]);
+    // A length below 2 has no function code to answer an exception for.
+    if protocol != 0 || !(2..=MAX_PDU as u16 + 1).contains(&length) {
+        return Err(ConnectionError::Header { protocol, length });
+    }
+    let pdu_len = length as usize - 1;
+    stream.read_exact(&mut frame[HEADER..HEADER + pdu_len]).await?;
+    Ok(Some(pdu_len))
+}
+
+/// A request the console answers, or the exception its PDU earns: 01 for a function
+/// other than 03, 06 and 16; 03 for a PDU whose length, quantity or byte count is wrong
+/// for its function (Modbus Application Protocol 6.3, 6.6, 6.12).
+fn decode(pdu: &[u8]) -> Result<Op, ExceptionCode> {
+    let word = |i: usize| u16::from_be_bytes([pdu[i], pdu[i + 1]]);
+    match pdu[0] {
+        0x03 if pdu.len() == 5 && (1..=125).contains(&word(3)) => Ok(Op::Read { address: word(1), count: word(3) }),
+        0x06 if pdu.len() == 5 => Ok(Op::Write { address: word(1), values: vec![word(3)] }),
+        0x10 if pdu.len() >= 6 => {
+            let count = word(3) as usize;
+            let bytes = pdu[5] as usize;
+            if !(1..=123).contains(&count) || bytes != 2 * count || pdu.len() != 6 + bytes {
+                return Err(ExceptionCode::IllegalDataValue);
+            }
+            Ok(Op::Write { address: word(1), values: (0..count).map(|i| word(6 + 2 * i)).collect() })
+        }
+        0x03 | 0x06 | 0x10 => Err(ExceptionCode::IllegalDataValue),
+        _ => Err(ExceptionCode::IllegalFunction),
+    }
+}
+
+/// What a request answers: the words read, or the write echoed as the protocol says.
+enum Answered {
+    Read(Vec<u16>),
+    Written { address: u16, value_or_count: u16 },
+}
+
+async fn answer(console: &SyncSender<ConsoleRequest>, op: Op) -> Result<Answered, ExceptionCode> {
+    let (tx, rx) = oneshot::channel();
+    let echo = match &op {
+        Op::Read { .. } => None,
+        Op::Write { address, values } if values.len() == 1 => Some((*address, values[0])),
+        Op::Write { address, values } => Some((*address, values.len() as u16)),
     };
-    let on_process_error = |e| tracing::debug!("Modbus connection ended: {e}");
-    server.serve(&on_connected, on_process_error).await
+    // A full queue means the console thread is far behind: the client is told the device is busy.
+    console.try_send((op, tx)).map_err(|_| ExceptionCode::ServerDeviceBusy)?;
+    let words = rx.await.map_err(|_| ExceptionCode::ServerDeviceFailure)?.map_err(ExceptionCode::from)?;
+    Ok(match echo {
+        None => Answered::Read(words),
+        Some((address, value_or_count)) => Answered::Written { address, value_or_count },
+    })
+}
+
+/// The response frame: the request's header with the new length, then the PDU. An
+/// exception carries the function code with bit 7 set (a code that has it already keeps it).
+fn encode(header: &[u8], function: u8, response: Result<Answered, ExceptionCode>) -> Vec<u8> {
+    let mut pdu = Vec::with_capacity(MAX_PDU);
+    match response {
+        Ok(Answered::Read(words)) => {
+            pdu.extend([function, (words.len() * 2) as u8]);
+            pdu.extend(words.iter().flat_map(|w| w.to_be_bytes()));
+        }
+        Ok(Answered::Written { address, value_or_count }) => {
+            pdu.push(function);
+            pdu.extend(address.to_be_bytes());
+            pdu.extend(value_or_count.to_be_bytes());
+        }
+        Err(exception) => pdu.extend([function | 0x80, u8::from(exception)]),
+    }
+    let mut frame = Vec::with_capacity(HEADER + pdu.len());
+    frame.extend(&header[..4]);
+    frame.extend((pdu.len() as u16 + 1).to_be_bytes());
+    frame.push(header[6]);
+    frame.extend(pdu);
+    frame
 }
 
 /// A Modbus TCP client of the same registers (`luamotion drl`).
@@ -112,5 +267,45 @@ impl Client {
             _ => self.context.write_multiple_registers(address, values).await?,
         }
         .map_err(ClientError::Exception)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pdus_decode_or_earn_their_exception() {
+        let read = decode(&[0x03, 0x6B, 0x00, 0x00, 0x07]);
+        assert!(matches!(read, Ok(Op::Read { address: 0x6B00, count: 7 })), "{read:?}");
+        let write = decode(&[0x10, 0x00, 0x10, 0x00, 0x02, 0x04, 0x00, 0x01, 0x00, 0x02]);
+        assert!(matches!(&write, Ok(Op::Write { address: 0x10, values }) if values == &[1, 2]), "{write:?}");
+        let value = ExceptionCode::IllegalDataValue;
+        let function = ExceptionCode::IllegalFunction;
+        let rows: [(&[u8], ExceptionCode); 10] = [
+            (&[0x03, 0x00, 0x00], value),                                  // short PDU
+            (&[0x03, 0x00, 0x00, 0x00, 0x01, 0x00], value),                // one byte too many
+            (&[0x03, 0x00, 0x00, 0x00, 0x00], value),                      // quantity 0
+            (&[0x06, 0x00, 0x00, 0x00], value),                            // short PDU
+            (&[0x10, 0x00, 0x00, 0x00, 0x01, 0x04, 0x00, 0x01], value),    // byte count != 2 x quantity
+            (&[0x10, 0x00, 0x00, 0x80, 0x00, 0x00], value),                // quantity 0x8000 (2 x quantity overflows u16)
+            (&[0x10, 0x00, 0x00, 0x00, 0x00, 0x00], value),                // quantity 0
+            (&[0x2B, 0x0E, 0x01, 0x00], function),                         // read device identification
+            (&[0x41], function),                                           // user-defined code
+            (&[0x81, 0x00, 0x00, 0x00, 0x01], function),                   // an exception code as a request
+        ];
+        for (pdu, exception) in rows {
+            assert_eq!(decode(pdu).err(), Some(exception), "{pdu:02X?}");
+        }
+    }
+
+    #[test]
+    fn exceptions_set_bit_7_of_the_function_code() {
+        let header = [0x12, 0x34, 0, 0, 0, 2, 0xFF];
+        let frame = encode(&header, 0x41, Err(ExceptionCode::IllegalFunction));
+        assert_eq!(frame, [0x12, 0x34, 0, 0, 0, 3, 0xFF, 0xC1, 0x01]);
+        assert_eq!(encode(&header, 0xC1, Err(ExceptionCode::IllegalFunction))[7], 0xC1);
+        let frame = encode(&header, 0x03, Ok(Answered::Read(vec![0x0102, 0x0304])));
+        assert_eq!(frame, [0x12, 0x34, 0, 0, 0, 7, 0xFF, 0x03, 4, 1, 2, 3, 4]);
     }
 }
