@@ -94,7 +94,7 @@ fn program_text(calls: &[(String, bool)]) -> String {
     lua += "Stop(0) Stop(1)\n\
             Till(function() return not IsMoving(0) end)\n\
             Reset(0) ClearAxisLastErr(0) SetVelScale(0, 100) SetVel(0, 100) SetAcc(0, 1000) SetDec(0, 1000)\n\
-            SetSMTime(0, 0) SetPosWindow(0, 0.005) SetPosWindowTime(0, 5)\n\
+            SetSMTime(0, 0) SetPosWindow(0, 0.005) SetPosWindowTime(0, 5) SetSWRL(0, 1e5) SetSWLL(0, -1e5)\n\
             Disable(0) Till(function() return not IsEnabled(0) end)\n\
             assert(Enable(0) == 0, string.format('Enable: 0x%08X', GetAxisLastErr(0)))\n\
             Till(function() return IsEnabled(0) end)\n\
@@ -102,7 +102,8 @@ fn program_text(calls: &[(String, bool)]) -> String {
             assert(MoveAbs(0, target) == 0, string.format('MoveAbs: 0x%08X', GetAxisLastErr(0)))\n\
             local deadline = system_timeInMs + 3000\n\
             Till(function() return IsInPos(0) or system_timeInMs > deadline end)\n\
-            assert(IsInPos(0) and math.abs(GetPosFb(0) - target) < 0.01, 'axis 0 moved into position')\n\
+            assert(IsInPos(0) and math.abs(GetPosFb(0) - target) < 0.01,\n\
+              string.format('axis 0 at %f, not %f: 0x%08X', GetPosFb(0), target, GetAxisLastErr(0)))\n\
             Print('moved')\n";
     lua
 }
