@@ -10,109 +10,109 @@ declare_functions! {
     // HMPL 5.2: axis motion control.
     /// Enables (servo on) the axis by walking the drive's CiA 402 state machine; both axes
     /// of a gantry pair. Returns at once; `Till(function() return IsEnabled(a) end)` waits.
-    ["HMPL 5.2.1", ascii] fn Enable(axis_id: Int) -> Int;
+    ["HMPL 5.2.1", ascii] fn Enable(axis_id: Int[Axis]) -> Int;
     /// Disables (servo off) the axis and clears its path planning.
-    ["HMPL 5.2.2", ascii] fn Disable(axis_id: Int) -> Int;
+    ["HMPL 5.2.2", ascii] fn Disable(axis_id: Int[Axis]) -> Int;
     /// Leaves ErrorStop once the cause is gone (a drive fault is reset too).
-    ["HMPL 5.2.3", ascii] fn Reset(axis_id: Int) -> Int;
+    ["HMPL 5.2.3", ascii] fn Reset(axis_id: Int[Axis]) -> Int;
     /// Moves to an absolute position (mm or deg) with the axis' profile. In buffer mode 0 a
     /// move under way is re-planned to the new target; in mode 1 it is queued.
-    ["HMPL 5.2.4", ascii] fn MoveAbs(axis_id: Int, pos: Double) -> Int;
+    ["HMPL 5.2.4", ascii] fn MoveAbs(axis_id: Int[Axis], pos: Double[Target]) -> Int;
     /// Moves by a distance from the target under way (or from the reference at rest).
-    ["HMPL 5.2.5", ascii] fn MoveRel(axis_id: Int, rel_dist: Double) -> Int;
+    ["HMPL 5.2.5", ascii] fn MoveRel(axis_id: Int[Axis], rel_dist: Double[Distance]) -> Int;
     /// Moves at a constant velocity until stopped; the sign is the direction.
-    ["HMPL 5.2.6", ascii] fn MoveVel(axis_id: Int, vel: Double) -> Int;
+    ["HMPL 5.2.6", ascii] fn MoveVel(axis_id: Int[Axis], vel: Double[Velocity]) -> Int;
     /// Produces a constant torque (N·m) in cyclic synchronous torque mode (`SetOpMode(a, 10)`).
-    ["HMPL 5.2.7", ascii] fn MoveTrq(axis_id: Int, torque_cmd: Double) -> Int;
+    ["HMPL 5.2.7", ascii] fn MoveTrq(axis_id: Int[Axis], torque_cmd: Double[Torque]) -> Int;
     /// Moves through position-velocity-time points (times in ms from 0, at most 50 points),
     /// starting where the axis stands. The tables hold at least `num_pt` numbers each.
-    ["HMPL 5.2.8"] fn MovePVT(axis_id: Int, time: Doubles, pos: Doubles, vel: Doubles, num_pt: Int) -> Int;
+    ["HMPL 5.2.8"] fn MovePVT(axis_id: Int[Axis], time: Doubles[PvtTime], pos: Doubles[Target], vel: Doubles[PvtVelocity], num_pt: Int) -> Int;
     /// Decelerates to a stop and clears the path planning.
-    ["HMPL 5.2.9", ascii] fn Stop(axis_id: Int) -> Int;
+    ["HMPL 5.2.9", ascii] fn Stop(axis_id: Int[Axis]) -> Int;
     /// Pauses the motion (velocity to 0), keeping it for `Resume`.
-    ["HMPL 5.2.10", ascii] fn Halt(axis_id: Int) -> Int;
+    ["HMPL 5.2.10", ascii] fn Halt(axis_id: Int[Axis]) -> Int;
     /// Continues a halted motion to its target.
-    ["HMPL 5.2.11", ascii] fn Resume(axis_id: Int) -> Int;
+    ["HMPL 5.2.11", ascii] fn Resume(axis_id: Int[Axis]) -> Int;
 
     // HMPL 5.3: axis settings.
     /// Sets the profile velocity (mm/s or deg/s, > 0, at most the machine file's `max_vel`).
-    ["HMPL 5.3.2", ascii] fn SetVel(axis_id: Int, vel: Double) -> Int;
+    ["HMPL 5.3.2", ascii] fn SetVel(axis_id: Int[Axis], vel: Double[Speed]) -> Int;
     /// Sets the profile acceleration (mm/s² or deg/s², > 0, at most `max_acc`).
-    ["HMPL 5.3.4", ascii] fn SetAcc(axis_id: Int, acc: Double) -> Int;
+    ["HMPL 5.3.4", ascii] fn SetAcc(axis_id: Int[Axis], acc: Double[Acceleration]) -> Int;
     /// Sets the acceleration from a time (ms, > 0): acc = vel / time.
-    ["HMPL 5.3.5", ascii] fn SetAccTime(axis_id: Int, acc_time: Double) -> Int;
+    ["HMPL 5.3.5", ascii] fn SetAccTime(axis_id: Int[Axis], acc_time: Double[AccTime]) -> Int;
     /// Sets the profile deceleration (> 0, at most `max_acc`).
-    ["HMPL 5.3.7", ascii] fn SetDec(axis_id: Int, dec: Double) -> Int;
+    ["HMPL 5.3.7", ascii] fn SetDec(axis_id: Int[Axis], dec: Double[Deceleration]) -> Int;
     /// Sets the deceleration from a time (ms, > 0).
-    ["HMPL 5.3.8", ascii] fn SetDecTime(axis_id: Int, dec_time: Double) -> Int;
+    ["HMPL 5.3.8", ascii] fn SetDecTime(axis_id: Int[Axis], dec_time: Double[DecTime]) -> Int;
     /// Sets the kill deceleration of StopAll and error stops (> 0).
-    ["HMPL 5.3.10", ascii] fn SetKillDec(axis_id: Int, kill_dec: Double) -> Int;
+    ["HMPL 5.3.10", ascii] fn SetKillDec(axis_id: Int[Axis], kill_dec: Double[KillDeceleration]) -> Int;
     /// Sets the software right (positive) limit.
-    ["HMPL 5.3.12", ascii] fn SetSWRL(axis_id: Int, right_limit_pos: Double) -> Int;
+    ["HMPL 5.3.12", ascii] fn SetSWRL(axis_id: Int[Axis], right_limit_pos: Double[Position]) -> Int;
     /// Sets the software left (negative) limit.
-    ["HMPL 5.3.14", ascii] fn SetSWLL(axis_id: Int, left_limit_pos: Double) -> Int;
+    ["HMPL 5.3.14", ascii] fn SetSWLL(axis_id: Int[Axis], left_limit_pos: Double[Position]) -> Int;
     /// Sets the smooth time (0..500 ms) that turns the profile into an S-curve; not while moving.
-    ["HMPL 5.3.16", ascii] fn SetSMTime(axis_id: Int, smooth_time: Double) -> Int;
+    ["HMPL 5.3.16", ascii] fn SetSMTime(axis_id: Int[Axis], smooth_time: Double[SmoothTime]) -> Int;
     /// Makes the present position read `pos` by moving the axis' origin; not while moving,
     /// synchronous, in a gantry or in error.
-    ["HMPL 5.3.19", ascii] fn SetPos(axis_id: Int, pos: Double) -> Int;
+    ["HMPL 5.3.19", ascii] fn SetPos(axis_id: Int[Axis], pos: Double[Position]) -> Int;
     /// 1: ignore the hardware limits; 0: react to them (the default).
-    ["HMPL 5.3.33", ascii] fn IgnoreHWL(axis_id: Int, cmd: Int) -> Int;
+    ["HMPL 5.3.33", ascii] fn IgnoreHWL(axis_id: Int[Axis], cmd: Int) -> Int;
     /// 1: ignore the software limits; 0: react to them (the default).
-    ["HMPL 5.3.34", ascii] fn IgnoreSWL(axis_id: Int, cmd: Int) -> Int;
+    ["HMPL 5.3.34", ascii] fn IgnoreSWL(axis_id: Int[Axis], cmd: Int) -> Int;
     /// 1: ignore the position-error limit; 0: react to it (the default).
-    ["HMPL 5.3.35", ascii] fn IgnorePE(axis_id: Int, cmd: Int) -> Int;
+    ["HMPL 5.3.35", ascii] fn IgnorePE(axis_id: Int[Axis], cmd: Int) -> Int;
     /// Sets the velocity override, 0..100 %, applied to the move under way.
-    ["HMPL 5.3.37", ascii] fn SetVelScale(axis_id: Int, vel_scale: Double) -> Int;
+    ["HMPL 5.3.37", ascii] fn SetVelScale(axis_id: Int[Axis], vel_scale: Double[Percent]) -> Int;
     /// Sets the rollover length (> 0; 0 switches it off); only while disabled.
-    ["HMPL 5.3.39", ascii] fn SetRollover(axis_id: Int, rollover_val: Double) -> Int;
+    ["HMPL 5.3.39", ascii] fn SetRollover(axis_id: Int[Axis], rollover_val: Double[Rollover]) -> Int;
     /// Sets the drive mode: 8 cyclic synchronous position, 9 velocity, 10 torque.
-    ["HMPL 5.3.41", ascii] fn SetOpMode(axis_id: Int, op_mode: Int) -> Int;
+    ["HMPL 5.3.41", ascii] fn SetOpMode(axis_id: Int[Axis], op_mode: Int) -> Int;
     /// Sets the buffer mode: 0 a new move replaces the one under way, 1 moves queue up.
-    ["HMPL 5.3.42", ascii] fn SetBufferMode(axis_id: Int, buf_mode: Int) -> Int;
+    ["HMPL 5.3.42", ascii] fn SetBufferMode(axis_id: Int[Axis], buf_mode: Int) -> Int;
     /// Sets the in-position window (> 0).
-    ["HMPL 5.3.45", ascii] fn SetPosWindow(axis_id: Int, pos_window: Double) -> Int;
+    ["HMPL 5.3.45", ascii] fn SetPosWindow(axis_id: Int[Axis], pos_window: Double[Length]) -> Int;
     /// Sets how long (ms, > 0) the feedback must stay in the window to be in position.
-    ["HMPL 5.3.47", ascii] fn SetPosWindowTime(axis_id: Int, pos_window_time: Double) -> Int;
+    ["HMPL 5.3.47", ascii] fn SetPosWindowTime(axis_id: Int[Axis], pos_window_time: Double[Time]) -> Int;
 
     // HMPL ch. 6: electronic gear.
     /// Links a slave to a master; both must be enabled.
-    ["HMPL 6.2", ascii] fn EnableGear(axis_master_id: Int, axis_slave_id: Int) -> Int;
+    ["HMPL 6.2", ascii] fn EnableGear(axis_master_id: Int[Axis], axis_slave_id: Int[Axis]) -> Int;
     /// Removes the link (disengaging first).
-    ["HMPL 6.3", ascii] fn DisableGear(axis_slave_id: Int) -> Int;
+    ["HMPL 6.3", ascii] fn DisableGear(axis_slave_id: Int[Axis]) -> Int;
     /// Engages the linked slave at a ratio (negative allowed): it follows the master's travel.
-    ["HMPL 6.4", ascii] fn GearIn(axis_master_id: Int, axis_slave_id: Int, gear_ratio: Double) -> Int;
+    ["HMPL 6.4", ascii] fn GearIn(axis_master_id: Int[Axis], axis_slave_id: Int[Axis], gear_ratio: Double[GearRatio]) -> Int;
     /// Disengages the slave; it comes to rest with its deceleration.
-    ["HMPL 6.5", ascii] fn GearOut(axis_slave_id: Int) -> Int;
+    ["HMPL 6.5", ascii] fn GearOut(axis_slave_id: Int[Axis]) -> Int;
 
     // HMPL ch. 7: gantry.
     /// Pairs a right-hand (linear) and a left-hand (yaw) axis; both must be disabled.
-    ["HMPL 7.2", ascii] fn EnableGantryPair(rhs_axis_id: Int, lhs_axis_id: Int) -> Int;
+    ["HMPL 7.2", ascii] fn EnableGantryPair(rhs_axis_id: Int[Axis], lhs_axis_id: Int[Axis]) -> Int;
     /// Splits the pair of an axis; both must be disabled.
-    ["HMPL 7.3", ascii] fn DisableGantryPair(axis_id: Int) -> Int;
+    ["HMPL 7.3", ascii] fn DisableGantryPair(axis_id: Int[Axis]) -> Int;
 
     // HMPL ch. 20: homing.
     /// Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
     /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
-    ["HMPL 20.2", ascii] fn MoveHome(axis_id: Int) -> Int;
+    ["HMPL 20.2", ascii] fn MoveHome(axis_id: Int[Axis]) -> Int;
     /// Sets the homing method: 1, 2, 7-14, 17, 18, 23-30, 33, 34, 37 (default 33).
-    ["HMPL 20.3", ascii] fn SetHomeMethod(axis_id: Int, method: Int) -> Int;
+    ["HMPL 20.3", ascii] fn SetHomeMethod(axis_id: Int[Axis], method: Int) -> Int;
     /// Sets the fast homing speed, searching the switch (default 20).
-    ["HMPL 20.4", ascii] fn SetHomeSwitchVel(axis_id: Int, fast_vel: Double) -> Int;
+    ["HMPL 20.4", ascii] fn SetHomeSwitchVel(axis_id: Int[Axis], fast_vel: Double[Speed]) -> Int;
     /// Sets the slow homing speed, searching the index (default 5).
-    ["HMPL 20.5", ascii] fn SetHomeZeroVel(axis_id: Int, slow_vel: Double) -> Int;
+    ["HMPL 20.5", ascii] fn SetHomeZeroVel(axis_id: Int[Axis], slow_vel: Double[Speed]) -> Int;
     /// Sets the homing acceleration (default 2000).
-    ["HMPL 20.6", ascii] fn SetHomeAcc(axis_id: Int, acc: Double) -> Int;
+    ["HMPL 20.6", ascii] fn SetHomeAcc(axis_id: Int[Axis], acc: Double[Acceleration]) -> Int;
     /// Sets the position the home reads after homing (default 0).
-    ["HMPL 20.7", ascii] fn SetHomeOffset(axis_id: Int, offset: Double) -> Int;
+    ["HMPL 20.7", ascii] fn SetHomeOffset(axis_id: Int[Axis], offset: Double[Position]) -> Int;
     /// Sets the homing timeout, ms (default 120000).
-    ["HMPL 20.8", ascii] fn SetHomeTimeout(axis_id: Int, timeout: Int) -> Int;
+    ["HMPL 20.8", ascii] fn SetHomeTimeout(axis_id: Int[Axis], timeout: Int) -> Int;
     /// Sets the homed flag by hand (for homing routines of one's own).
-    ["HMPL 20.9", ascii] fn SetHomedStatus(axis_id: Int, is_homed: Int) -> Int;
+    ["HMPL 20.9", ascii] fn SetHomedStatus(axis_id: Int[Axis], is_homed: Int) -> Int;
 
     // HMPL ch. 18: errors.
     /// Clears the axis' last error.
-    ["HMPL 18.4", ascii] fn ClearAxisLastErr(axis_id: Int) -> Int;
+    ["HMPL 18.4", ascii] fn ClearAxisLastErr(axis_id: Int[Axis]) -> Int;
     /// Clears a group's last error.
     ["HMPL 18.6", ascii] fn ClearGrpLastErr(group_id: Int) -> Int;
 

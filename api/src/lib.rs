@@ -11,4 +11,4 @@ pub mod system_vars;
 
 pub use errors::{AxisError, ErrorCode, GroupError, SdoAbort, SystemError};
 pub use functions::{Command, Local, Query};
-pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, ValueType};
+pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, Quantity, ValueType};

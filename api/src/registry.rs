@@ -8,6 +8,8 @@
 use std::collections::HashMap;
 use std::sync::LazyLock;
 
+use crate::AxisError;
+
 /// Where a call is carried out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
@@ -58,10 +60,79 @@ pub enum ValueType {
     Timer,
 }
 
+/// What a command's argument is physically; the core checks every argument that has one
+/// against its range before the command runs (`rt-core/src/dispatch.rs`), so that no
+/// setter can forget it and NaN or infinity never reach the kernel. Positions, velocities
+/// and accelerations are in the axis' units (mm or deg, HMPL 1.3), times in ms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    /// The id of an axis; the axis-bound quantities after it belong to this axis.
+    Axis,
+    /// A coordinate of the axis: fits the drive's 32-bit counts (HMPL 5.3.19, 5.3.12).
+    Position,
+    /// A position the axis moves to: also fits the drive's counts with the axis' offset.
+    Target,
+    /// A distance from where the axis is headed: that place plus it is a `Target`.
+    Distance,
+    /// A window or length: at least one count, at most the counts' span.
+    Length,
+    /// A rollover length: 0 (off) or a `Length` (HMPL 5.3.39).
+    Rollover,
+    /// A speed: at least one count per second, at most the machine file's `max_vel`.
+    Speed,
+    /// A velocity whose sign is the direction: |v| at most `max_vel` (HMPL 5.2.6).
+    Velocity,
+    /// An acceleration, deceleration or kill deceleration: at least one count per s²,
+    /// at most the machine file's `max_acc`.
+    Acceleration,
+    Deceleration,
+    KillDeceleration,
+    /// An acceleration or deceleration time (HMPL 5.3.5, 5.3.8) and the in-position time
+    /// (HMPL 5.3.47): > 0, at most a minute.
+    AccTime,
+    DecTime,
+    Time,
+    /// The smooth time, 0..500 ms (HMPL table 5.1.1.2).
+    SmoothTime,
+    /// A velocity override, 0..100 % (HMPL 5.3.37).
+    Percent,
+    /// A gear ratio, |ratio| at most 1000 (HMPL 6.4).
+    GearRatio,
+    /// A torque in N·m whose per mille of rated torque fits the drive's 0x6071 (INT16).
+    Torque,
+    /// PVT times, ms from 0, at most a minute, and velocities, |v| at most `max_vel`
+    /// (HMPL 5.2.8).
+    PvtTime,
+    PvtVelocity,
+}
+
+impl Quantity {
+    /// The axis error a value out of range records (HMPL table 18.1.2.1).
+    pub fn error(self) -> AxisError {
+        match self {
+            Quantity::Axis | Quantity::Length | Quantity::Time | Quantity::Torque => AxisError::CmdInvalidParameter,
+            Quantity::Position | Quantity::Target | Quantity::Distance => AxisError::CmdInvalidPos,
+            Quantity::Rollover => AxisError::CmdInvalidRolloverPos,
+            Quantity::Speed | Quantity::Velocity => AxisError::CmdInvalidVel,
+            Quantity::Acceleration | Quantity::AccTime => AxisError::CmdInvalidAcc,
+            Quantity::Deceleration | Quantity::DecTime => AxisError::CmdInvalidDec,
+            Quantity::KillDeceleration => AxisError::CmdInvalidKillDec,
+            Quantity::SmoothTime => AxisError::CmdInvalidSmTime,
+            Quantity::Percent => AxisError::CmdInvalidVelScale,
+            Quantity::GearRatio => AxisError::CmdInvalidGearRatio,
+            Quantity::PvtTime => AxisError::PvtMotionInvalidTime,
+            Quantity::PvtVelocity => AxisError::PvtMotionVelLimit,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug)]
 pub struct ArgSpec {
     pub name: &'static str,
     pub ty: ArgType,
+    /// What the argument is, for the core's range check; `None` for what has no range of
+    /// its own (pins, flags, modes checked by the command itself).
+    pub quantity: Option<Quantity>,
 }
 
 /// One function of the registry.
@@ -81,6 +152,14 @@ pub struct FunctionSpec {
 }
 
 impl FunctionSpec {
+    /// Each argument with its quantity and the index of the axis argument before it.
+    pub fn quantities(&self) -> impl Iterator<Item = (usize, Quantity, Option<usize>)> + '_ {
+        self.args.iter().enumerate().filter_map(|(i, arg)| {
+            let axis = self.args[..i].iter().rposition(|a| a.quantity == Some(Quantity::Axis));
+            arg.quantity.map(|q| (i, q, axis))
+        })
+    }
+
     pub fn kind(&self) -> Kind {
         match self.func {
             Func::Command(_) => Kind::Command,
@@ -146,7 +225,7 @@ macro_rules! declare_functions {
         $(
             $(#[doc = $doc:literal])*
             [$manual:literal $(, $ascii:ident)?]
-            fn $name:ident ( $( $arg:ident : $aty:ident ),* $(,)? ) $(-> $ret:tt)? ;
+            fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? ),* $(,)? ) $(-> $ret:tt)? ;
         )*
     ) => {
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -180,12 +259,15 @@ macro_rules! declare_functions {
                 args: &[ $( $crate::registry::ArgSpec {
                     name: stringify!($arg),
                     ty: $crate::registry::ArgType::$aty,
+                    quantity: declare_functions!(@quantity $($q)?),
                 }, )* ],
                 returns: declare_functions!(@ret $($ret)?),
                 doc: &[ $( $doc, )* ],
             },
         )* ];
     };
+    (@quantity $q:ident) => { Some($crate::registry::Quantity::$q) };
+    (@quantity) => { None };
     (@ascii ascii) => { true };
     (@ascii) => { false };
     (@ret) => { &[] };
@@ -194,3 +276,24 @@ macro_rules! declare_functions {
 }
 
 pub(crate) use declare_functions;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 11: a number that reaches the kernel has a range. Every `double` a command
+    /// takes declares its quantity, and each quantity but `Axis` names its axis.
+    #[test]
+    fn every_number_a_command_takes_has_a_range() {
+        for spec in crate::functions::COMMANDS {
+            for arg in spec.args {
+                if matches!(arg.ty, ArgType::Double | ArgType::Doubles) {
+                    assert!(arg.quantity.is_some(), "{}: argument {} has no quantity", spec.name, arg.name);
+                }
+            }
+            for (i, q, axis) in spec.quantities() {
+                assert!(q == Quantity::Axis || axis.is_some(), "{}: argument {i} has no axis before it", spec.name);
+            }
+        }
+    }
+}

@@ -2,15 +2,18 @@
 //! compiler holds every command of the registry to an implementation.
 
 use api::alarms::{Alarm, Event as AlarmEvent};
+use api::registry::ArgType;
 use api::{AxisError, Command, ErrorCode, FunctionSpec, SdoAbort, SystemError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
 use crate::cycle::Machine;
+use crate::drive::od::fits_width;
 use crate::ecat::{AlState, Field, SdoError};
 use crate::io::NoSuchPin;
 use crate::motion::axis::{Axis, Ignore};
 use crate::motion::pvt::{MAX_POINTS, PvtPoint};
+use crate::motion::settings::HomeSettings;
 use crate::tasks::Entry;
 
 /// How a command failed, in the return convention of its chapter.
@@ -58,7 +61,10 @@ pub fn execute(machine: &mut Machine, caller: u8, request: &Request, reply: &mut
         None => Err(SystemError::HmplNotSupported.into()),
         Some(_) if !machine.tasks.accepts_commands(caller) => Err(SystemError::TaskNotRunning.into()),
         Some(command) if !arguments_fit(command.spec(), request) => Err(SystemError::HmplInvalidArg.into()),
-        Some(command) => run(machine, caller, command, request, reply),
+        Some(command) => match check_ranges(machine, command.spec(), request) {
+            Ok(()) => run(machine, caller, command, request, reply),
+            Err(failure) => Err(failure),
+        },
     };
     match result {
         Ok(Done::Later) => return Disposition::Defer,
@@ -120,6 +126,49 @@ fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>)
 
 fn arguments_fit(spec: &FunctionSpec, request: &Request) -> bool {
     request.argc as usize == spec.args.len() && request.blob_len as usize <= request.blob.len()
+}
+
+/// Every argument the registry gives a quantity is checked against its range before the
+/// command runs, on the axis named by the axis argument before it. One path for every
+/// command: no setter can forget it, and NaN, infinities and numbers no drive could carry
+/// never reach the kernel (issue 11).
+fn check_ranges(m: &mut Machine, spec: &FunctionSpec, r: &Request) -> Result<(), Failure> {
+    for (i, quantity, axis_arg) in spec.quantities() {
+        let Some(axis_arg) = axis_arg else {
+            // The axis argument itself.
+            m.kernel.axis_mut(r.int(i))?;
+            continue;
+        };
+        let axis = m.kernel.axis_mut(r.int(axis_arg))?;
+        let id = axis.id();
+        let refused = |e: AxisError| Failure::from(ErrorCode::axis(id, e));
+        match spec.args[i].ty {
+            ArgType::Double => axis.admit(quantity, r.double(i)).map_err(refused)?,
+            ArgType::Doubles => {
+                for value in doubles(spec, r, i)? {
+                    axis.admit(quantity, value).map_err(refused)?;
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The numbers of `double*` argument `i`: the blob holds the arrays, strings and bytes one
+/// after the other, their lengths are in the argument words.
+fn doubles<'r>(spec: &FunctionSpec, r: &'r Request, i: usize) -> Result<impl Iterator<Item = f64> + 'r, Failure> {
+    let bytes = |j: usize| {
+        let len = usize::try_from(r.int(j)).unwrap_or(usize::MAX);
+        match spec.args[j].ty {
+            ArgType::Doubles => len.saturating_mul(8),
+            ArgType::Bytes | ArgType::Str => len,
+            _ => 0,
+        }
+    };
+    let start = (0..i).fold(0usize, |sum, j| sum.saturating_add(bytes(j)));
+    let array = r.blob().get(start..start.saturating_add(bytes(i))).ok_or(SystemError::HmplInvalidArg)?;
+    Ok(array.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes"))))
 }
 
 type Outcome = Result<Done, Failure>;
@@ -234,10 +283,10 @@ fn run_command(m: &mut Machine, caller: u8, command: Command, r: &Request, reply
             Ok(Done::Later)
         }),
         Command::SetHomeMethod => axis(m, r, |ax| ax.set_home(|h| h.set_method(r.int(1)))),
-        Command::SetHomeSwitchVel => axis(m, r, |ax| ax.set_home(|h| h.set_switch_vel(x))),
-        Command::SetHomeZeroVel => axis(m, r, |ax| ax.set_home(|h| h.set_zero_vel(x))),
-        Command::SetHomeAcc => axis(m, r, |ax| ax.set_home(|h| h.set_acc(x))),
-        Command::SetHomeOffset => axis(m, r, |ax| ax.set_home(|h| h.set_offset(x))),
+        Command::SetHomeSwitchVel => home_number(m, r, |h| &mut h.switch_vel),
+        Command::SetHomeZeroVel => home_number(m, r, |h| &mut h.zero_vel),
+        Command::SetHomeAcc => home_number(m, r, |h| &mut h.acc),
+        Command::SetHomeOffset => home_number(m, r, |h| &mut h.offset),
         Command::SetHomeTimeout => axis(m, r, |ax| ax.set_home(|h| h.set_timeout(r.int(1)))),
         Command::SetHomedStatus => axis(m, r, |ax| {
             ax.set_homed(r.int(1) != 0);
@@ -263,7 +312,7 @@ fn run_command(m: &mut Machine, caller: u8, command: Command, r: &Request, reply
         }
         Command::WriteSDO => {
             let len = length(r.int(3))?;
-            let value = r.int(4).to_le_bytes();
+            let value = fitting(r.int(4), len)?.to_le_bytes();
             now(m.network.sdo_write(slave(r)?, object(r.int(1))?, sub(r.int(2))?, &value[..len]))
         }
         Command::WriteSDOEx => {
@@ -276,13 +325,15 @@ fn run_command(m: &mut Machine, caller: u8, command: Command, r: &Request, reply
         }
         Command::WritePDO => {
             let field = output_field(m, r)?;
+            let value = fitting(r.int(3), field.data_type().bytes())?;
             let (_, outputs) = m.network.images_mut();
-            field.write(outputs, r.int(3));
+            field.write(outputs, value);
             Ok(Done::Now)
         }
         Command::ForceWritePDO => {
             let field = output_field(m, r)?;
-            if m.forces.force(field, r.int(3)) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
+            let value = fitting(r.int(3), field.data_type().bytes())?;
+            if m.forces.force(field, value) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
         }
         Command::ReleasePDO => {
             let field = output_field(m, r)?;
@@ -363,6 +414,16 @@ fn axis(m: &mut Machine, r: &Request, f: impl FnOnce(&mut Axis) -> Result<(), Ax
     })
 }
 
+/// HMPL 20.4 to 20.7: a homing number, its range checked before (`check_ranges`).
+fn home_number(m: &mut Machine, r: &Request, field: fn(&mut HomeSettings) -> &mut f64) -> Outcome {
+    axis(m, r, |ax| {
+        ax.set_home(|h| {
+            *field(h) = r.double(1);
+            Ok(())
+        })
+    })
+}
+
 /// MovePVT's three arrays follow each other in the blob; argument words 1..3 hold their
 /// lengths, word 4 the number of points.
 fn pvt_points(r: &Request) -> Result<([PvtPoint; MAX_POINTS + 1], usize), Failure> {
@@ -407,6 +468,11 @@ fn sub(sub: i64) -> Result<u8, Failure> {
 /// An object is 1 to 8 bytes.
 fn length(len: i64) -> Result<usize, Failure> {
     usize::try_from(len).ok().filter(|l| (1..=8).contains(l)).ok_or(Failure::MinusOne(SdoAbort::LengthMismatch.code()))
+}
+
+/// A value for an object `len` bytes wide: cut to fit, it would be another value.
+fn fitting(value: i64, len: usize) -> Result<i64, Failure> {
+    if fits_width(value, len) { Ok(value) } else { Err(Failure::MinusOne(SdoAbort::ValueRange.code())) }
 }
 
 /// An SDO read whose length must be the object's.

@@ -3,85 +3,13 @@
 //! StopAll (fact 30), and the fault reactions of a stopped task. Two attached (external)
 //! tasks send requests straight to `dispatch`, as the RT thread would.
 
+mod rig;
+
 use api::{Command, SystemError};
-use ipc::messages::{Reply, Request};
-use ipc::shared::SharedData;
-use ipc::shm::zeroed;
-use ipc::task_table::TaskTable;
-use rt_core::MachineConfig;
-use rt_core::config::{FaultReaction, TaskConfig};
-use rt_core::cycle::Machine;
-use rt_core::dispatch;
-use rt_core::ecat::Network;
-use rt_core::motion::Kernel;
-use rt_core::tasks::{self, Entry, SupervisorEnd, Tasks};
+use rt_core::config::FaultReaction;
+use rt_core::tasks::Entry;
 
-struct Rig {
-    machine: Machine,
-    table: Box<TaskTable>,
-    shared: Box<SharedData>,
-    _supervisor: SupervisorEnd,
-}
-
-impl Rig {
-    fn new(reaction: FaultReaction) -> Self {
-        let config = MachineConfig::default();
-        let mut network = Network::new(&config.axes);
-        network.start(config.period_ns()).unwrap();
-        let kernel = Kernel::new(&config, &network);
-        let attached = |id| TaskConfig {
-            autorun: false,
-            external: true,
-            fault_reaction: reaction,
-            ..TaskConfig::autorun(id, "-".into())
-        };
-        let (link, supervisor) = tasks::link();
-        let tasks = Tasks::new(&[attached(0), attached(1)], config.period_ns(), link);
-        let machine = Machine::new(network, kernel, tasks, config.period_ns());
-        Rig { machine, table: zeroed(), shared: zeroed(), _supervisor: supervisor }
-    }
-
-    fn cycle(&mut self) {
-        let m = &mut self.machine;
-        m.cycle += 1;
-        m.network.exchange(1e-3);
-        let Machine { tasks, kernel, cycle, .. } = m;
-        tasks.step(*cycle, &self.table, &self.shared, 0, &mut |t, r| kernel.react(t, r));
-        m.kernel.step(m.cycle, &mut m.network);
-    }
-
-    fn cycles(&mut self, n: usize) {
-        for _ in 0..n {
-            self.cycle();
-        }
-    }
-
-    /// `command(args)` from `task` in the present cycle: its return value.
-    fn call(&mut self, task: u8, command: Command, ints: &[i64], doubles: &[f64]) -> i64 {
-        let mut request = Request::new(command.id());
-        for &i in ints {
-            request.push_int(i);
-        }
-        for &d in doubles {
-            request.push_double(d);
-        }
-        let mut reply = Reply::to(&request);
-        if dispatch::execute(&mut self.machine, task, &request, &mut reply) == ipc::Disposition::Defer {
-            return i64::MIN;
-        }
-        reply.values[0] as i64
-    }
-
-    fn enable(&mut self, axis: i64) {
-        assert_eq!(self.call(0, Command::Enable, &[axis], &[]), 0);
-        self.cycles(20);
-        assert!(self.machine.kernel.axes()[axis as usize].is_enabled());
-    }
-
-    fn moving(&self, axis: usize) -> bool {
-        self.machine.kernel.axes()[axis].is_moving()
-    }
-}
+use rig::Rig;
 
 /// DXMC 9 (0x001F) and DESIGN: one task commands an axis in a cycle; the second is refused.
 #[test]

@@ -65,6 +65,16 @@ impl DataType {
     }
 }
 
+/// Whether `value` fits `bytes` bytes as a signed or an unsigned integer: what a master
+/// may write to an object that wide without cutting it (its range is the drive's to check).
+pub fn fits_width(value: i64, bytes: usize) -> bool {
+    if bytes >= 8 {
+        return true;
+    }
+    let bits = 8 * bytes as u32;
+    (-(1i64 << (bits - 1))..=(1i64 << bits) - 1).contains(&value)
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Access {
     ReadOnly,

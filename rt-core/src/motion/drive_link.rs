@@ -238,4 +238,9 @@ impl DriveLink {
     pub fn counts(&self, units: f64) -> f64 {
         units * self.counts_per_unit
     }
+
+    /// Drive counts in axis units.
+    pub fn units(&self, counts: f64) -> f64 {
+        counts / self.counts_per_unit
+    }
 }

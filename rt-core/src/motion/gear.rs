@@ -47,11 +47,8 @@ pub fn disable(axes: &mut [Axis], slave: u8) -> Result<(), ErrorCode> {
     Ok(())
 }
 
-/// HMPL 6.4: engage at `ratio` (any finite ratio, negative too).
+/// HMPL 6.4: engage at `ratio` (negative too; its range is the registry's).
 pub fn gear_in(axes: &mut [Axis], master: u8, slave: u8, ratio: f64) -> Result<(), ErrorCode> {
-    if !ratio.is_finite() {
-        return Err(axis_error(axes, slave, AxisError::CmdInvalidGearRatio));
-    }
     let Some(link) = axes[slave as usize].gear else {
         return Err(axis_error(axes, slave, AxisError::CmdGearDisabled));
     };

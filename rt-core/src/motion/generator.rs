@@ -185,8 +185,9 @@ impl Generator {
         Ok(())
     }
 
-    /// Where the axis will stand when everything queued has run.
-    fn end_of_queue(&self) -> f64 {
+    /// Where the axis will stand when everything queued has run: what a relative move
+    /// counts from (in buffer mode 0 nothing is queued).
+    pub fn end_of_queue(&self) -> f64 {
         let mut end = self.target().unwrap_or(self.raw.pos);
         for i in 0..self.queue_len {
             match self.queue[(self.queue_head + i) % QUEUE_CAPACITY] {

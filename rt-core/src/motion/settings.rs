@@ -31,36 +31,14 @@ pub fn valid_home_method(method: i64) -> bool {
     matches!(method, 1 | 2 | 7..=14 | 17 | 18 | 23..=30 | 33 | 34 | 37)
 }
 
-/// The setters of HMPL 20.3 to 20.8, each with the code of its refusal.
+/// The setters of HMPL 20.3 and 20.8 with the code of their refusal; the speeds,
+/// acceleration and offset are plain numbers whose ranges the registry declares.
 impl HomeSettings {
     pub fn set_method(&mut self, method: i64) -> Result<(), AxisError> {
         if !valid_home_method(method) {
             return Err(AxisError::CmdInvalidParameter);
         }
         self.method = method;
-        Ok(())
-    }
-
-    pub fn set_switch_vel(&mut self, vel: f64) -> Result<(), AxisError> {
-        self.switch_vel = positive_up_to(vel, f64::MAX, AxisError::CmdInvalidVel)?;
-        Ok(())
-    }
-
-    pub fn set_zero_vel(&mut self, vel: f64) -> Result<(), AxisError> {
-        self.zero_vel = positive_up_to(vel, f64::MAX, AxisError::CmdInvalidVel)?;
-        Ok(())
-    }
-
-    pub fn set_acc(&mut self, acc: f64) -> Result<(), AxisError> {
-        self.acc = positive_up_to(acc, f64::MAX, AxisError::CmdInvalidAcc)?;
-        Ok(())
-    }
-
-    pub fn set_offset(&mut self, offset: f64) -> Result<(), AxisError> {
-        if !offset.is_finite() {
-            return Err(AxisError::CmdInvalidPos);
-        }
-        self.offset = offset;
         Ok(())
     }
 
@@ -136,15 +114,11 @@ impl Settings {
     }
 }
 
-/// `value > 0` and at most `max`: the rule of most setters ("non-zero positive").
-pub fn positive_up_to(value: f64, max: f64, error: AxisError) -> Result<f64, AxisError> {
-    if value > 0.0 && value <= max { Ok(value) } else { Err(error) }
-}
-
-/// A time in ms (acceleration or deceleration time) turned into a rate: vel / time. A time
-/// of 0, a negative one or NaN gives a rate `positive_up_to` refuses.
+/// A time in ms (acceleration or deceleration time) turned into a rate: vel / time, > 0 and
+/// at most `max`. A time of 0, a negative one or NaN gives a rate that is refused.
 pub fn rate_from_time(vel: f64, time_ms: f64, max: f64, error: AxisError) -> Result<f64, AxisError> {
-    positive_up_to(vel / (time_ms / 1000.0), max, error)
+    let rate = vel / (time_ms / 1000.0);
+    if rate > 0.0 && rate <= max { Ok(rate) } else { Err(error) }
 }
 
 #[cfg(test)]
@@ -161,19 +135,15 @@ mod tests {
         );
     }
 
-    /// HMPL 20.3 to 20.8: what the setters refuse, and that a refusal keeps the value.
+    /// HMPL 20.3 and 20.8: what the setters refuse, and that a refusal keeps the value.
     #[test]
     fn home_setters() {
         let mut h = HomeSettings::default();
         assert_eq!(h.set_method(3), Err(AxisError::CmdInvalidParameter));
-        assert_eq!(h.set_switch_vel(0.0), Err(AxisError::CmdInvalidVel));
-        assert_eq!(h.set_zero_vel(f64::NAN), Err(AxisError::CmdInvalidVel));
-        assert_eq!(h.set_acc(-1.0), Err(AxisError::CmdInvalidAcc));
-        assert_eq!(h.set_offset(f64::INFINITY), Err(AxisError::CmdInvalidPos));
         assert_eq!(h.set_timeout(0), Err(AxisError::CmdInvalidParameter));
         assert_eq!(h, HomeSettings::default());
-        assert_eq!(h.set_offset(-2.5), Ok(()));
-        assert_eq!(h.offset, -2.5);
+        assert_eq!(h.set_timeout(5), Ok(()));
+        assert_eq!(h.timeout_ms, 5);
     }
 
     /// HMPL 20.3 and fact 94: the methods SetHomeMethod accepts.

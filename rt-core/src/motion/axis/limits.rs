@@ -6,31 +6,41 @@ use api::AxisError;
 use ipc::messages::fault_status;
 
 use super::Axis;
+use crate::profile::Kinematics;
 
 impl Axis {
     /// Before the generator steps: if the move would pass a software limit, stop it with
     /// the kill deceleration so that it ends at or before the limit (HMPL 5.3.11, fact 43).
+    /// The ends of the drive's 32-bit counts are limits no switch turns off: a velocity
+    /// move, a rollover axis or a PVT curve stops before the counts overflow.
     pub(super) fn guard_software_limits(&mut self) {
-        if self.settings.ignore_swl || self.settings.rollover > 0.0 || !self.generator.is_moving() {
+        if !self.generator.is_moving() || self.generator.is_stopping() {
             return;
         }
         let raw = self.generator.raw();
-        let v = raw.vel;
-        let reach = raw.pos + v * self.period_s + v * v.abs() / (2.0 * self.settings.kill_dec);
-        let hit = if v > 0.0 && reach > self.settings.swrl {
-            Some((fault_status::SW_RIGHT_LIMIT, AxisError::Swrl))
-        } else if v < 0.0 && reach < self.settings.swll {
-            Some((fault_status::SW_LEFT_LIMIT, AxisError::Swll))
-        } else {
-            None
-        };
-        if let Some((bit, error)) = hit
-            && !self.generator.is_stopping()
-        {
+        if let Some((bit, error)) = self.passes_limit(raw) {
             self.generator.stop_with(self.settings.kill_dec);
             self.error_stop = true;
             self.faults |= bit;
             self.fail(error);
+        }
+    }
+
+    /// Whether motion `k` would pass a limit before the kill deceleration could stop it:
+    /// the limit's fault bit and error.
+    pub(super) fn passes_limit(&self, k: Kinematics) -> Option<(u32, AxisError)> {
+        let (mut left, mut right) = self.count_range();
+        if !(self.settings.ignore_swl || self.settings.rollover > 0.0) {
+            (left, right) = (left.max(self.settings.swll), right.min(self.settings.swrl));
+        }
+        let v = k.vel;
+        let reach = k.pos + v * self.period_s + v * v.abs() / (2.0 * self.settings.kill_dec);
+        if v > 0.0 && reach > right {
+            Some((fault_status::SW_RIGHT_LIMIT, AxisError::Swrl))
+        } else if v < 0.0 && reach < left {
+            Some((fault_status::SW_LEFT_LIMIT, AxisError::Swll))
+        } else {
+            None
         }
     }
 

@@ -6,6 +6,7 @@
 //! the axis shows in `status.rs`.
 
 mod limits;
+mod ranges;
 mod status;
 
 use api::AxisError;
@@ -13,13 +14,14 @@ use ipc::messages::fault_status;
 
 use crate::cia402::State;
 use crate::config::AxisConfig;
+use crate::drive::od::fits_width;
 use crate::ecat::Network;
 use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
 use crate::motion::generator::{Generator, Move};
 use crate::motion::homing::Homing;
 use crate::motion::power::PowerEvent;
 use crate::motion::pvt::{Pvt, PvtError, PvtPoint};
-use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, positive_up_to, rate_from_time};
+use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
 use crate::profile::Kinematics;
 
 /// Below this fraction of the axis' velocity limit the motor counts as standing.
@@ -158,10 +160,7 @@ impl Axis {
     }
 
     pub fn is_moving(&self) -> bool {
-        match self.gear {
-            Some(GearLink { engaged: Some(_), .. }) => self.reference.vel != 0.0,
-            _ => self.generator.is_moving(),
-        }
+        if self.is_engaged() { self.reference.vel != 0.0 } else { self.generator.is_moving() }
     }
 
     pub fn is_error_stop(&self) -> bool {
@@ -314,11 +313,6 @@ impl Axis {
         }
     }
 
-    fn finite_position(&mut self, pos: f64) -> Result<f64, AxisError> {
-        let ok = pos.is_finite() && self.link.counts(pos + self.pos_offset).abs() <= i32::MAX as f64;
-        if ok { Ok(pos) } else { Err(self.fail(AxisError::CmdInvalidPos)) }
-    }
-
     fn command(&mut self, m: Move) -> Result<(), AxisError> {
         let buffered = self.settings.buffer_mode == 1;
         self.generator.command(m, buffered).map_err(|_| self.fail(AxisError::CmdQueueFull))?;
@@ -328,7 +322,6 @@ impl Axis {
 
     pub fn move_abs(&mut self, pos: f64) -> Result<(), AxisError> {
         self.check_can_move()?;
-        let pos = self.finite_position(pos)?;
         let target = if self.settings.rollover > 0.0 { self.shortest_way_to(pos) } else { pos };
         self.command(Move::Absolute(target))
     }
@@ -350,17 +343,12 @@ impl Axis {
     /// `MoveRel(a, 10)` add up to 20.
     pub fn move_rel(&mut self, distance: f64) -> Result<(), AxisError> {
         self.check_can_move()?;
-        let base = self.generator.target().unwrap_or(self.reference.pos);
-        self.finite_position(base + distance)?;
         self.command(Move::Relative(distance))
     }
 
-    /// HMPL 5.2.6: a velocity move, sign for direction, at most the axis' velocity limit.
+    /// HMPL 5.2.6: a velocity move, sign for direction.
     pub fn move_vel(&mut self, vel: f64) -> Result<(), AxisError> {
         self.check_can_move()?;
-        if !(vel.is_finite() && vel.abs() <= self.settings.max_vel) {
-            return Err(self.fail(AxisError::CmdInvalidVel));
-        }
         self.command(Move::Velocity(vel))
     }
 
@@ -397,9 +385,6 @@ impl Axis {
         let per_mille = self.link.per_mille_per_nm;
         if !(per_mille.is_finite() && per_mille > 0.0) {
             return Err(self.fail(AxisError::CmdInvalidForceconstTrqmode));
-        }
-        if !torque.is_finite() {
-            return Err(self.fail(AxisError::CmdInvalidParameter));
         }
         self.torque = (torque * per_mille).clamp(-1000.0, 1000.0);
         Ok(())
@@ -444,20 +429,23 @@ impl Axis {
 
     // --- settings (HMPL 5.3) ---
 
+    // The ranges of the arguments are checked before (`ranges.rs`); the setters check
+    // what depends on the axis' state.
+
     pub fn set_vel(&mut self, vel: f64) -> Result<(), AxisError> {
-        self.settings.vel = self.check(positive_up_to(vel, self.settings.max_vel, AxisError::CmdInvalidVel))?;
+        self.settings.vel = vel;
         self.generator.set_profile(self.settings.profile());
         Ok(())
     }
 
     pub fn set_acc(&mut self, acc: f64) -> Result<(), AxisError> {
-        self.settings.acc = self.check(positive_up_to(acc, self.settings.max_acc, AxisError::CmdInvalidAcc))?;
+        self.settings.acc = acc;
         self.generator.set_profile(self.settings.profile());
         Ok(())
     }
 
     pub fn set_dec(&mut self, dec: f64) -> Result<(), AxisError> {
-        self.settings.dec = self.check(positive_up_to(dec, self.settings.max_acc, AxisError::CmdInvalidDec))?;
+        self.settings.dec = dec;
         self.generator.set_profile(self.settings.profile());
         Ok(())
     }
@@ -474,12 +462,12 @@ impl Axis {
     }
 
     pub fn set_kill_dec(&mut self, kill_dec: f64) -> Result<(), AxisError> {
-        self.settings.kill_dec = self.check(positive_up_to(kill_dec, f64::MAX, AxisError::CmdInvalidKillDec))?;
+        self.settings.kill_dec = kill_dec;
         Ok(())
     }
 
     pub fn set_swrl(&mut self, pos: f64) -> Result<(), AxisError> {
-        if !(pos.is_finite() && pos > self.settings.swll) {
+        if pos <= self.settings.swll {
             return Err(self.fail(AxisError::CmdInvalidPos));
         }
         self.settings.swrl = pos;
@@ -487,18 +475,15 @@ impl Axis {
     }
 
     pub fn set_swll(&mut self, pos: f64) -> Result<(), AxisError> {
-        if !(pos.is_finite() && pos < self.settings.swrl) {
+        if pos >= self.settings.swrl {
             return Err(self.fail(AxisError::CmdInvalidPos));
         }
         self.settings.swll = pos;
         Ok(())
     }
 
-    /// HMPL 5.3.16: 0..500 ms, not while moving.
+    /// HMPL 5.3.16: not while moving.
     pub fn set_sm_time(&mut self, ms: f64) -> Result<(), AxisError> {
-        if !(0.0..=MAX_SMOOTH_TIME_MS).contains(&ms) {
-            return Err(self.fail(AxisError::CmdInvalidSmTime));
-        }
         if self.is_moving() {
             return Err(self.fail(AxisError::CmdInvalidMoving));
         }
@@ -521,8 +506,6 @@ impl Axis {
             Some(AxisError::CmdInvalidErrorState)
         } else if self.is_moving() {
             Some(AxisError::CmdInvalidMoving)
-        } else if !pos.is_finite() {
-            Some(AxisError::CmdInvalidPos)
         } else {
             None
         };
@@ -546,21 +529,15 @@ impl Axis {
         Ok(())
     }
 
-    /// HMPL 5.3.37: 0..100 %, applied to the move under way.
+    /// HMPL 5.3.37: applied to the move under way.
     pub fn set_vel_scale(&mut self, percent: f64) -> Result<(), AxisError> {
-        if !(0.0..=100.0).contains(&percent) {
-            return Err(self.fail(AxisError::CmdInvalidVelScale));
-        }
         self.settings.vel_scale = percent;
         self.generator.set_scale(percent / 100.0 * self.run_speed);
         Ok(())
     }
 
-    /// HMPL 5.3.39: rollover length (> 0; 0 switches it off), only while disabled.
+    /// HMPL 5.3.39: rollover length (0 switches it off), only while disabled.
     pub fn set_rollover(&mut self, value: f64) -> Result<(), AxisError> {
-        if !(value >= 0.0 && value.is_finite()) {
-            return Err(self.fail(AxisError::CmdInvalidRolloverPos));
-        }
         if !self.link.is_disabled() {
             return Err(self.fail(AxisError::CmdInvalidEnabled));
         }
@@ -597,12 +574,12 @@ impl Axis {
     }
 
     pub fn set_pos_window(&mut self, window: f64) -> Result<(), AxisError> {
-        self.settings.pos_window = self.check(positive_up_to(window, f64::MAX, AxisError::CmdInvalidParameter))?;
+        self.settings.pos_window = window;
         Ok(())
     }
 
     pub fn set_pos_window_time(&mut self, ms: f64) -> Result<(), AxisError> {
-        self.settings.pos_window_time_ms = self.check(positive_up_to(ms, f64::MAX, AxisError::CmdInvalidParameter))?;
+        self.settings.pos_window_time_ms = ms;
         Ok(())
     }
 
@@ -634,7 +611,10 @@ impl Axis {
             (0x607C, 0, counts(home.offset), 4),
         ];
         for (index, sub, value, len) in writes {
-            if network.sdo_write(self.link.slave(), index, sub, &value.to_le_bytes()[..len]).is_err() {
+            // A value cut to the object's width would be another value.
+            if !fits_width(value, len)
+                || network.sdo_write(self.link.slave(), index, sub, &value.to_le_bytes()[..len]).is_err()
+            {
                 return Err(self.fail(AxisError::DriveHomeFailed));
             }
         }
@@ -723,7 +703,8 @@ impl Axis {
         if !self.link.is_enabled() || self.homing.in_progress() || self.op_mode == MODE_CST {
             self.generator.reset(self.pos_fb);
             self.reference = Kinematics { pos: self.pos_fb, vel: 0.0, acc: 0.0 };
-        } else if self.gear.is_none() {
+        } else if !self.is_engaged() {
+            // A disengaged gear slave comes to rest through its generator.
             self.guard_software_limits();
             self.reference = self.generator.step();
         }
@@ -750,26 +731,44 @@ impl Axis {
         self.home_result = Some(result);
     }
 
-    /// A gear slave's reference from its master's (HMPL 6.1).
+    /// A gear slave's reference from its master's (HMPL 6.1). A slave the master would take
+    /// past a limit (its software limits, or the ends of its drive's counts) is disengaged
+    /// and stopped with its kill deceleration, as a move would be.
     pub fn follow(&mut self, master: Kinematics) {
         if let Some(GearLink { engaged: Some(e), .. }) = self.gear {
-            self.reference = Kinematics {
+            let next = Kinematics {
                 pos: e.slave_origin + e.ratio * (master.pos - e.master_origin),
                 vel: e.ratio * master.vel,
                 acc: e.ratio * master.acc,
             };
+            if let Some((bit, error)) = self.passes_limit(next) {
+                self.disengage_with(self.settings.kill_dec);
+                self.error_stop = true;
+                self.faults |= bit;
+                self.fail(error);
+                return;
+            }
+            self.reference = next;
         }
     }
 
     /// GearOut: the slave comes to rest from where the gear left it, without smoothing.
     pub fn disengage(&mut self) {
+        self.disengage_with(self.settings.dec);
+    }
+
+    fn disengage_with(&mut self, dec: f64) {
         if let Some(link) = &mut self.gear {
             link.engaged = None;
         }
         self.generator.set_smooth_samples(1);
         self.generator.take_over(self.reference);
-        self.generator.stop_with(self.settings.dec);
+        self.generator.stop_with(dec);
         self.smoothing_suspended = true;
+    }
+
+    fn is_engaged(&self) -> bool {
+        matches!(self.gear, Some(GearLink { engaged: Some(_), .. }))
     }
 
     /// HMPL 5.1.1: position output = reference + compensation (none configured: 0).
