@@ -213,7 +213,11 @@ fn connections_past_the_limit_are_closed_and_the_rest_served() {
     }
     drop(served.pop());
     assert!(serves_again(server.port), "a freed place is taken again");
-    assert!(server.stderr().contains("modbus.max_connections"), "the refusals are logged: {}", server.stderr());
+    assert!(
+        eventually(PATIENCE, || server.stderr().contains("modbus.max_connections")),
+        "the refusals are logged: {}",
+        server.stderr()
+    );
 }
 
 #[test]
@@ -354,5 +358,6 @@ fn temporary_dh_files_of_a_killed_serve_are_removed_at_start() {
     let mut stream = connect(server.port);
     let dh = request(&mut stream, &[0x03, 0x80, 0x00, 0x00, 0x01]).unwrap();
     let kept = u16::from_be_bytes([dh[2], dh[3]]);
-    assert!((1..=last).contains(&kept), "DH holds a value that was written: {kept} of 1..={last}");
+    // The write after the last answered one may have been saved before its answer went out.
+    assert!((1..=last + 1).contains(&kept), "DH holds a value that was written: {kept} of 1..={}", last + 1);
 }
