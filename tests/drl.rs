@@ -182,7 +182,12 @@ fn drl_status_names_the_codes_and_takes_at_before_or_after_the_subcommand() {
     assert!(out.stdout.contains("state 4 (Pre-Run)") && out.stdout.contains("status 12 (OPENED)"), "{}", out.stdout);
     let at = format!("127.0.0.1:{}", server.port);
     let out = common::finish(
-        Command::new(BIN).args(["drl", "--at", &at, "status"]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap(),
+        Command::new(BIN)
+            .args(["drl", "--at", &at, "status"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
         Duration::from_secs(30),
     );
     assert!(out.status.success() && out.stdout.contains("id 5"), "drl --at ... status: {}{}", out.stdout, out.stderr);

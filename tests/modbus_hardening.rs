@@ -89,15 +89,15 @@ fn unsupported_function_codes_get_exception_01_and_the_connection_stays() {
     let server = serve(&unique_ns("fc01"), dir.path(), &[]);
     let mut stream = connect(server.port);
     let requests: [&[u8]; 12] = [
-        &[0x01, 0x00, 0x00, 0x00, 0x01],       // read coils
-        &[0x04, 0x00, 0x00, 0x00, 0x01],       // read input registers
-        &[0x05, 0x00, 0x00, 0xFF, 0x00],       // write single coil
+        &[0x01, 0x00, 0x00, 0x00, 0x01],          // read coils
+        &[0x04, 0x00, 0x00, 0x00, 0x01],          // read input registers
+        &[0x05, 0x00, 0x00, 0xFF, 0x00],          // write single coil
         &[0x17, 0, 0, 0, 1, 0, 0, 0, 1, 2, 0, 0], // read/write multiple registers
-        &[0x2B, 0x0E, 0x01, 0x00],             // read device identification
-        &[0x2B, 0x0D, 0x00],                   // another MEI type
-        &[0x41],                               // user-defined, no data
-        &[0x41, 0x01, 0x02, 0x03],             // user-defined with data
-        &[0x80, 0x00, 0x00, 0x00, 0x01],       // codes >= 0x80 are exception codes, never requests
+        &[0x2B, 0x0E, 0x01, 0x00],                // read device identification
+        &[0x2B, 0x0D, 0x00],                      // another MEI type
+        &[0x41],                                  // user-defined, no data
+        &[0x41, 0x01, 0x02, 0x03],                // user-defined with data
+        &[0x80, 0x00, 0x00, 0x00, 0x01],          // codes >= 0x80 are exception codes, never requests
         &[0x83, 0x6B, 0x03, 0x00, 0x01],
         &[0xC1],
         &[0xFF, 0xFF],
@@ -115,17 +115,17 @@ fn malformed_requests_of_served_functions_get_exception_03_and_the_connection_st
     let server = serve(&unique_ns("fc03"), dir.path(), &[]);
     let mut stream = connect(server.port);
     let requests: [&[u8]; 11] = [
-        &[0x03, 0x6B, 0x03],                                 // short PDU
-        &[0x03],                                             // function code alone
-        &[0x03, 0x6B, 0x03, 0x00, 0x01, 0x00],               // a byte too many
-        &[0x03, 0x6B, 0x03, 0x00, 0x00],                     // quantity 0
-        &[0x03, 0x6B, 0x03, 0x00, 0x7E],                     // quantity 126 (> 125)
-        &[0x06, 0x00, 0x10, 0x00],                           // short PDU
-        &[0x06, 0x00, 0x10, 0x00, 0x01, 0x02],               // a byte too many
-        &[0x10, 0x00, 0x10, 0x00, 0x01, 0x04, 0x00, 0x01],   // byte count 4 for one register
-        &[0x10, 0x00, 0x10, 0x00, 0x02, 0x04, 0x00, 0x01],   // byte count 4, two bytes sent
-        &[0x10, 0x00, 0x10, 0x00, 0x00, 0x00],               // quantity 0
-        &[0x10, 0x00, 0x10, 0x80, 0x00, 0x00],               // quantity 0x8000 (2 x quantity overflows)
+        &[0x03, 0x6B, 0x03],                               // short PDU
+        &[0x03],                                           // function code alone
+        &[0x03, 0x6B, 0x03, 0x00, 0x01, 0x00],             // a byte too many
+        &[0x03, 0x6B, 0x03, 0x00, 0x00],                   // quantity 0
+        &[0x03, 0x6B, 0x03, 0x00, 0x7E],                   // quantity 126 (> 125)
+        &[0x06, 0x00, 0x10, 0x00],                         // short PDU
+        &[0x06, 0x00, 0x10, 0x00, 0x01, 0x02],             // a byte too many
+        &[0x10, 0x00, 0x10, 0x00, 0x01, 0x04, 0x00, 0x01], // byte count 4 for one register
+        &[0x10, 0x00, 0x10, 0x00, 0x02, 0x04, 0x00, 0x01], // byte count 4, two bytes sent
+        &[0x10, 0x00, 0x10, 0x00, 0x00, 0x00],             // quantity 0
+        &[0x10, 0x00, 0x10, 0x80, 0x00, 0x00],             // quantity 0x8000 (2 x quantity overflows)
     ];
     for pdu in requests {
         let answer = request(&mut stream, pdu);
@@ -187,8 +187,7 @@ fn idle_and_half_sent_connections_are_closed() {
         assert!(answers(&mut busy), "a connection in use stays open");
         std::thread::sleep(Duration::from_millis(100));
     }
-    for (what, stream) in
-        [("silent", &mut silent), ("half a header", &mut half_header), ("half a PDU", &mut half_pdu)]
+    for (what, stream) in [("silent", &mut silent), ("half a header", &mut half_header), ("half a PDU", &mut half_pdu)]
     {
         assert!(closed_by_server(stream), "{what}: closed by the idle timeout");
     }
@@ -214,7 +213,11 @@ fn connections_past_the_limit_are_closed_and_the_rest_served() {
     }
     drop(served.pop());
     assert!(serves_again(server.port), "a freed place is taken again");
-    assert!(server.stderr().contains("modbus.max_connections"), "the refusals are logged: {}", server.stderr());
+    assert!(
+        eventually(PATIENCE, || server.stderr().contains("modbus.max_connections")),
+        "the refusals are logged: {}",
+        server.stderr()
+    );
 }
 
 #[test]
@@ -355,5 +358,6 @@ fn temporary_dh_files_of_a_killed_serve_are_removed_at_start() {
     let mut stream = connect(server.port);
     let dh = request(&mut stream, &[0x03, 0x80, 0x00, 0x00, 0x01]).unwrap();
     let kept = u16::from_be_bytes([dh[2], dh[3]]);
-    assert!((1..=last).contains(&kept), "DH holds a value that was written: {kept} of 1..={last}");
+    // The write after the last answered one may have been saved before its answer went out.
+    assert!((1..=last + 1).contains(&kept), "DH holds a value that was written: {kept} of 1..={}", last + 1);
 }

@@ -283,16 +283,16 @@ mod tests {
         let value = ExceptionCode::IllegalDataValue;
         let function = ExceptionCode::IllegalFunction;
         let rows: [(&[u8], ExceptionCode); 10] = [
-            (&[0x03, 0x00, 0x00], value),                                  // short PDU
-            (&[0x03, 0x00, 0x00, 0x00, 0x01, 0x00], value),                // one byte too many
-            (&[0x03, 0x00, 0x00, 0x00, 0x00], value),                      // quantity 0
-            (&[0x06, 0x00, 0x00, 0x00], value),                            // short PDU
-            (&[0x10, 0x00, 0x00, 0x00, 0x01, 0x04, 0x00, 0x01], value),    // byte count != 2 x quantity
-            (&[0x10, 0x00, 0x00, 0x80, 0x00, 0x00], value),                // quantity 0x8000 (2 x quantity overflows u16)
-            (&[0x10, 0x00, 0x00, 0x00, 0x00, 0x00], value),                // quantity 0
-            (&[0x2B, 0x0E, 0x01, 0x00], function),                         // read device identification
-            (&[0x41], function),                                           // user-defined code
-            (&[0x81, 0x00, 0x00, 0x00, 0x01], function),                   // an exception code as a request
+            (&[0x03, 0x00, 0x00], value),                               // short PDU
+            (&[0x03, 0x00, 0x00, 0x00, 0x01, 0x00], value),             // one byte too many
+            (&[0x03, 0x00, 0x00, 0x00, 0x00], value),                   // quantity 0
+            (&[0x06, 0x00, 0x00, 0x00], value),                         // short PDU
+            (&[0x10, 0x00, 0x00, 0x00, 0x01, 0x04, 0x00, 0x01], value), // byte count != 2 x quantity
+            (&[0x10, 0x00, 0x00, 0x80, 0x00, 0x00], value),             // quantity 0x8000 (2 x quantity overflows u16)
+            (&[0x10, 0x00, 0x00, 0x00, 0x00, 0x00], value),             // quantity 0
+            (&[0x2B, 0x0E, 0x01, 0x00], function),                      // read device identification
+            (&[0x41], function),                                        // user-defined code
+            (&[0x81, 0x00, 0x00, 0x00, 0x01], function),                // an exception code as a request
         ];
         for (pdu, exception) in rows {
             assert_eq!(decode(pdu).err(), Some(exception), "{pdu:02X?}");

@@ -118,13 +118,7 @@ pub struct ModbusConfig {
 
 impl Default for ModbusConfig {
     fn default() -> Self {
-        ModbusConfig {
-            bind: "127.0.0.1".into(),
-            port: 502,
-            station: 1,
-            max_connections: 32,
-            idle_timeout_ms: 60_000,
-        }
+        ModbusConfig { bind: "127.0.0.1".into(), port: 502, station: 1, max_connections: 32, idle_timeout_ms: 60_000 }
     }
 }
 
