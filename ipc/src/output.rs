@@ -81,7 +81,7 @@ impl Lines {
     /// its newline) and the number of its bytes that were cut.
     pub fn feed(&mut self, mut bytes: &[u8], mut line: impl FnMut(&[u8], u64)) {
         while !bytes.is_empty() {
-            match bytes.iter().position(|&b| b == b'\n') {
+            match memchr::memchr(b'\n', bytes) {
                 Some(i) => {
                     self.line.push(&bytes[..i]);
                     self.emit(&mut line);
