@@ -18,6 +18,7 @@ mod futex;
 pub mod messages;
 mod monitor;
 mod namespace;
+pub mod output;
 pub mod query;
 pub mod services;
 pub mod shared;

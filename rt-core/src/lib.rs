@@ -13,6 +13,7 @@ pub mod ecat;
 pub mod io;
 pub mod master;
 pub mod motion;
+pub mod output;
 pub mod profile;
 pub mod realtime;
 pub mod rt_alloc;

@@ -1,9 +1,8 @@
 //! The supervisor: carries out the core's orders (start a task's script process, kill
 //! one, publish an alarm), reaps the processes and reports how each ended, forwards their
-//! output line by line with the task id in front, and keeps each task's CPU time in the
+//! output line by line with the task id in front (`crate::output`), and keeps each task's CPU time in the
 //! task table for the tools.
 
-use std::io::{BufRead, BufReader, Read, Write};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
@@ -20,6 +19,7 @@ use ipc::shm::Region;
 use ipc::task_table::TaskTable;
 
 use crate::config::TaskConfig;
+use crate::output::{Throttle, spawn_forward};
 use crate::tasks::{AlarmReport, Entry, Exit, Order, Report, SupervisorEnd};
 
 /// How a script process is started: the luamotion binary and its hidden subcommand.
@@ -198,7 +198,11 @@ impl Supervisor {
         let last_error_line = Arc::new(Mutex::new(None));
         let stdout = child.stdout.take().expect("piped");
         let stderr = child.stderr.take().expect("piped");
-        let forwarders = vec![forward(stdout, task.id, None), forward(stderr, task.id, Some(last_error_line.clone()))];
+        let throttle = Arc::new(Mutex::new(Throttle::new(Instant::now())));
+        let forwarders = vec![
+            spawn_forward(stdout, std::io::stdout(), task.id, throttle.clone(), None),
+            spawn_forward(stderr, std::io::stderr(), task.id, throttle, Some(last_error_line.clone())),
+        ];
         tracing::info!(task = task.id, pid, program = %task.program.display(), "started");
         self.running.push(Running {
             id: task.id,
@@ -327,32 +331,6 @@ fn cpu_ms(pid: u32) -> Option<u64> {
     // SAFETY: sysconf only reads a constant.
     let per_second = unsafe { libc::sysconf(libc::_SC_CLK_TCK) }.max(1) as u64;
     Some(ticks * 1000 / per_second)
-}
-
-/// Copies a child's output to ours line by line, `[task N] ` in front. Keeps the last
-/// stderr line: a script that fails writes its error there last.
-fn forward(
-    stream: impl Read + Send + 'static,
-    task: u8,
-    last_line: Option<Arc<Mutex<Option<String>>>>,
-) -> JoinHandle<()> {
-    std::thread::spawn(move || {
-        let to_stderr = last_line.is_some();
-        for line in BufReader::new(stream).lines() {
-            let Ok(line) = line else { break };
-            let text = format!("[task {task}] {line}\n");
-            if to_stderr {
-                let _ = std::io::stderr().lock().write_all(text.as_bytes());
-            } else {
-                let _ = std::io::stdout().lock().write_all(text.as_bytes());
-            }
-            if let Some(last) = &last_line
-                && let Ok(mut last) = last.lock()
-            {
-                *last = Some(line);
-            }
-        }
-    })
 }
 
 /// The program's name as tests and messages show it.

@@ -22,7 +22,13 @@
 //! event, within `LINE_INSTRUCTIONS` instructions.
 //!
 //! The hook is no progress for the watchdog: it never advances the heartbeat. A stop marks
-//! the task Paused, which the watchdog does not count as hung.
+//! the task Paused, which the watchdog does not count as hung. It takes line events until
+//! the program's first line, so that the watchdog never reports line 0 for a program that
+//! hangs before its first count event (in a C function such as `string.find`).
+//!
+//! It also bounds the depth of nested calls (`MAX_DEPTH`): Lua's own limit (about 200 000
+//! calls) takes longer to reach than a watchdog period, and a runaway recursion would read
+//! as a hang instead of a stack overflow at its line.
 
 use std::cell::{Cell, RefCell};
 use std::ops::Deref;
@@ -38,6 +44,12 @@ use mlua::{HookTriggers, Lua, Thread, VmState};
 
 /// VM instructions between two looks at the line being run: a few microseconds of Lua.
 pub const LINE_INSTRUCTIONS: u32 = 1000;
+
+/// Nested calls a program may make; one more is a stack overflow.
+pub const MAX_DEPTH: usize = 50_000;
+
+/// Count events between two looks at the depth: looking costs up to one step per level.
+const DEPTH_EVERY: u32 = 16;
 
 /// How often a stopped program checks that its controller is still alive.
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
@@ -65,6 +77,10 @@ pub struct Debugger {
     breakpoints_armed: Cell<bool>,
     /// Block Run: the first line of the main chunk is still to come.
     block_start: Cell<bool>,
+    /// No line has been run yet.
+    first_line: Cell<bool>,
+    /// Count events, for the depth check.
+    counts: Cell<u32>,
     step: RefCell<Option<Step>>,
 }
 
@@ -121,6 +137,8 @@ impl Debugger {
             generation: Cell::new(0),
             breakpoints_armed: Cell::new(false),
             block_start: Cell::new(false),
+            first_line: Cell::new(true),
+            counts: Cell::new(0),
             step: RefCell::new(None),
         })
     }
@@ -172,6 +190,10 @@ impl Debugger {
         let Some(line) = event.current_line() else { return Ok(VmState::Continue) };
         let line = line as u32;
         self.slot().set_line(line);
+        self.first_line.set(false);
+        if event.event() == DebugEvent::Count {
+            self.check_depth(lua, event, line)?;
+        }
         if self.debug().generation() != self.generation.get() {
             self.reread_breakpoints();
         }
@@ -199,6 +221,17 @@ impl Debugger {
         Ok(VmState::Continue)
     }
 
+    /// A stack overflow, at the line being run, once the calls nest deeper than `MAX_DEPTH`.
+    fn check_depth(&self, lua: &Lua, event: &Debug, line: u32) -> mlua::Result<()> {
+        let counts = self.counts.get().wrapping_add(1);
+        self.counts.set(counts);
+        if counts % DEPTH_EVERY != 0 || lua.inspect_stack(MAX_DEPTH, |_| ()).is_none() {
+            return Ok(());
+        }
+        let file = event.source().short_src.map(|s| s.to_string()).unwrap_or_default();
+        Err(mlua::Error::runtime(format!("{file}:{line}: stack overflow (more than {MAX_DEPTH} nested calls)")))
+    }
+
     fn reread_breakpoints(&self) {
         let debug = self.debug();
         self.generation.set(debug.generation());
@@ -209,7 +242,8 @@ impl Debugger {
     /// Whether anything needs line events: breakpoints to honour, a step under way, a
     /// Pause to carry out, Block Run's first stop.
     fn wants_lines(&self) -> bool {
-        self.breakpoints_armed.get()
+        self.first_line.get()
+            || self.breakpoints_armed.get()
             || self.block_start.get()
             || self.step.borrow().is_some()
             || matches!(self.debug().pending(), Some((_, DebugCommand::Pause)))

@@ -125,13 +125,13 @@ fn start(lua: &mlua::Lua, source: &str, name: &str, entry: Option<&str>, slot: &
     let chunk = lua.load(source).set_name(chunk_name(name)).into_function()?;
     let Some(entry) = entry else {
         slot.mark_started();
-        return chunk.call(());
+        return sandbox::call_program(lua, &chunk);
     };
-    chunk.call::<()>(())?;
+    sandbox::call_program(lua, &chunk)?;
     match lua.globals().raw_get::<mlua::Value>(entry)? {
         mlua::Value::Function(function) => {
             slot.mark_started();
-            function.call(())
+            sandbox::call_program(lua, &function)
         }
         _ => {
             slot.set_end_code(SystemError::FuncNotInTask.id() as u32);
@@ -142,15 +142,7 @@ fn start(lua: &mlua::Lua, source: &str, name: &str, entry: Option<&str>, slot: &
 
 /// Turns a Lua error into the one line a user needs: `file:line: message`.
 fn describe(error: mlua::Error, program: &str, last_line: u32, memory_limit: usize) -> ScriptError {
-    let mut cause = &error;
-    loop {
-        match cause {
-            mlua::Error::CallbackError { cause: inner, .. } => cause = inner,
-            mlua::Error::WithContext { cause: inner, .. } => cause = inner,
-            _ => break,
-        }
-    }
-    match cause {
+    match sandbox::root_cause(&error) {
         mlua::Error::ExternalError(e) if matches!(e.downcast_ref::<IpcError>(), Some(IpcError::ControllerGone)) => {
             ScriptError::ControllerGone
         }

@@ -8,11 +8,13 @@ use api::{ErrorCode, Local, SystemError};
 use ipc::messages::{EventKind, EventRecord};
 use ipc::shared::{Lock, MUTEXES};
 use ipc::task_table::RunState;
-use mlua::{AnyUserData, Function, Lua, MultiValue, Value};
+use api::FunctionSpec;
+use ipc::output::{char_boundary, cut_marker, escape};
+use mlua::{AnyUserData, BorrowedBytes, Function, Lua, MultiValue, Value};
 
 use super::timer::Timer;
-use super::{Host, bool_arg, double_arg, doubles_arg, error_here, int_arg, string_arg, type_name, write_line};
-use crate::printf::{self, Arg};
+use super::{Host, bool_arg, double_arg, doubles_arg, error_here, int_arg, lua_string_arg, type_name, write_output};
+use crate::printf::{self, Arg, Formatted};
 use crate::user_table;
 
 /// HMPL 2.20: the longest message `SendMsgEvent` sends.
@@ -147,22 +149,19 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         }),
         Local::Print => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
-            let fmt = string_arg(lua, spec, &args, 0)?;
-            match format(&args)? {
-                Ok(text) => {
-                    write_line(&text);
-                    Ok(text.chars().count() as i64)
+            match format(lua, spec, &args)? {
+                Ok(formatted) => {
+                    let marker = if formatted.cut > 0 { cut_marker(formatted.cut) } else { String::new() };
+                    write_output(&[&formatted.text, marker.as_bytes()]);
+                    Ok(formatted.chars as i64)
                 }
-                Err(e) => {
-                    // HMPL 3.2: Print returns -1 on error; say why on stderr.
-                    eprintln!("warning: Print({fmt:?}): {e}");
-                    Ok(-1)
-                }
+                // HMPL 3.2: Print returns -1 on error; the warning says why.
+                Err(()) => Ok(-1),
             }
         }),
         Local::my_print => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
-            write_line(&string_arg(lua, spec, &args, 0)?);
+            write_output(&[&lua_string_arg(lua, spec, &args, 0)?.as_bytes()]);
             Ok(())
         }),
         Local::SendEvent => lua.create_function(move |lua, args: MultiValue| {
@@ -175,17 +174,13 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         }),
         Local::SendMsgEvent => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
-            let fmt = string_arg(lua, spec, &args, 0)?;
-            let text = match format(&args)? {
-                Ok(text) => text,
-                Err(e) => {
-                    eprintln!("warning: SendMsgEvent({fmt:?}): {e}");
-                    return Ok(system_code(SystemError::HmplInvalidStrFormat));
-                }
+            let Ok(formatted) = format(lua, spec, &args)? else {
+                return Ok(system_code(SystemError::HmplInvalidStrFormat));
             };
-            if text.chars().count() > MAX_MESSAGE_CHARS {
+            if formatted.chars > MAX_MESSAGE_CHARS {
                 return Ok(system_code(SystemError::HmplStrTooLong));
             }
+            let text = escape(&formatted.text);
             host.throttle()?;
             Ok(host.send_event(EventKind::Message, 0, &text))
         }),
@@ -329,15 +324,19 @@ fn mutex_id(lua: &Lua, args: &MultiValue) -> mlua::Result<usize> {
     }
 }
 
-/// `Print`'s formatting of a call's arguments.
-fn format(args: &MultiValue) -> mlua::Result<Result<String, printf::FormatError>> {
-    let fmt = match args.front() {
-        Some(Value::String(s)) => s.to_str()?.to_string(),
-        Some(other) => other.to_string()?,
-        None => String::new(),
-    };
-    let values: Vec<Arg> = args.iter().skip(1).map(printf_arg).collect::<mlua::Result<_>>()?;
-    Ok(printf::format(&fmt, &values))
+/// `Print`'s formatting of a call's arguments. A bad format is a warning on stderr (with
+/// the format's start) and `Err`.
+fn format(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<Result<Formatted, ()>> {
+    let fmt = lua_string_arg(lua, spec, args, 0)?;
+    let fmt = fmt.as_bytes();
+    let strings: Vec<Option<BorrowedBytes>> =
+        args.iter().skip(1).map(|v| if let Value::String(s) = v { Some(s.as_bytes()) } else { None }).collect();
+    let values: Vec<Arg> = args.iter().skip(1).zip(&strings).map(|(v, s)| printf_arg(v, s.as_deref())).collect();
+    Ok(printf::format(&fmt, &values).map_err(|e| {
+        let shown = char_boundary(&fmt, 60);
+        let more = if shown < fmt.len() { "..." } else { "" };
+        eprintln!("warning: {}(\"{}{more}\"): {e}", spec.name, escape(&fmt[..shown]));
+    }))
 }
 
 /// `Till` keeps waiting while its condition returns false, nil or 0.
@@ -350,15 +349,14 @@ fn is_true(v: &Value) -> bool {
     }
 }
 
-fn printf_arg(v: &Value) -> mlua::Result<Arg> {
-    Ok(match v {
-        Value::Integer(i) => Arg::Int(*i),
-        Value::Number(n) => Arg::Float(*n),
-        Value::Boolean(b) => Arg::Int(*b as i64),
-        Value::String(s) => Arg::Str(s.to_str()?.to_string()),
-        Value::Nil => Arg::Str("nil".into()),
-        other => Arg::Str(other.type_name().to_string()),
-    })
+fn printf_arg<'a>(v: &Value, string: Option<&'a [u8]>) -> Arg<'a> {
+    match (v, string) {
+        (_, Some(bytes)) => Arg::Str(bytes),
+        (Value::Integer(i), _) => Arg::Int(*i),
+        (Value::Number(n), _) => Arg::Float(*n),
+        (Value::Boolean(b), _) => Arg::Int(*b as i64),
+        (other, _) => Arg::Str(other.type_name().as_bytes()),
+    }
 }
 
 #[cfg(test)]

@@ -21,7 +21,8 @@ use ipc::query::{self, Words};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};
-use mlua::{Function, Lua, MultiValue, Value};
+use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
+use mlua::{BorrowedBytes, Function, Lua, MultiValue, Value};
 
 use locals::Throttle;
 pub use system_vars::install_system_variables;
@@ -87,24 +88,20 @@ pub fn install(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
     Ok(())
 }
 
-/// An error at the Lua line that called the binding, as `luaL_error` words it.
+/// An error at the Lua line that called the binding (through `pcall` too), as
+/// `luaL_error` words it.
 pub fn error_here(lua: &Lua, message: impl std::fmt::Display) -> mlua::Error {
-    let position = lua
-        .inspect_stack(1, |d| {
-            let line = d.current_line()?;
-            Some(format!("{}:{line}: ", d.source().short_src?))
-        })
-        .flatten()
-        .unwrap_or_default();
-    mlua::Error::runtime(format!("{position}{message}"))
+    mlua::Error::runtime(format!("{}{message}", crate::sandbox::raised_at(lua)))
 }
 
 fn bad_argument(lua: &Lua, spec: &FunctionSpec, i: usize, expected: &str, got: &Value) -> mlua::Error {
     error_here(lua, format!("bad argument #{} to '{}' ({expected} expected, got {})", i + 1, spec.name, type_name(got)))
 }
 
+/// A value as a message names it: numbers with their value.
 fn type_name(v: &Value) -> String {
     match v {
+        Value::Integer(n) => format!("integer {n}"),
         Value::Number(n) => format!("number {n}"),
         other => other.type_name().to_string(),
     }
@@ -139,9 +136,22 @@ fn bool_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua
 
 fn string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
     match args.get(i).cloned().unwrap_or(Value::Nil) {
-        Value::String(s) => Ok(s.to_str()?.to_string()),
+        Value::String(s) => match s.to_str() {
+            Ok(text) => Ok(text.to_string()),
+            Err(_) => Err(bad_argument(lua, spec, i, "UTF-8 string", &Value::String(s))),
+        },
         Value::Integer(n) => Ok(n.to_string()),
         Value::Number(n) => Ok(n.to_string()),
+        other => Err(bad_argument(lua, spec, i, "string", &other)),
+    }
+}
+
+/// A string argument as the Lua string it is (a number as its text), any bytes.
+fn lua_string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<mlua::LuaString> {
+    match args.get(i).cloned().unwrap_or(Value::Nil) {
+        Value::String(s) => Ok(s),
+        Value::Integer(n) => lua.create_string(n.to_string()),
+        Value::Number(n) => lua.create_string(n.to_string()),
         other => Err(bad_argument(lua, spec, i, "string", &other)),
     }
 }
@@ -277,21 +287,50 @@ fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Functio
     })
 }
 
-/// One line of program output; the controller puts the task id in front.
-pub fn write_line(text: &str) {
+/// Program output, one call's worth: the pieces are written one after the other, each line
+/// cut to `MAX_LINE_BYTES` with a marker, and a newline added unless the text ends with one.
+/// The controller puts the task id in front.
+pub fn write_output(pieces: &[&[u8]]) {
     let mut out = std::io::stdout().lock();
-    let _ = out.write_all(text.as_bytes());
-    if !text.ends_with('\n') {
+    let mut lines = Lines::new(MAX_LINE_BYTES);
+    let mut write = |line: &[u8], cut: u64| {
+        let _ = out.write_all(line);
+        if cut > 0 {
+            let _ = out.write_all(cut_marker(cut).as_bytes());
+        }
         let _ = out.write_all(b"\n");
+    };
+    for piece in pieces {
+        lines.feed(piece, &mut write);
     }
+    if pieces.iter().rev().find(|p| !p.is_empty()).is_none_or(|p| !p.ends_with(b"\n")) {
+        lines.feed(b"\n", &mut write);
+    }
+    drop(write);
     let _ = out.flush();
 }
 
-/// Lua's own `print`, through the same output.
+/// Lua's own `print`, through the same output. Values become text with the VM's own
+/// `tostring` (taken before the program runs), in the program's memory.
 pub fn install_print(lua: &Lua) -> mlua::Result<()> {
-    let print = lua.create_function(|_, args: MultiValue| {
-        let parts: Vec<String> = args.iter().map(|v| v.to_string()).collect::<mlua::Result<_>>()?;
-        write_line(&parts.join("\t"));
+    let tostring: Function = lua.globals().get("tostring")?;
+    let print = lua.create_function(move |_, args: MultiValue| {
+        let texts: Vec<mlua::LuaString> = args
+            .into_iter()
+            .map(|v| match v {
+                Value::String(s) => Ok(s),
+                other => tostring.call(other),
+            })
+            .collect::<mlua::Result<_>>()?;
+        let bytes: Vec<BorrowedBytes> = texts.iter().map(mlua::LuaString::as_bytes).collect();
+        let mut pieces: Vec<&[u8]> = Vec::with_capacity(2 * bytes.len());
+        for (i, text) in bytes.iter().enumerate() {
+            if i > 0 {
+                pieces.push(b"\t");
+            }
+            pieces.push(text);
+        }
+        write_output(&pieces);
         Ok(())
     })?;
     lua.globals().set("print", print)
