@@ -58,6 +58,18 @@ fn machine_with_every_task(dir: &Path) -> std::path::PathBuf {
     path
 }
 
+/// Kills a controller whose test failed before it could end it (its scripts die with it).
+struct KillOnPanic(u32);
+
+impl Drop for KillOnPanic {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            // SAFETY: killing this test's own controller process.
+            unsafe { libc::kill(self.0 as i32, libc::SIGKILL) };
+        }
+    }
+}
+
 fn tool(args: &[&str]) -> std::process::Output {
     Command::new(BIN).args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).output().unwrap()
 }
@@ -71,6 +83,7 @@ fn sixty_four_tasks_at_once_with_the_tools_attached() {
     let config = machine_with_every_task(dir.path());
     let ns = unique_ns("cap64");
     let child = start_run(&ns, &["--config", config.to_str().unwrap()]);
+    let _reap = KillOnPanic(child.id());
     let namespace = ipc::Namespace::new(&ns).unwrap();
     assert!(eventually(Duration::from_secs(20), || ipc::controller_ready(&namespace).unwrap_or(false)), "up");
 

