@@ -164,7 +164,11 @@ fn sandbox_messages_say_where_and_what() {
             "local function f(n) return 1 + f(n + 1) end\nf(1)",
             "recursion.lua:1: stack overflow (more than 50000 nested calls)",
         ),
-        ("bytes.lua", "print('a\\255b\\r\\27[31m')\nPrint('%s|', '\\254')", "[task 5] a\\xffb\\r\\x1b[31m\n[task 5] \\xfe|"),
+        (
+            "bytes.lua",
+            "print('a\\255b\\r\\27[31m')\nPrint('%s|', '\\254')",
+            "[task 5] a\\xffb\\r\\x1b[31m\n[task 5] \\xfe|",
+        ),
         (
             "caught.lua",
             "local ok, e = pcall(MoveAbs, 'x')\nprint(e)",
@@ -177,7 +181,11 @@ fn sandbox_messages_say_where_and_what() {
             "watchdog: no progress for 500 ms at line 1 ",
         ),
         // Second variants.
-        ("load_in_function.lua", "local function f() return load('return Print')() end\nprint(f() ~= nil)", "[task 9] true"),
+        (
+            "load_in_function.lua",
+            "local function f() return load('return Print')() end\nprint(f() ~= nil)",
+            "[task 9] true",
+        ),
         ("error_number.lua", "local x = 1\nerror(42)", "error_number.lua:2: 42"),
         (
             "error_tostring.lua",

@@ -7,8 +7,7 @@ use iceoryx2::prelude::*;
 
 use crate::clock::monotonic_ns;
 use crate::messages::{Reply, Request, Snapshot};
-use crate::services::failed;
-use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StatePublisher};
+use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StatePublisher, too_big};
 use crate::shared::SharedData;
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskTable};
@@ -70,17 +69,17 @@ impl CoreEndpoint {
         let state = services::state(&node, ns, Open::Create)?
             .publisher_builder()
             .create()
-            .map_err(|e| failed("state publisher", e))?;
+            .map_err(|e| too_big("state publisher", e))?;
         let mut tasks = Vec::with_capacity(task_ids.len());
         for &id in task_ids {
             let requests = services::requests(&node, ns, id, Open::Create)?
                 .subscriber_builder()
                 .create()
-                .map_err(|e| failed(&format!("task {id} requests"), e))?;
+                .map_err(|e| too_big(&format!("task {id} requests"), e))?;
             let replies = services::replies(&node, ns, id, Open::Create)?
                 .publisher_builder()
                 .create()
-                .map_err(|e| failed(&format!("task {id} replies"), e))?;
+                .map_err(|e| too_big(&format!("task {id} replies"), e))?;
             tasks.push(TaskChannel { id, requests, replies, last_woken_wait: None, replied: false, deferred: None });
         }
         let table = Region::<TaskTable>::create(ns, "tasks")?;

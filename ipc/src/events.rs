@@ -4,7 +4,7 @@
 use iceoryx2::prelude::*;
 
 use crate::messages::EventRecord;
-use crate::services::{self, EventPublisher, EventSubscriber, Ipc, Open, failed};
+use crate::services::{self, EventPublisher, EventSubscriber, Ipc, Open, failed, too_big};
 use crate::{IpcError, Namespace};
 
 /// A writer of the stream: one per script process, one for the controller.
@@ -14,10 +14,10 @@ pub struct EventSender {
 
 impl EventSender {
     pub fn new(node: &Node<Ipc>, ns: &Namespace, open: Open) -> Result<Self, IpcError> {
-        let publisher = services::events(node, ns, open)?
-            .publisher_builder()
-            .create()
-            .map_err(|e| failed("events publisher", e))?;
+        let publisher = services::events(node, ns, open)?.publisher_builder().create().map_err(|e| match open {
+            Open::Create => too_big("events publisher", e),
+            Open::Existing => failed("events publisher", e),
+        })?;
         Ok(EventSender { publisher })
     }
 

@@ -13,6 +13,7 @@ pub mod clock;
 mod core_side;
 pub mod debug;
 pub mod events;
+pub mod files;
 pub mod floor;
 mod futex;
 pub mod messages;
@@ -30,6 +31,7 @@ use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;
 
 pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats, Disposition};
+pub use files::remove_namespace_files;
 pub use monitor::Monitor;
 pub use namespace::Namespace;
 pub use task_side::{CallTiming, ReplyCounters, TaskEndpoint};
@@ -40,6 +42,10 @@ pub enum IpcError {
     Namespace(String),
     #[error("iceoryx2: {0}")]
     Service(String),
+    #[error("iceoryx2: {what}: {error}: {advice}")]
+    Permissions { what: String, error: String, advice: String },
+    #[error("iceoryx2: {what}: {error}: {advice}")]
+    Capacity { what: String, error: String, advice: String },
     #[error("shared memory: {0}")]
     Shm(String),
     #[error("protocol: {0}")]
@@ -97,23 +103,8 @@ fn scan_nodes(ns: &Namespace, remove_dead: bool) -> Result<Option<u32>, IpcError
         }
         CallbackProgression::Continue
     })
-    .map_err(|e| IpcError::Service(format!("list nodes: {e:?}")))?;
+    .map_err(|e| services::failed("list nodes", e))?;
     Ok(alive_core)
-}
-
-/// Removes every file the namespace left in shared memory and in iceoryx2's directory.
-/// Call it once the controller and its scripts are gone.
-pub fn remove_namespace_files(ns: &Namespace) {
-    let prefix = ns.prefix();
-    for dir in ["/dev/shm", "/tmp/iceoryx2/nodes", "/tmp/iceoryx2/services"] {
-        let Ok(entries) = std::fs::read_dir(dir) else { continue };
-        for entry in entries.flatten() {
-            if entry.file_name().to_string_lossy().starts_with(&prefix) {
-                let path = entry.path();
-                let _ = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
-            }
-        }
-    }
 }
 
 /// Gives the process the default action again for the signals iceoryx2 (and Rust's

@@ -162,10 +162,7 @@ mod tests {
     fn long_lines_are_cut_and_counted_across_chunks() {
         let long = vec![b'x'; 10_000];
         let got = lines(8, &[b"ab\ncd", &long, b"ef\n", b"tail"]);
-        assert_eq!(
-            got,
-            vec![("ab".into(), 0), ("cdxxxxxx".into(), 10_000 + 2 - 6), ("tail".into(), 0)]
-        );
+        assert_eq!(got, vec![("ab".into(), 0), ("cdxxxxxx".into(), 10_000 + 2 - 6), ("tail".into(), 0)]);
     }
 
     #[test]

@@ -9,7 +9,9 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 
 use crate::messages::{EventRecord, MAX_TASKS, Reply, Request, Snapshot};
-use crate::{IpcError, Namespace};
+use crate::shared::SharedData;
+use crate::task_table::TaskTable;
+use crate::{IpcError, Namespace, files};
 
 pub type Ipc = ipc::Service;
 pub type IpcNode = Node<Ipc>;
@@ -24,12 +26,38 @@ pub type EventPublisher = Publisher<Ipc, EventRecord, ()>;
 pub type EventSubscriber = Subscriber<Ipc, EventRecord, ()>;
 pub type WakeListener = Listener<Ipc>;
 
-/// Readers of the state: every task, the gateways and the CLI tools.
-const MAX_STATE_READERS: usize = MAX_TASKS + 32;
-/// A restarted task opens its services while the dead process' ports are cleaned up.
-const MAX_PORTS_PER_TASK_SIDE: usize = 2;
+// Who attaches to one controller. Every limit of every service below is derived from
+// these few numbers; iceoryx2's defaults (20 nodes per publish-subscribe service) would
+// stop the 20th script.
+
+/// Processes of one task at a time: a restarted task's new process opens its ports while
+/// the dead one's may still be being cleaned up.
+const PROCESSES_PER_TASK: usize = 2;
+/// Tools attached to a controller at once, each a node of its own: `luamotion tasks`,
+/// `luamotion events`, the soak's monitor, the DRL console, the start-up probe, and at
+/// least 4 more monitors, with room to spare.
+pub const MAX_TOOLS: usize = 16;
+/// Of those, the ones that follow the event stream at once (`luamotion events`, monitors).
+pub const MAX_EVENT_READERS: usize = 8;
+/// Nodes of the controller process itself: the core's, the supervisor's.
+const CONTROLLER_NODES: usize = 2;
+/// Nodes of the services every process opens (`state`, `events`). A dead process' node
+/// is cleaned when the next one opens the service, so each task counts once.
+pub const MAX_NODES: usize = CONTROLLER_NODES + MAX_TASKS + MAX_TOOLS;
 /// Requests one task may have in flight; scripts send one at a time.
 pub const MAX_REQUESTS_IN_FLIGHT: usize = 4;
+/// Records a reader may fall behind one writer by before the oldest are dropped: more
+/// than a task's burst of events (100) or the supervisor's alarms when all 64 tasks fail
+/// at once. Each writer's segment holds this many per reader.
+const EVENT_BUFFER: usize = 128;
+/// Records a reader that joins late still sees.
+const EVENT_HISTORY: usize = 16;
+/// Records a reader holds at once (it copies each out).
+const EVENT_BORROWED: usize = 2;
+/// The state: only the newest snapshot counts; a reader holds it while taking the next.
+const STATE_HISTORY: usize = 1;
+const STATE_BUFFER: usize = 1;
+const STATE_BORROWED: usize = 2;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub enum Open {
@@ -39,8 +67,73 @@ pub enum Open {
     Existing,
 }
 
+/// An iceoryx2 failure. A refused permission says whose files are in the way and how to
+/// get past them (a run as another user leaves them).
 pub(crate) fn failed(what: &str, e: impl std::fmt::Debug) -> IpcError {
-    IpcError::Service(format!("{what}: {e:?}"))
+    classify(what, e, IpcError::Service)
+}
+
+/// As `failed`, for errors of the shared-memory layer; `other` wraps what is not about
+/// permissions.
+pub(crate) fn classify(what: &str, e: impl std::fmt::Debug, other: impl FnOnce(String) -> IpcError) -> IpcError {
+    let error = format!("{e:?}");
+    if error.contains("InsufficientPermissions") {
+        let advice = files::permission_advice(&files::foreign_files());
+        IpcError::Permissions { what: what.to_string(), error, advice }
+    } else {
+        other(format!("{what}: {error}"))
+    }
+}
+
+/// A service or port the controller creates, sized for every task and tool, failed:
+/// says what it was sized for and what the OS has.
+pub(crate) fn too_big(what: &str, e: impl std::fmt::Debug) -> IpcError {
+    match failed(what, e) {
+        IpcError::Service(error) => IpcError::Capacity { what: what.to_string(), error, advice: room_advice() },
+        other => other,
+    }
+}
+
+/// Shared memory one controller takes when every task and tool is attached, bytes:
+/// iceoryx2 gives each publisher a data segment of `subscribers * (buffer + borrowed) +
+/// history + loaned` samples, each with a header; plus the task table and shared data.
+pub fn planned_shm_bytes() -> usize {
+    const LOANED: usize = 2;
+    // iceoryx2's sample header and alignment, as measured in 0.10 (52 bytes).
+    const SAMPLE_OVERHEAD: usize = 64;
+    let segment = |subscribers: usize, buffer: usize, borrowed: usize, history: usize, sample: usize| {
+        (subscribers * (buffer + borrowed) + history + LOANED) * (sample + SAMPLE_OVERHEAD)
+    };
+    let state = segment(MAX_NODES - 1, STATE_BUFFER, STATE_BORROWED, STATE_HISTORY, size_of::<Snapshot>());
+    // One writer per task, the supervisor and the DRL console.
+    let events = (MAX_TASKS + 2)
+        * segment(MAX_EVENT_READERS, EVENT_BUFFER, EVENT_BORROWED, EVENT_HISTORY, size_of::<EventRecord>());
+    let call = |sample| segment(PROCESSES_PER_TASK, MAX_REQUESTS_IN_FLIGHT, MAX_REQUESTS_IN_FLIGHT, 0, sample);
+    let calls = MAX_TASKS * (call(size_of::<Request>()) + call(size_of::<Reply>()));
+    state + events + calls + size_of::<TaskTable>() + size_of::<SharedData>()
+}
+
+/// Refuses to start a controller where `/dev/shm` has no room for `planned_shm_bytes`,
+/// rather than failing the 40th task when it attaches.
+pub fn check_room() -> Result<(), IpcError> {
+    match files::shm_free_bytes() {
+        Some(free) if free < planned_shm_bytes() => Err(IpcError::Capacity {
+            what: "shared memory".into(),
+            error: format!("{} MiB free in /dev/shm", free >> 20),
+            advice: room_advice(),
+        }),
+        _ => Ok(()),
+    }
+}
+
+fn room_advice() -> String {
+    let free = files::shm_free_bytes().map_or("unknown".to_string(), |b| format!("{} MiB", b >> 20));
+    format!(
+        "the services are sized for {MAX_TASKS} tasks and {MAX_TOOLS} attached tools ({MAX_NODES} nodes) and need \
+         about {} MiB of shared memory; {free} free in /dev/shm. Give /dev/shm more room (a container: \
+         `--shm-size=256m`) and, where luamotion may lock memory, raise `ulimit -l`",
+        planned_shm_bytes().div_ceil(1 << 20)
+    )
 }
 
 /// `<ns>/state`: the latest snapshot, published every cycle.
@@ -52,14 +145,15 @@ pub fn state(
     let builder = node
         .service_builder(&ns.service_name("state")?)
         .publish_subscribe::<Snapshot>()
-        .history_size(1)
-        .subscriber_max_buffer_size(1)
-        .subscriber_max_borrowed_samples(2)
+        .history_size(STATE_HISTORY)
+        .subscriber_max_buffer_size(STATE_BUFFER)
+        .subscriber_max_borrowed_samples(STATE_BORROWED)
         .enable_safe_overflow(true)
         .max_publishers(1)
-        .max_subscribers(MAX_STATE_READERS);
+        .max_subscribers(MAX_NODES - 1)
+        .max_nodes(MAX_NODES);
     match open {
-        Open::Create => builder.create().map_err(|e| failed("create state service", e)),
+        Open::Create => builder.create().map_err(|e| too_big("state", e)),
         Open::Existing => builder.open().map_err(|e| failed("open state service", e)),
     }
 }
@@ -81,10 +175,11 @@ fn call_channel<T: std::fmt::Debug + ZeroCopySend>(
         .subscriber_max_buffer_size(MAX_REQUESTS_IN_FLIGHT)
         .subscriber_max_borrowed_samples(MAX_REQUESTS_IN_FLIGHT)
         .enable_safe_overflow(false)
-        .max_publishers(MAX_PORTS_PER_TASK_SIDE)
-        .max_subscribers(MAX_PORTS_PER_TASK_SIDE);
+        .max_publishers(PROCESSES_PER_TASK)
+        .max_subscribers(PROCESSES_PER_TASK)
+        .max_nodes(1 + PROCESSES_PER_TASK);
     match open {
-        Open::Create => builder.create().map_err(|e| failed(&format!("create {what} service"), e)),
+        Open::Create => builder.create().map_err(|e| too_big(&format!("task {task} {what}"), e)),
         Open::Existing => builder.open().map_err(|e| failed(&format!("open {what} service"), e)),
     }
 }
@@ -113,18 +208,14 @@ pub fn wake(node: &Node<Ipc>, ns: &Namespace, task: u8, open: Open) -> Result<ev
     let builder = node
         .service_builder(&ns.service_name(&format!("task/{task}/wake"))?)
         .event()
-        .max_notifiers(MAX_PORTS_PER_TASK_SIDE)
-        .max_listeners(MAX_PORTS_PER_TASK_SIDE);
+        .max_notifiers(PROCESSES_PER_TASK)
+        .max_listeners(PROCESSES_PER_TASK)
+        .max_nodes(1 + PROCESSES_PER_TASK);
     match open {
-        Open::Create => builder.create().map_err(|e| failed("create wake service", e)),
+        Open::Create => builder.create().map_err(|e| too_big(&format!("task {task} wake"), e)),
         Open::Existing => builder.open().map_err(|e| failed("open wake service", e)),
     }
 }
-
-/// Tools that follow the event stream at once (`luamotion events`).
-const MAX_EVENT_READERS: usize = 4;
-/// Records a reader may fall behind by before the oldest are dropped.
-const EVENT_BUFFER: usize = 256;
 
 /// `<ns>/events`: SendEvent, SendMsgEvent and alarms, from every task and the controller.
 /// A reader that joins late still sees the last records.
@@ -136,13 +227,16 @@ pub fn events(
     let builder = node
         .service_builder(&ns.service_name("events")?)
         .publish_subscribe::<EventRecord>()
-        .history_size(16)
+        .history_size(EVENT_HISTORY)
         .subscriber_max_buffer_size(EVENT_BUFFER)
+        .subscriber_max_borrowed_samples(EVENT_BORROWED)
         .enable_safe_overflow(true)
-        .max_publishers(MAX_TASKS * MAX_PORTS_PER_TASK_SIDE + 2)
-        .max_subscribers(MAX_EVENT_READERS);
+        // Every node may write: the tasks, the supervisor, the DRL console.
+        .max_publishers(MAX_NODES)
+        .max_subscribers(MAX_EVENT_READERS)
+        .max_nodes(MAX_NODES);
     match open {
-        Open::Create => builder.create().map_err(|e| failed("create events service", e)),
+        Open::Create => builder.create().map_err(|e| too_big("events", e)),
         Open::Existing => builder.open().map_err(|e| failed("open events service", e)),
     }
 }
@@ -155,4 +249,18 @@ pub fn node(ns: &Namespace, name: &str) -> Result<Node<Ipc>, IpcError> {
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<Ipc>()
         .map_err(|e| failed("create node", e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every task and tool at once must fit a container's default `/dev/shm` (64 MiB)
+    /// with room to spare (measured: 33 MiB with 64 tasks and 96 axes).
+    #[test]
+    fn the_services_of_64_tasks_fit_a_small_dev_shm() {
+        let mib = planned_shm_bytes() as f64 / (1 << 20) as f64;
+        println!("planned shared memory: {mib:.1} MiB");
+        assert!(mib < 40.0, "{mib:.1} MiB");
+    }
 }

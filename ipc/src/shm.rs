@@ -9,6 +9,7 @@ use iceoryx2_bb_posix::creation_mode::CreationMode;
 use iceoryx2_bb_posix::shared_memory::{AccessMode, SharedMemory, SharedMemoryBuilder};
 use iceoryx2_bb_system_types::file_name::FileName;
 
+use crate::services::classify;
 use crate::{IpcError, Namespace};
 
 /// A type that may live in shared memory: `#[repr(C)]`, valid when all-zero, and only
@@ -48,7 +49,7 @@ impl<T: Shareable> Region<T> {
             .size(size_of::<T>())
             .zero_memory(true)
             .create()
-            .map_err(|e| IpcError::Shm(format!("{what}: {e:?}")))?;
+            .map_err(|e| classify(what, e, IpcError::Shm))?;
         Self::checked(shm, what)
     }
 
@@ -57,7 +58,7 @@ impl<T: Shareable> Region<T> {
         let name = file_name(ns, what)?;
         let shm = SharedMemoryBuilder::new(&name)
             .open_existing(AccessMode::ReadWrite)
-            .map_err(|e| IpcError::Shm(format!("{what}: {e:?}")))?;
+            .map_err(|e| classify(what, e, IpcError::Shm))?;
         Self::checked(shm, what)
     }
 

@@ -70,6 +70,7 @@ pub fn run(config: MachineConfig, options: RunOptions) -> Result<RunReport, Cont
 }
 
 fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, ControllerError> {
+    ipc::services::check_room()?;
     std::fs::create_dir_all(&options.data_dir)
         .map_err(|source| ControllerError::DataDir { path: options.data_dir.clone(), source })?;
     let (trace, trace_writer) = match &options.trace {
@@ -103,7 +104,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                 let endpoint = match CoreEndpoint::create(&ns, &task_ids) {
                     Ok(endpoint) => endpoint,
                     Err(e) => {
-                        let _ = ready_tx.send(Err(e.to_string()));
+                        let _ = ready_tx.send(Err(e));
                         return None;
                     }
                 };
@@ -112,10 +113,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };
-    let granted = ready_rx
-        .recv()
-        .map_err(|_| ControllerError::RtStart("no word from the RT thread".into()))?
-        .map_err(ControllerError::RtStart)?;
+    let granted = ready_rx.recv().map_err(|_| ControllerError::RtStart("no word from the RT thread".into()))??;
     tracing::info!(?granted, cycle_us = config.cycle_us, axes = config.axes.len(), ns = %options.ns, "controller up");
 
     let mut supervisor = Supervisor::new(

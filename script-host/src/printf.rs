@@ -339,7 +339,10 @@ mod tests {
         for (fmt, expected) in rows {
             assert_eq!(text(fmt, &args).unwrap(), expected);
         }
-        assert_eq!(text("%f %e %g", &[Float(589.0), Float(589.0), Float(589.0)]).unwrap(), "589.000000 5.890000e+02 589");
+        assert_eq!(
+            text("%f %e %g", &[Float(589.0), Float(589.0), Float(589.0)]).unwrap(),
+            "589.000000 5.890000e+02 589"
+        );
     }
 
     #[test]

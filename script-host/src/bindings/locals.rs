@@ -4,12 +4,12 @@
 use std::rc::Rc;
 use std::time::Duration;
 
+use api::FunctionSpec;
 use api::{ErrorCode, Local, SystemError};
 use ipc::messages::{EventKind, EventRecord};
+use ipc::output::{char_boundary, cut_marker, escape};
 use ipc::shared::{Lock, MUTEXES};
 use ipc::task_table::RunState;
-use api::FunctionSpec;
-use ipc::output::{char_boundary, cut_marker, escape};
 use mlua::{AnyUserData, BorrowedBytes, Function, Lua, MultiValue, Value};
 
 use super::timer::Timer;

@@ -17,11 +17,11 @@ use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::{ArgType, Command, Func, FunctionSpec, Query, SdoAbort, ValueType};
 use ipc::events::EventSender;
 use ipc::messages::Request;
+use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
 use ipc::query::{self, Words};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};
-use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
 use mlua::{BorrowedBytes, Function, Lua, MultiValue, Value};
 
 use locals::Throttle;
