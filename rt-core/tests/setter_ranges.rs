@@ -170,7 +170,9 @@ fn gear_ratios_and_pvt_tables_have_ranges() {
     assert_eq!(rig.call(Command::GearIn, &[0, 1], &[-1000.0]), 0, "the largest ratio");
     assert_eq!(rig.call(Command::DisableGear, &[1], &[]), 0);
 
-    let rows: [(&[f64], &[f64], &[f64], i64); 5] = [
+    // (times, positions, velocities, code)
+    type Table = (&'static [f64], &'static [f64], &'static [f64], i64);
+    let rows: [Table; 5] = [
         (&[0.0, 1e308], &[0.0, 0.0], &[0.0, 0.0], 0x08B6),
         (&[0.0, 60_000.5], &[0.0, 0.0], &[0.0, 0.0], 0x08B6),
         (&[0.0, 100.0], &[0.0, 1e30], &[0.0, 0.0], 0x0136),
