@@ -225,7 +225,7 @@ impl Debugger {
     fn check_depth(&self, lua: &Lua, event: &Debug, line: u32) -> mlua::Result<()> {
         let counts = self.counts.get().wrapping_add(1);
         self.counts.set(counts);
-        if counts % DEPTH_EVERY != 0 || lua.inspect_stack(MAX_DEPTH, |_| ()).is_none() {
+        if !counts.is_multiple_of(DEPTH_EVERY) || lua.inspect_stack(MAX_DEPTH, |_| ()).is_none() {
             return Ok(());
         }
         let file = event.source().short_src.map(|s| s.to_string()).unwrap_or_default();

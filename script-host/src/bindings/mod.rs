@@ -293,20 +293,21 @@ fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Functio
 pub fn write_output(pieces: &[&[u8]]) {
     let mut out = std::io::stdout().lock();
     let mut lines = Lines::new(MAX_LINE_BYTES);
-    let mut write = |line: &[u8], cut: u64| {
-        let _ = out.write_all(line);
-        if cut > 0 {
-            let _ = out.write_all(cut_marker(cut).as_bytes());
+    {
+        let mut write = |line: &[u8], cut: u64| {
+            let _ = out.write_all(line);
+            if cut > 0 {
+                let _ = out.write_all(cut_marker(cut).as_bytes());
+            }
+            let _ = out.write_all(b"\n");
+        };
+        for piece in pieces {
+            lines.feed(piece, &mut write);
         }
-        let _ = out.write_all(b"\n");
-    };
-    for piece in pieces {
-        lines.feed(piece, &mut write);
+        if pieces.iter().rev().find(|p| !p.is_empty()).is_none_or(|p| !p.ends_with(b"\n")) {
+            lines.feed(b"\n", &mut write);
+        }
     }
-    if pieces.iter().rev().find(|p| !p.is_empty()).is_none_or(|p| !p.ends_with(b"\n")) {
-        lines.feed(b"\n", &mut write);
-    }
-    drop(write);
     let _ = out.flush();
 }
 
