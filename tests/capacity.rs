@@ -195,7 +195,11 @@ fn a_run_refused_another_user_s_files_names_them_and_the_fix() {
     assert_eq!(as_root.lines_of_task(0), vec!["ran"], "{}", as_root.stderr);
 
     const NOBODY: u32 = 65534;
-    let child = Command::new(BIN)
+    // The build folder may be closed to other users (a CI clone in a 0700 temp dir): the
+    // other user runs a copy of the binary from the test's open folder.
+    let bin = dir.path().join("luamotion");
+    std::fs::copy(BIN, &bin).unwrap();
+    let child = Command::new(&bin)
         .args(["run", "--ns", &ns, "--data-dir"])
         .arg(dir.path().join("data"))
         .arg(&prog)
