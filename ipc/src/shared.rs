@@ -237,7 +237,7 @@ pub enum VarError {
     Full,
 }
 
-/// One task's variables that survive its restarts (HMPL 1.1: task variables keep their
+/// One task's variables that survive its restarts (HMPL 1.5: task variables keep their
 /// values from one run to the next). Written only by the task's own process; each entry
 /// keeps two copies and flips between them, so that a process killed in the middle of a
 /// write leaves the previous value.
