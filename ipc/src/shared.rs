@@ -1,4 +1,4 @@
-//! What every task shares (HMPL 1.3, 23.2, ch. 11, 2.22): the user table, the test
+//! What every task shares (HMPL 1.5, 23.2, ch. 11, 2.22): the user table, the test
 //! variables, the 8 mutexes and each task's persistent variables. One shared-memory
 //! region per controller, read and written in place by the scripts; the core releases
 //! the mutexes of a task that stops.
