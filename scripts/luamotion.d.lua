@@ -1355,4 +1355,4 @@ system_mtest = nil -- 10 numbers shared by all tasks, indices 0..9 (HMPL 23.2)
 ---@type integer
 _TASKID_ = nil -- this task's id (HMPL 19.1)
 ---@type table<string, number|boolean|string>
-task_vars = nil -- this task's variables: they keep their values when the task is stopped and started again (64 per task, names up to 31 bytes, strings up to 64) (HMPL 1.1 (luamotion))
+task_vars = nil -- this task's variables: they keep their values when the task is stopped and started again (64 per task, names up to 31 bytes, strings up to 64) (HMPL 1.5 (luamotion))

@@ -1,5 +1,5 @@
-//! End to end: the HMPL Part 6 facts of chapters 5, 6, 7, 18 and 20, each file a table of
-//! checks naming its facts (tests/lua/hmpl_*.lua).
+//! End to end: HMPL chapters 5, 6, 7, 18 and 20, each file a table of checks naming the
+//! manual section each covers (tests/lua/hmpl_*.lua).
 
 mod common;
 
@@ -12,21 +12,21 @@ fn passes(script: &str, last_line: &str) {
 }
 
 #[test]
-fn motion_facts_35_to_43() {
+fn axis_motion_and_settings() {
     passes("hmpl_motion_facts.lua", "motion facts passed");
 }
 
 #[test]
-fn state_facts_44_to_49_91_92() {
+fn axis_faults_state_and_error_codes() {
     passes("hmpl_state_facts.lua", "state facts passed");
 }
 
 #[test]
-fn gear_and_gantry_facts_51_52() {
+fn gear_and_gantry() {
     passes("hmpl_gear_gantry.lua", "gear and gantry facts passed");
 }
 
 #[test]
-fn homing_facts_93_to_95() {
+fn homing() {
     passes("hmpl_homing.lua", "homing facts passed");
 }

@@ -1,4 +1,4 @@
-//! End to end: HMPL tasks (facts 5-15 and 28-32 of spec/hmpl.md Part 6), mutexes under
+//! End to end: HMPL tasks (HMPL ch. 2, 16, 19; E-stop 2.9, 9.2.6), mutexes under
 //! contention between processes, the user table surviving `kill -9` in the middle of a
 //! save, and the `tasks` and `events` tools.
 
@@ -34,18 +34,18 @@ fn run_machine(config: &Path, extra: &[&str]) -> Finished {
 }
 
 #[test]
-fn task_facts_5_to_15_28_30_31() {
+fn tasks_system_functions_and_user_table() {
     let out = run_machine(&tasks_dir().join("machine.toml"), &[]);
     let context = format!("{}\n{}", out.stdout, out.stderr);
     assert_eq!(out.lines_of_task(0).last().map(String::as_str), Some("task facts passed"), "{context}");
-    // Fact 9: the second MutexLock stopped task 6 with 0x13EC, before its Print.
+    // HMPL 2.22, 2.23: the second MutexLock stopped task 6 with 0x13EC, before its Print.
     assert!(out.stderr.contains("MutexLock(5): this task holds the mutex already (0x13EC"), "{context}");
     assert!(out.stderr.contains("(alarm 0x300613EC)"), "{context}");
     assert!(!out.stdout.contains("never printed"), "{context}");
 }
 
 #[test]
-fn stop_all_task_stops_the_caller_fact_8() {
+fn stop_all_task_stops_the_caller() {
     let dir = tempfile::tempdir().unwrap();
     let config = machine(dir.path(), 1000, &tasks_dir().join("stop_all.lua"), &[&tasks_dir().join("helpers.lua")]);
     let out = run_machine(&config, &[]);
@@ -92,7 +92,7 @@ fn assert_emergency_stopped(out: &Finished, trace: &Path, main: &str) {
 }
 
 #[test]
-fn estop_stops_every_task_and_disables_every_axis_fact_29() {
+fn estop_stops_every_task_and_disables_every_axis() {
     let dir = tempfile::tempdir().unwrap();
     let config = machine(dir.path(), 1000, &tasks_dir().join("estop.lua"), &[&tasks_dir().join("helpers.lua")]);
     let trace = dir.path().join("trace.csv");
@@ -102,7 +102,7 @@ fn estop_stops_every_task_and_disables_every_axis_fact_29() {
 }
 
 #[test]
-fn the_estop_input_fact_32() {
+fn the_estop_input_stops_every_task_and_disables_every_axis() {
     let dir = tempfile::tempdir().unwrap();
     let config = machine(dir.path(), 1000, &tasks_dir().join("emo.lua"), &[&tasks_dir().join("helpers.lua")]);
     let trace = dir.path().join("trace.csv");
@@ -112,7 +112,7 @@ fn the_estop_input_fact_32() {
 }
 
 #[test]
-fn system_clock_at_250_us_fact_11() {
+fn system_clock_at_250_us() {
     let dir = tempfile::tempdir().unwrap();
     let main = program(
         dir.path(),
@@ -125,8 +125,8 @@ fn system_clock_at_250_us_fact_11() {
     let (cycles, ms) = line.split_once(" cycles, ").expect(&out.stderr);
     let (cycles, ms): (u64, u64) = (cycles.parse().unwrap(), ms.trim_end_matches(" ms").parse().unwrap());
     // Sleep(100) waits 400 cycles; more only when the OS wakes the script late.
-    assert!((400..600).contains(&cycles), "fact 10: {line}");
-    assert!(cycles.abs_diff(4 * ms) <= 4, "fact 11: 4 cycles per ms at 250 us: {line}");
+    assert!((400..600).contains(&cycles), "HMPL 2.18: {line}");
+    assert!(cycles.abs_diff(4 * ms) <= 4, "HMPL 23.2: 4 cycles per ms at 250 us: {line}");
 }
 
 /// Four processes add 1 to the same user-table cell 25 000 times each under mutex 0.

@@ -63,7 +63,7 @@ pub enum ValueType {
 /// What a command's argument is physically; the core checks every argument that has one
 /// against its range before the command runs (`rt-core/src/dispatch.rs`), so that no
 /// setter can forget it and NaN or infinity never reach the kernel. Positions, velocities
-/// and accelerations are in the axis' units (mm or deg, HMPL 1.3), times in ms.
+/// and accelerations are in the axis' units (mm or deg, HMPL 1.2), times in ms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Quantity {
     /// The id of an axis; the axis-bound quantities after it belong to this axis.

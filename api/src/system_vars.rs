@@ -75,7 +75,7 @@ impl SystemVar {
         Described {
             name: "task_vars",
             lua_type: "table<string, number|boolean|string>",
-            source: "HMPL 1.1 (luamotion)",
+            source: "HMPL 1.5 (luamotion)",
             doc: "this task's variables: they keep their values when the task is stopped and started again (64 per task, names up to 31 bytes, strings up to 64)",
         },
     ];

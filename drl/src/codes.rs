@@ -210,7 +210,7 @@ impl Status {
 mod tests {
     use super::*;
 
-    /// DXMC A.3, 0x6B01 (testable fact 17).
+    /// DXMC A.3, 0x6B01.
     #[test]
     fn execution_states() {
         let rows = [
@@ -228,7 +228,7 @@ mod tests {
         assert_eq!(ExecState::from_code(5), None);
     }
 
-    /// DXMC A.3, 0x6B05 (testable fact 18); codes not in the table are alarm 0x7000 (fact 22).
+    /// DXMC A.3, 0x6B05; codes not in the table are alarm 0x7000 (DXMC 9).
     #[test]
     fn control_codes() {
         let rows = [
@@ -259,7 +259,7 @@ mod tests {
         }
     }
 
-    /// DXMC A.3, 0x6B06 (testable fact 19).
+    /// DXMC A.3, 0x6B06.
     #[test]
     fn status_codes() {
         use Status::*;

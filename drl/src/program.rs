@@ -111,7 +111,7 @@ impl ProgramControl {
         self.breakpoint_registers[i] = line;
     }
 
-    /// 0x6B04 takes 0..9999 (testable fact 16).
+    /// 0x6B04 takes 0..9999 (DXMC A.3).
     pub fn valid_id(id: u16) -> bool {
         id <= MAX_ID
     }

@@ -107,7 +107,7 @@ pub fn span(address: u16, count: u16, write: bool) -> Result<Vec<Register>, Refu
 mod tests {
     use super::*;
 
-    /// DXMC A.1/A.3, one row per address (testable facts 24, 57).
+    /// DXMC A.1/A.3, one row per address.
     #[test]
     fn the_address_map() {
         let rows = [
@@ -142,7 +142,7 @@ mod tests {
         assert_eq!(0x6B00, 27392, "Modbus decimal address of 0x6B00");
     }
 
-    /// DXMC 8.2: at most 10 words per request (testable fact 54).
+    /// DXMC 8.2: at most 10 words per request.
     #[test]
     fn ten_words_at_most() {
         assert_eq!(span(0x0000, 10, false).map(|r| r.len()), Ok(10));

@@ -445,7 +445,7 @@ impl Default for Snapshot {
 mod tests {
     use super::{fault_status, motion_status};
 
-    /// HMPL Part 6 fact 50, HMPL table 5.1.1.5: one row per `motion_status` bit.
+    /// HMPL table 5.1.1.5: one row per `motion_status` bit.
     #[test]
     fn motion_status_bits() {
         let table: [(&str, u32, u32); 14] = [
@@ -469,7 +469,7 @@ mod tests {
         }
     }
 
-    /// HMPL Part 6 fact 50, HMPL table 5.1.1.4: one row per `fault_status` bit.
+    /// HMPL table 5.1.1.4: one row per `fault_status` bit.
     #[test]
     fn fault_status_bits() {
         let table: [(&str, u32, u32); 7] = [

@@ -1,4 +1,4 @@
-//! What every task shares (HMPL 1.3, 23.2, ch. 11, 2.22): the user table, the test
+//! What every task shares (HMPL 1.5, 23.2, ch. 11, 2.22): the user table, the test
 //! variables, the 8 mutexes and each task's persistent variables. One shared-memory
 //! region per controller, read and written in place by the scripts; the core releases
 //! the mutexes of a task that stops.
@@ -237,7 +237,7 @@ pub enum VarError {
     Full,
 }
 
-/// One task's variables that survive its restarts (HMPL 1.1: task variables keep their
+/// One task's variables that survive its restarts (HMPL 1.5: task variables keep their
 /// values from one run to the next). Written only by the task's own process; each entry
 /// keeps two copies and flips between them, so that a process killed in the middle of a
 /// write leaves the previous value.

@@ -272,7 +272,7 @@ pub struct TaskConfig {
 }
 
 /// What happens to the active motion a task commanded when the task fails (watchdog,
-/// crash, error) or is stopped (DESIGN "Watchdogs and fault reaction"; DXMC parameter 8-1).
+/// crash, error) or is stopped (DXMC parameter 8-1; docs/decisions.md, "Fault reaction").
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum FaultReaction {

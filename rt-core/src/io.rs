@@ -144,7 +144,7 @@ mod tests {
         assert_eq!(io.set_all_gpo(0x100), Err(NoSuchPin));
     }
 
-    /// HMPL 9.1, 9.2.6 and fact 32: the E-stop is the rising edge of the bound input.
+    /// HMPL 9.1, 9.2.6: the E-stop is the rising edge of the bound input.
     #[test]
     fn emo_edges() {
         let mut io = ControllerIo::default();

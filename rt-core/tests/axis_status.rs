@@ -1,7 +1,7 @@
-//! HMPL Part 6 fact 50 on a running kernel: the `motion_status` and `fault_status` words
+//! HMPL tables 5.1.1.4 and 5.1.1.5 on a running kernel: the `motion_status` and `fault_status` words
 //! an axis publishes, as the byte literals of HMPL tables 5.1.1.4 and 5.1.1.5, in the
 //! situations that set each bit (Acc, Homing and HomeSwitch pass too fast or need a
-//! switch; their Lua facts cover them through IsAcc/IsHoming/IsHomeSwitch).
+//! switch; their Lua checks cover them through IsAcc/IsHoming/IsHomeSwitch).
 
 use rt_core::MachineConfig;
 use rt_core::ecat::Network;

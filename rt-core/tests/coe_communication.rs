@@ -1,5 +1,5 @@
 //! Conformance: EtherCAT communication and the object dictionary (CoE manual ch. 2 and 4).
-//! Each row names the testable fact of spec/coe-drive.md §15 it checks.
+//! Each row names the section or table of the HIWIN CoE drive manual (v1.1) it checks.
 
 mod bench;
 
@@ -15,66 +15,66 @@ fn abort(result: Result<impl std::fmt::Debug, SdoError>) -> SdoAbort {
     }
 }
 
-/// Facts 1 and 2: Init has no mailbox; the ESM goes up one level at a time.
+/// CoE 2.3: Init has no mailbox; the ESM goes up one level at a time.
 #[test]
 fn esm_from_power_up() {
     let mut net = Bench::unstarted(bench::drive_defaults());
-    assert_eq!(net.state(), AlState::Init, "fact 1: Init after power-up");
-    assert_eq!(net.sdo_read(0, 0x1000, 0), Err(SdoError::NoMailbox), "fact 2: no SDO in Init");
-    assert!(net.request_state(0, AlState::Op).is_err(), "fact 1: Init -> Op refused");
+    assert_eq!(net.state(), AlState::Init, "CoE 2.3: Init after power-up");
+    assert_eq!(net.sdo_read(0, 0x1000, 0), Err(SdoError::NoMailbox), "CoE 2.3: no SDO in Init");
+    assert!(net.request_state(0, AlState::Op).is_err(), "CoE 2.3: Init -> Op refused");
     assert!(net.request_state(0, AlState::SafeOp).is_err(), "Init -> SafeOp refused");
     assert_eq!(net.slaves()[0].esm().error().map(|c| c.code()), Some(0x0011), "AL status 0x0011");
-    assert!(net.request_state(0, AlState::PreOp).is_ok(), "fact 1: Init -> PreOp");
-    assert_eq!(net.sdo_read(0, 0x1000, 0), Ok((0x0002_0192, 4)), "fact 2: device type in PreOp");
+    assert!(net.request_state(0, AlState::PreOp).is_ok(), "CoE 2.3: Init -> PreOp");
+    assert_eq!(net.sdo_read(0, 0x1000, 0), Ok((0x0002_0192, 4)), "CoE 2.3: device type in PreOp");
     assert!(net.request_state(0, AlState::Op).is_err(), "PreOp -> Op refused");
     assert!(net.request_state(0, AlState::Init).is_ok(), "down to any lower state");
 }
 
-/// Facts 3, 4, 10, 11, 12, 37 and 83: identity and defaults (tables 4-1, 4-4, 4-6, 4-15).
+/// CoE tables 4-1, 4-4, 4-6, 4-15: identity and defaults.
 #[test]
 fn identity_and_defaults() {
     let b = Bench::new();
     let rows: [(u16, u8, i64, &str); 32] = [
-        (0x1018, 1, 0xAAAA, "fact 3: vendor id"),
-        (0x1018, 0, 4, "fact 3"),
-        (0x1018, 3, 1, "fact 3: revision"),
-        (0x1018, 4, 0, "fact 3: serial"),
-        (0x1018, 2, 2, "fact 4: product code of a D1"),
-        (0x1C00, 0, 4, "fact 10"),
-        (0x1C00, 1, 1, "fact 10"),
-        (0x1C00, 2, 2, "fact 10"),
-        (0x1C00, 3, 3, "fact 10"),
-        (0x1C00, 4, 4, "fact 10"),
-        (0x1C10, 0, 0, "fact 10"),
-        (0x1C11, 0, 0, "fact 10"),
-        (0x1C33, 1, 2, "fact 11: sync type DC"),
-        (0x1C32, 4, 0x0005, "fact 12"),
-        (0x1C33, 4, 0x0005, "fact 12"),
-        (0x1C32, 5, 125_000, "fact 12"),
-        (0x1C32, 6, 62_500, "fact 12"),
-        (0x1C33, 9, 0, "fact 12"),
-        (0x6502, 0, 0x03AD, "fact 37: supported modes"),
-        (0x2042, 0, 1, "fact 83"),
-        (0x2041, 0, 0, "fact 83"),
-        (0x2043, 0, 0x07EF, "fact 83"),
-        (0x2000, 0, 2, "fact 83"),
-        (0x2003, 0, 1, "fact 83"),
-        (0x2004, 0, 2, "fact 83"),
-        (0x2004, 1, 1, "fact 83"),
-        (0x2004, 2, 1, "fact 83"),
-        (0x60C5, 0, 10_000, "fact 83"),
-        (0x60C6, 0, 10_000, "fact 83"),
-        (0x607D, 0, 2, "fact 83"),
-        (0x6099, 0, 2, "fact 83"),
-        (0x60FE, 0, 2, "fact 83"),
+        (0x1018, 1, 0xAAAA, "CoE table 4-1: vendor id"),
+        (0x1018, 0, 4, "CoE table 4-1"),
+        (0x1018, 3, 1, "CoE table 4-1: revision"),
+        (0x1018, 4, 0, "CoE table 4-1: serial"),
+        (0x1018, 2, 2, "CoE table 4-1: product code of a D1"),
+        (0x1C00, 0, 4, "CoE table 4-4"),
+        (0x1C00, 1, 1, "CoE table 4-4"),
+        (0x1C00, 2, 2, "CoE table 4-4"),
+        (0x1C00, 3, 3, "CoE table 4-4"),
+        (0x1C00, 4, 4, "CoE table 4-4"),
+        (0x1C10, 0, 0, "CoE table 4-4"),
+        (0x1C11, 0, 0, "CoE table 4-4"),
+        (0x1C33, 1, 2, "CoE table 4-4: sync type DC"),
+        (0x1C32, 4, 0x0005, "CoE table 4-4"),
+        (0x1C33, 4, 0x0005, "CoE table 4-4"),
+        (0x1C32, 5, 125_000, "CoE table 4-4"),
+        (0x1C32, 6, 62_500, "CoE table 4-4"),
+        (0x1C33, 9, 0, "CoE table 4-4"),
+        (0x6502, 0, 0x03AD, "CoE table 4-15: supported modes"),
+        (0x2042, 0, 1, "CoE tables 4-6, 4-15"),
+        (0x2041, 0, 0, "CoE tables 4-6, 4-15"),
+        (0x2043, 0, 0x07EF, "CoE tables 4-6, 4-15"),
+        (0x2000, 0, 2, "CoE tables 4-6, 4-15"),
+        (0x2003, 0, 1, "CoE tables 4-6, 4-15"),
+        (0x2004, 0, 2, "CoE tables 4-6, 4-15"),
+        (0x2004, 1, 1, "CoE tables 4-6, 4-15"),
+        (0x2004, 2, 1, "CoE tables 4-6, 4-15"),
+        (0x60C5, 0, 10_000, "CoE tables 4-6, 4-15"),
+        (0x60C6, 0, 10_000, "CoE tables 4-6, 4-15"),
+        (0x607D, 0, 2, "CoE tables 4-6, 4-15"),
+        (0x6099, 0, 2, "CoE tables 4-6, 4-15"),
+        (0x60FE, 0, 2, "CoE tables 4-6, 4-15"),
     ];
-    for (index, sub, expected, fact) in rows {
-        assert_eq!(b.read(index, sub), expected, "0x{index:04X}:{sub}, {fact}");
+    for (index, sub, expected, what) in rows {
+        assert_eq!(b.read(index, sub), expected, "0x{index:04X}:{sub}, {what}");
     }
-    // Fact 11 as configured by the master for DC at the controller's cycle.
+    // CoE table 4-4 as configured by the master for DC at the controller's cycle.
     assert_eq!(b.read(0x1C32, 1), 2);
     assert_eq!(b.read(0x1C32, 2), PERIOD_NS as i64);
-    // Fact 83: REAL32 gains.
+    // CoE tables 4-6, 4-15: REAL32 gains.
     for (index, value) in
         [(0x2050, 0.3f32), (0x2051, 0.001), (0x2052, 500.0), (0x2053, 100.0), (0x2054, 314.0), (0x2055, 314.0)]
     {
@@ -82,7 +82,7 @@ fn identity_and_defaults() {
     }
 }
 
-/// Fact 4: the product code of each model (table 4-2; abily's 4 is above the printed max 3).
+/// CoE table 4-2: the product code of each model (abily's 4 is above the printed max 3).
 #[test]
 fn product_codes() {
     for (model, code) in [(DriveModel::D1N, 1), (DriveModel::D1, 2), (DriveModel::D2, 3), (DriveModel::Abily, 4)] {
@@ -91,7 +91,7 @@ fn product_codes() {
     }
 }
 
-/// Facts 5 and 6: the default mapping (table 4-3), 6 and 10 bytes.
+/// CoE 2.4, table 4-3: the default mapping, 6 and 10 bytes.
 #[test]
 fn default_pdo_mapping() {
     let b = Bench::new();
@@ -107,10 +107,10 @@ fn default_pdo_mapping() {
         (0x1C13, 1, 0x1A00),
     ];
     for (index, sub, expected) in rows {
-        assert_eq!(b.read(index, sub), expected, "fact 5: 0x{index:04X}:{sub}");
+        assert_eq!(b.read(index, sub), expected, "CoE table 4-3: 0x{index:04X}:{sub}");
     }
-    assert_eq!((b.read(0x1C12, 0), b.read(0x1C13, 0)), (1, 1), "fact 5");
-    assert_eq!(b.net.slaves()[0].pdo_lengths(), (6, 10), "fact 6");
+    assert_eq!((b.read(0x1C12, 0), b.read(0x1C13, 0)), (1, 1), "CoE table 4-3");
+    assert_eq!(b.net.slaves()[0].pdo_lengths(), (6, 10), "CoE 2.4");
 }
 
 fn pre_op() -> rt_core::ecat::Network {
@@ -119,33 +119,33 @@ fn pre_op() -> rt_core::ecat::Network {
     net
 }
 
-/// Facts 7, 8 and 86: mapping rules, checked on the way to SafeOp or refused by the mailbox.
+/// CoE 2.4, table 4-15: mapping rules, checked on the way to SafeOp or refused by the mailbox.
 #[test]
 fn pdo_mapping_validation() {
     let write = |net: &mut rt_core::ecat::Network, index: u16, sub: u8, v: u32| {
         let len = if sub == 0 { 1 } else { 4 };
         net.sdo_write(0, index, sub, &v.to_le_bytes()[..len])
     };
-    // Fact 8: mapping objects are written with the SyncManager assignment off.
+    // CoE 2.4: mapping objects are written with the SyncManager assignment off.
     let mut net = pre_op();
     assert_eq!(abort(write(&mut net, 0x1600, 1, 0x6060_0008)), SdoAbort::DeviceState, "assignment still on");
     net.sdo_write(0, 0x1C12, 0, &[0]).unwrap();
     write(&mut net, 0x1600, 0, 0).unwrap();
-    // Fact 7: at most 7 entries.
+    // CoE 2.4: at most 7 entries.
     assert_eq!(abort(write(&mut net, 0x1600, 0, 8)), SdoAbort::ValueTooHigh, "0x1600:00 = 8");
     assert_eq!(abort(write(&mut net, 0x1600, 8, 0x6060_0008)), SdoAbort::NoSubIndex, "no entry 8");
 
     // Refused on PreOp -> SafeOp, one case per row: (entries, AL status code, what).
     let cases: [(&[u32], u16, &str); 6] = [
-        (&[0x6063_0020], 0x0025, "fact 86: 0x6063 is not mappable"),
-        (&[0x607C_0020], 0x0025, "fact 86: 0x607C is not mappable"),
-        (&[0x60FC_0020], 0x0025, "fact 86: 0x60FC is not mappable"),
+        (&[0x6063_0020], 0x0025, "CoE table 4-15: 0x6063 is not mappable"),
+        (&[0x607C_0020], 0x0025, "CoE table 4-15: 0x607C is not mappable"),
+        (&[0x60FC_0020], 0x0025, "CoE table 4-15: 0x60FC is not mappable"),
         (&[0x6040_0020], 0x0025, "length does not match the object's type"),
         (&[0x6041_0010], 0x0025, "a read-only object cannot be an output"),
         (
             &[0x607A_0020, 0x60FF_0020, 0x60FE_0120, 0x60FE_0220, 0x60B8_0010, 0x6071_0010, 0x6040_0010],
             0x0025,
-            "fact 7: 22 bytes > 20",
+            "CoE 2.4: 22 bytes > 20",
         ),
     ];
     for (entries, code, what) in cases {
@@ -163,10 +163,10 @@ fn pdo_mapping_validation() {
         assert_eq!(net.state(), AlState::PreOp, "{what}: stays in PreOp");
     }
 
-    // Fact 8: after SafeOp, mapping writes are refused.
+    // CoE 2.4: after SafeOp, mapping writes are refused.
     let mut b = Bench::new();
-    assert_eq!(abort(b.try_write(0x1C12, 0, 0)), SdoAbort::DeviceState, "fact 8: in Op");
-    assert_eq!(abort(b.try_write(0x1600, 1, 0x6060_0008)), SdoAbort::DeviceState, "fact 8: in Op");
+    assert_eq!(abort(b.try_write(0x1C12, 0, 0)), SdoAbort::DeviceState, "CoE 2.4: in Op");
+    assert_eq!(abort(b.try_write(0x1600, 1, 0x6060_0008)), SdoAbort::DeviceState, "CoE 2.4: in Op");
 }
 
 /// The OMRON homing example's mapping (tables 5-1, 5-2) is valid: 9 and 17 bytes.
@@ -183,7 +183,7 @@ fn a_custom_mapping_from_the_machine_file() {
     assert!(b.net.output_field(0, 0x6060, 0).is_some());
 }
 
-/// Fact 9: in SafeOp inputs update but outputs are not applied; in Op both.
+/// CoE 2.3: in SafeOp inputs update but outputs are not applied; in Op both.
 #[test]
 fn safe_op_has_inputs_only() {
     let mut b = Bench::new();
@@ -200,47 +200,47 @@ fn safe_op_has_inputs_only() {
     assert_eq!(b.sw() & 0x6F, 0x23, "in Op the PDO controlword applies: Switched on");
 }
 
-/// Facts 13, 14, 15: sync type and DC cycle (table 4-4, CoE manual 2.5).
+/// CoE 2.5, table 4-4: sync type and DC cycle.
 #[test]
 fn sync_settings() {
     let mut net = pre_op();
     let w16 = |net: &mut rt_core::ecat::Network, i: u16, s: u8, v: u16| net.sdo_write(0, i, s, &v.to_le_bytes());
     let w32 = |net: &mut rt_core::ecat::Network, i: u16, s: u8, v: u32| net.sdo_write(0, i, s, &v.to_le_bytes());
-    assert!(w16(&mut net, 0x1C32, 1, 0).is_ok(), "fact 13: free run");
-    assert!(w16(&mut net, 0x1C32, 1, 2).is_ok(), "fact 13: DC");
+    assert!(w16(&mut net, 0x1C32, 1, 0).is_ok(), "CoE table 4-4: free run");
+    assert!(w16(&mut net, 0x1C32, 1, 2).is_ok(), "CoE table 4-4: DC");
     assert_eq!(abort(w16(&mut net, 0x1C32, 1, 1)), SdoAbort::ValueRange, "type 1 (SM sync) is not offered");
-    assert_eq!(abort(w16(&mut net, 0x1C33, 1, 0)), SdoAbort::ReadOnly, "fact 13: 0x1C33:01 read-only");
+    assert_eq!(abort(w16(&mut net, 0x1C33, 1, 0)), SdoAbort::ReadOnly, "CoE table 4-4: 0x1C33:01 read-only");
     for us in [250u32, 500, 1000, 2000, 4000] {
-        assert!(w32(&mut net, 0x1C32, 2, us * 1000).is_ok(), "fact 14: {us} us");
+        assert!(w32(&mut net, 0x1C32, 2, us * 1000).is_ok(), "CoE 2.5: {us} us");
     }
     for ns in [750_000u32, 8_000_000, 125_000] {
-        assert_eq!(abort(w32(&mut net, 0x1C32, 2, ns)), SdoAbort::ValueRange, "fact 14: {ns} ns");
+        assert_eq!(abort(w32(&mut net, 0x1C32, 2, ns)), SdoAbort::ValueRange, "CoE 2.5: {ns} ns");
     }
-    // Fact 15: DC needs ESC 0x0980 = 0x0300; without it SafeOp is refused.
+    // CoE 2.5: DC needs ESC 0x0980 = 0x0300; without it SafeOp is refused.
     assert_eq!(net.request_state(0, AlState::SafeOp).map_err(|c| c.code()), Err(0x0030));
     assert_eq!(net.slaves()[0].sync_activation(), 0x0000, "free run until the master activates SYNC0");
 }
 
-/// Facts 84 and 85: ranges and access (table 4-15; SDO abort codes).
+/// CoE tables 4-1, 4-15: ranges and access (SDO abort codes).
 #[test]
 fn ranges_and_access() {
     let mut b = Bench::new();
     let gain = |v: f32| v.to_bits() as i64;
-    assert_eq!(abort(b.try_write(0x2050, 0, gain(20.0))), SdoAbort::ValueTooHigh, "fact 84: 0x2050 max 10");
-    assert_eq!(abort(b.try_write(0x2050, 0, gain(0.001))), SdoAbort::ValueTooLow, "fact 84: min 0.01");
-    assert_eq!(abort(b.try_write(0x6071, 0, 1001)), SdoAbort::ValueTooHigh, "fact 84");
-    assert_eq!(abort(b.try_write(0x6071, 0, -1001)), SdoAbort::ValueTooLow, "fact 84");
-    assert_eq!(abort(b.try_write(0x6060, 0, 11)), SdoAbort::ValueTooHigh, "fact 84: mode 11");
-    assert_eq!(abort(b.try_write(0x2004, 1, 0)), SdoAbort::ValueTooLow, "fact 84: gear numerator");
+    assert_eq!(abort(b.try_write(0x2050, 0, gain(20.0))), SdoAbort::ValueTooHigh, "CoE table 4-15: 0x2050 max 10");
+    assert_eq!(abort(b.try_write(0x2050, 0, gain(0.001))), SdoAbort::ValueTooLow, "CoE table 4-15: min 0.01");
+    assert_eq!(abort(b.try_write(0x6071, 0, 1001)), SdoAbort::ValueTooHigh, "CoE table 4-15");
+    assert_eq!(abort(b.try_write(0x6071, 0, -1001)), SdoAbort::ValueTooLow, "CoE table 4-15");
+    assert_eq!(abort(b.try_write(0x6060, 0, 11)), SdoAbort::ValueTooHigh, "CoE table 4-15: mode 11");
+    assert_eq!(abort(b.try_write(0x2004, 1, 0)), SdoAbort::ValueTooLow, "CoE table 4-15: gear numerator");
     for index in [0x6041, 0x6064, 0x6063, 0x1000, 0x2000] {
-        assert_eq!(abort(b.try_write(index, 0, 0)), SdoAbort::ReadOnly, "fact 85: 0x{index:04X}");
+        assert_eq!(abort(b.try_write(index, 0, 0)), SdoAbort::ReadOnly, "CoE tables 4-1, 4-15: 0x{index:04X}");
     }
-    assert_eq!(abort(b.net.sdo_read(0, 0x60BC, 0)), SdoAbort::NoObject, "fact 82: no TP2");
-    assert_eq!(abort(b.net.sdo_read(0, 0x60BD, 0)), SdoAbort::NoObject, "fact 82");
+    assert_eq!(abort(b.net.sdo_read(0, 0x60BC, 0)), SdoAbort::NoObject, "CoE 3.9: no TP2");
+    assert_eq!(abort(b.net.sdo_read(0, 0x60BD, 0)), SdoAbort::NoObject, "CoE 3.9");
     assert_eq!(abort(b.net.sdo_write(0, 0x607A, 0, &[1, 2])), SdoAbort::LengthTooLow, "length mismatch");
 }
 
-/// Fact 87: store parameters only in Switch on disabled, with the "save" signature.
+/// CoE table 4-1: store parameters only in Switch on disabled, with the "save" signature.
 #[test]
 fn store_parameters() {
     let mut b = Bench::new();
@@ -254,26 +254,30 @@ fn store_parameters() {
     assert_eq!(abort(b.try_write(0x1010, 1, 0x6576_6173)), SdoAbort::DeviceState, "not in Operation enabled");
 }
 
-/// Facts 88 and 89: outputs O1..O5 need the mask bit; the brake only when not energised.
+/// CoE table 4-15: outputs O1..O5 need the mask bit; the brake only when not energised.
 #[test]
 fn digital_outputs_and_brake() {
     let mut b = Bench::new();
     b.write(0x60FE, 1, 0x0002_0000);
     b.cycle();
-    assert_eq!(b.drive().outputs() & 0x0002_0000, 0, "fact 88: without the mask bit O1 stays off");
+    assert_eq!(b.drive().outputs() & 0x0002_0000, 0, "CoE table 4-15: without the mask bit O1 stays off");
     b.write(0x60FE, 2, 0x0002_0000);
     b.cycle();
-    assert_ne!(b.drive().outputs() & 0x0002_0000, 0, "fact 88: O1 on");
+    assert_ne!(b.drive().outputs() & 0x0002_0000, 0, "CoE table 4-15: O1 on");
     // Brake, bit 16 (1 = released): the host may release it while not energised.
     b.write(0x60FE, 2, 0x0001_0000);
     b.write(0x60FE, 1, 0x0000_0000);
     b.cycle();
     assert_eq!(b.drive().outputs() & 0x0001_0000, 0, "locked");
     b.enable();
-    assert_ne!(b.drive().outputs() & 0x0001_0000, 0, "fact 89: energised, the brake is released whatever bit 16 says");
+    assert_ne!(
+        b.drive().outputs() & 0x0001_0000,
+        0,
+        "CoE table 4-15: energised, the brake is released whatever bit 16 says"
+    );
 }
 
-/// Fact 90: a simulated fault sets 0x603F and its event bit (tables 4-13, 4-14, 4-16).
+/// CoE tables 4-13, 4-14, 4-16: a simulated fault sets 0x603F and its event bit.
 #[test]
 fn fault_codes_and_event_bits() {
     let rows: [(DriveModel, u16, u16, u8, bool, &str); 5] = [

@@ -26,7 +26,7 @@ fn drive_in(path: &[u16]) -> Bench {
     b
 }
 
-/// Facts 16 to 28 and 32: from-state (reached by a path), controlword, expected state.
+/// CoE 3.1: from-state (reached by a path), controlword, expected state.
 #[test]
 fn transitions() {
     let to_rtso: &[u16] = &[0x0006];
@@ -34,35 +34,35 @@ fn transitions() {
     let to_oe: &[u16] = &[0x0006, 0x0007, 0x000F];
     let to_qsa: &[u16] = &[0x0006, 0x0007, 0x000F, 0x000B];
     let rows: [(&[u16], u16, u16, &str); 19] = [
-        (&[], 0x0000, SOD, "fact 16: power-up ends in Switch on disabled"),
-        (&[], 0x0006, RTSO, "fact 17: transition 2"),
-        (to_rtso, 0x0007, SO, "fact 18: transition 3"),
-        (to_so, 0x000F, OE, "fact 19: transition 4"),
-        (to_rtso, 0x000F, OE, "fact 20: transitions 3+4"),
-        (to_oe, 0x0007, SO, "fact 21: transition 5"),
-        (to_oe, 0x0006, RTSO, "fact 22: transition 8"),
-        (to_so, 0x0006, RTSO, "fact 23: transition 6"),
-        (to_oe, 0x0000, SOD, "fact 24: transition 9"),
-        (to_oe, 0x000D, SOD, "fact 24: any value with bit 1 = 0"),
-        (to_so, 0x0000, SOD, "fact 25: transition 10"),
-        (to_rtso, 0x0000, SOD, "fact 25: transition 7"),
-        (to_oe, 0x000B, QSA, "fact 26: transition 11"),
-        (to_qsa, 0x0000, SOD, "fact 27: transition 12"),
-        (to_so, 0x0002, SOD, "fact 28: quick stop from Switched on (10)"),
-        (to_rtso, 0x0002, SOD, "fact 28: quick stop from Ready to switch on (7)"),
-        (&[], 0x0007, SOD, "fact 32: Switch on needs Shutdown first"),
-        (&[], 0x000F, SOD, "fact 32: Enable operation needs Shutdown first"),
+        (&[], 0x0000, SOD, "CoE 3.1: power-up ends in Switch on disabled"),
+        (&[], 0x0006, RTSO, "CoE 3.1: transition 2"),
+        (to_rtso, 0x0007, SO, "CoE 3.1: transition 3"),
+        (to_so, 0x000F, OE, "CoE 3.1: transition 4"),
+        (to_rtso, 0x000F, OE, "CoE 3.1: transitions 3+4"),
+        (to_oe, 0x0007, SO, "CoE 3.1: transition 5"),
+        (to_oe, 0x0006, RTSO, "CoE 3.1: transition 8"),
+        (to_so, 0x0006, RTSO, "CoE 3.1: transition 6"),
+        (to_oe, 0x0000, SOD, "CoE 3.1: transition 9"),
+        (to_oe, 0x000D, SOD, "CoE 3.1: any value with bit 1 = 0"),
+        (to_so, 0x0000, SOD, "CoE 3.1: transition 10"),
+        (to_rtso, 0x0000, SOD, "CoE 3.1: transition 7"),
+        (to_oe, 0x000B, QSA, "CoE 3.1: transition 11"),
+        (to_qsa, 0x0000, SOD, "CoE 3.1: transition 12"),
+        (to_so, 0x0002, SOD, "CoE 3.1: quick stop from Switched on (10)"),
+        (to_rtso, 0x0002, SOD, "CoE 3.1: quick stop from Ready to switch on (7)"),
+        (&[], 0x0007, SOD, "CoE 3.1: Switch on needs Shutdown first"),
+        (&[], 0x000F, SOD, "CoE 3.1: Enable operation needs Shutdown first"),
         (to_oe, 0x000F, OE, "holding Enable operation stays"),
     ];
-    for (path, cw, expected, fact) in rows {
+    for (path, cw, expected, what) in rows {
         let mut b = drive_in(path);
         b.cw(cw);
         b.cycle();
-        assert_eq!(state_bits(b.sw()), expected, "{fact}: sw = {:#06x}", b.sw());
+        assert_eq!(state_bits(b.sw()), expected, "{what}: sw = {:#06x}", b.sw());
     }
 }
 
-/// Fact 26: quick stop decelerates with 0x6085 and holds; Disable voltage ends it (27).
+/// CoE 3.1: quick stop decelerates with 0x6085 and holds; Disable voltage ends it (transition 12).
 #[test]
 fn quick_stop_decelerates_with_0x6085() {
     let mut b = drive_in(&[]);
@@ -84,10 +84,10 @@ fn quick_stop_decelerates_with_0x6085() {
     assert_eq!(state_bits(b.sw()), QSA, "still Quick stop active, energised");
     b.cw(0x0000);
     b.cycle();
-    assert_eq!(state_bits(b.sw()), SOD, "fact 27: transition 12");
+    assert_eq!(state_bits(b.sw()), SOD, "CoE 3.1: transition 12");
 }
 
-/// Fact 29: a fault goes through Fault reaction active to Fault, de-energised.
+/// CoE 3.1: a fault goes through Fault reaction active to Fault, de-energised.
 #[test]
 fn a_fault_goes_to_fault_and_de_energises() {
     let mut b = drive_in(&[]);
@@ -101,7 +101,7 @@ fn a_fault_goes_to_fault_and_de_energises() {
     assert!(!b.drive().state().is_energised(), "motor de-energised");
 }
 
-/// Facts 30 and 31: fault reset on the rising edge of bit 7 only.
+/// CoE table 3-2: fault reset on the rising edge of bit 7 only.
 #[test]
 fn fault_reset_on_the_rising_edge() {
     let mut b = drive_in(&[]);
@@ -110,21 +110,21 @@ fn fault_reset_on_the_rising_edge() {
     b.cycles(5);
     b.cw(0x0080);
     b.cycles(3);
-    assert_eq!(b.sw() & 0x4F, 0x40, "fact 30: 0x0000 -> 0x0080 resets (transition 15)");
+    assert_eq!(b.sw() & 0x4F, 0x40, "CoE table 3-2: 0x0000 -> 0x0080 resets (transition 15)");
     assert_eq!(b.read(0x603F, 0), 0, "the error code is cleared");
 
     b.enable();
     b.cw(0x0080);
     b.net.inject_fault(0, 0x3110).unwrap();
     b.cycles(10);
-    assert_eq!(b.sw() & 0x4F, 0x08, "fact 31: bit 7 already high is no edge");
+    assert_eq!(b.sw() & 0x4F, 0x08, "CoE table 3-2: bit 7 already high is no edge");
     b.cw(0x0000);
     b.cw(0x0080);
     b.cycle();
-    assert_eq!(b.sw() & 0x4F, 0x40, "fact 31: 0 then 1 resets");
+    assert_eq!(b.sw() & 0x4F, 0x40, "CoE table 3-2: 0 then 1 resets");
 }
 
-/// Fact 33: statusword bit 5 (quick stop) is 1 in Operation enabled, 0 in Quick stop active.
+/// CoE table 3-4: statusword bit 5 (quick stop) is 1 in Operation enabled, 0 in Quick stop active.
 #[test]
 fn quick_stop_bit() {
     let mut b = drive_in(&[]);

@@ -75,33 +75,33 @@ fn run_to_end(b: &mut Bench) -> u16 {
 /// (method, model, travel, start mm, home in mm of the machine, what)
 type MethodRow = (i64, DriveModel, fn() -> TravelConfig, f64, f64, &'static str);
 
-/// Facts 46, 48 to 52, 55 and the hard-stop methods: where each method ends.
+/// CoE 3.2, table 3-8 and the hard-stop methods: where each method ends.
 #[test]
 fn every_method_ends_on_its_index() {
     let rows: [MethodRow; 27] = [
-        (1, DriveModel::D1, switches, 0.0, -97.0, "fact 50: first index right of the negative limit"),
-        (2, DriveModel::D1, switches, 0.0, 93.0, "fact 51: first index left of the positive limit"),
-        (7, DriveModel::D1, switches, 0.0, 13.0, "fact 52: 7 off the switch: left of L"),
-        (7, DriveModel::D1, switches, 25.0, 13.0, "fact 52: 7 on the switch"),
+        (1, DriveModel::D1, switches, 0.0, -97.0, "CoE 3.2: first index right of the negative limit"),
+        (2, DriveModel::D1, switches, 0.0, 93.0, "CoE 3.2: first index left of the positive limit"),
+        (7, DriveModel::D1, switches, 0.0, 13.0, "CoE table 3-8: 7 off the switch: left of L"),
+        (7, DriveModel::D1, switches, 25.0, 13.0, "CoE table 3-8: 7 on the switch"),
         (7, DriveModel::D1, switches, 50.0, 13.0, "7 beyond R: turns at the positive limit"),
-        (8, DriveModel::D1, switches, 0.0, 23.0, "fact 52: 8 off: right of L"),
-        (8, DriveModel::D1, switches, 25.0, 23.0, "fact 52: 8 on"),
-        (9, DriveModel::D1, switches, 0.0, 23.0, "fact 52: 9 off: left of R"),
-        (9, DriveModel::D1, switches, 25.0, 23.0, "fact 52: 9 on"),
-        (10, DriveModel::D1, switches, 0.0, 33.0, "fact 52: 10 off: right of R"),
-        (10, DriveModel::D1, switches, 25.0, 33.0, "fact 52: 10 on"),
-        (11, DriveModel::D1, switches, 50.0, 33.0, "fact 52: 11 off: right of R"),
-        (11, DriveModel::D1, switches, 25.0, 33.0, "fact 52: 11 on"),
+        (8, DriveModel::D1, switches, 0.0, 23.0, "CoE table 3-8: 8 off: right of L"),
+        (8, DriveModel::D1, switches, 25.0, 23.0, "CoE table 3-8: 8 on"),
+        (9, DriveModel::D1, switches, 0.0, 23.0, "CoE table 3-8: 9 off: left of R"),
+        (9, DriveModel::D1, switches, 25.0, 23.0, "CoE table 3-8: 9 on"),
+        (10, DriveModel::D1, switches, 0.0, 33.0, "CoE table 3-8: 10 off: right of R"),
+        (10, DriveModel::D1, switches, 25.0, 33.0, "CoE table 3-8: 10 on"),
+        (11, DriveModel::D1, switches, 50.0, 33.0, "CoE table 3-8: 11 off: right of R"),
+        (11, DriveModel::D1, switches, 25.0, 33.0, "CoE table 3-8: 11 on"),
         (11, DriveModel::D1, switches, 0.0, 33.0, "11 left of L: turns at the negative limit"),
-        (12, DriveModel::D1, switches, 50.0, 23.0, "fact 52: 12 off: left of R"),
-        (12, DriveModel::D1, switches, 25.0, 23.0, "fact 52: 12 on (negative search, docs/drive.md)"),
-        (13, DriveModel::D1, switches, 50.0, 23.0, "fact 52: 13 off: right of L"),
-        (13, DriveModel::D1, switches, 25.0, 23.0, "fact 52: 13 on"),
-        (14, DriveModel::D1, switches, 50.0, 13.0, "fact 52: 14 off: left of L"),
-        (14, DriveModel::D1, switches, 25.0, 13.0, "fact 52: 14 on"),
-        (33, DriveModel::D1, switches, 0.0, -7.0, "fact 49: first index in -"),
-        (34, DriveModel::D1, switches, 0.0, 3.0, "fact 48: first index in +"),
-        (37, DriveModel::D1, switches, 4.2, 4.2, "fact 46: here, no motion"),
+        (12, DriveModel::D1, switches, 50.0, 23.0, "CoE table 3-8: 12 off: left of R"),
+        (12, DriveModel::D1, switches, 25.0, 23.0, "CoE table 3-8: 12 on (negative search, docs/drive.md)"),
+        (13, DriveModel::D1, switches, 50.0, 23.0, "CoE table 3-8: 13 off: right of L"),
+        (13, DriveModel::D1, switches, 25.0, 23.0, "CoE table 3-8: 13 on"),
+        (14, DriveModel::D1, switches, 50.0, 13.0, "CoE table 3-8: 14 off: left of L"),
+        (14, DriveModel::D1, switches, 25.0, 13.0, "CoE table 3-8: 14 on"),
+        (33, DriveModel::D1, switches, 0.0, -7.0, "CoE 3.2: first index in -"),
+        (34, DriveModel::D1, switches, 0.0, 3.0, "CoE 3.2: first index in +"),
+        (37, DriveModel::D1, switches, 4.2, 4.2, "CoE 3.2: here, no motion"),
         (-1, DriveModel::D1, hard_stops, 0.0, -107.0, "-1: index right of the negative hard stop"),
         (-2, DriveModel::D1, hard_stops, 0.0, 103.0, "-2: index left of the positive hard stop"),
         (-4, DriveModel::D1N, hard_stops, 0.0, 110.0 - 0.1, "-4 (D1-N): hard stop minus the end stop offset"),
@@ -117,32 +117,32 @@ fn every_method_ends_on_its_index() {
     }
 }
 
-/// Facts 38, 39, 48: status before, during and after; the index search runs at 0x6099:02.
+/// CoE 3.2: status before, during and after; the index search runs at 0x6099:02.
 #[test]
 fn status_bits_and_search_speed() {
     let mut b = homing(DriveModel::D1, switches(), 0.0, 34);
-    assert_eq!(status(&mut b), INTERRUPTED, "fact 39: not started");
+    assert_eq!(status(&mut b), INTERRUPTED, "CoE 3.2: not started");
     b.cw(0x001F);
     b.cycles(100);
-    assert_eq!(status(&mut b), IN_PROGRESS, "fact 38: in progress");
+    assert_eq!(status(&mut b), IN_PROGRESS, "CoE 3.2: in progress");
     let v = b.read(0x606C, 0);
-    assert!((45_000..55_000).contains(&v), "fact 48: slow + at 50000 counts/s, got {v}");
+    assert!((45_000..55_000).contains(&v), "CoE 3.2: slow + at 50000 counts/s, got {v}");
     assert!(b.until(10_000, |b| b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & 0x3400 == ATTAINED));
-    // Fact 55: with 0x607C = 1000, 0x6064 reads 1000 at the home.
+    // CoE 3.2: with 0x607C = 1000, 0x6064 reads 1000 at the home.
     b.cycles(100);
     assert!((b.position() - OFFSET).abs() < 20);
 }
 
-/// Facts 40 to 43: interruptions without error end in 0x0400 and leave 0x603F at 0.
+/// CoE 3.2: interruptions without error end in 0x0400 and leave 0x603F at 0.
 #[test]
 fn interruptions() {
     // (what, action after 500 ms of homing)
     type Action = fn(&mut Bench);
     let rows: [(&str, Action, u16); 4] = [
-        ("fact 40: bit 4 cleared", |b| b.cw(0x000F), 0x0F),
-        ("fact 41: halt", |b| b.cw(0x011F), 0x0F),
-        ("fact 42: disable operation", |b| b.cw(0x0007), 0x0F),
-        ("fact 43: mode 0", |b| b.write(0x6060, 0, 0), 0x0F),
+        ("CoE 3.2: bit 4 cleared", |b| b.cw(0x000F), 0x0F),
+        ("CoE 3.2: halt", |b| b.cw(0x011F), 0x0F),
+        ("CoE 3.2: disable operation", |b| b.cw(0x0007), 0x0F),
+        ("CoE 3.2: mode 0", |b| b.write(0x6060, 0, 0), 0x0F),
     ];
     for (what, action, _) in rows {
         let mut b = homing(DriveModel::D1, switches(), 0.0, 1);
@@ -156,28 +156,28 @@ fn interruptions() {
     }
 }
 
-/// Facts 44, 45, 47 and 53: errors set bit 13 and 0x603F = 0x8613.
+/// CoE 3.2, table 3-8: errors set bit 13 and 0x603F = 0x8613.
 #[test]
 fn errors() {
-    // Fact 44: mode 1 during homing: decelerating 0x2000, then 0x2400.
+    // CoE 3.2: mode 1 during homing: decelerating 0x2000, then 0x2400.
     let mut b = homing(DriveModel::D1, switches(), 0.0, 1);
     b.cw(0x001F);
     b.cycles(500);
     b.write(0x6060, 0, 1);
     b.cycle();
-    assert_eq!(status(&mut b), ERROR_DECELERATING, "fact 44: decelerating");
+    assert_eq!(status(&mut b), ERROR_DECELERATING, "CoE 3.2: decelerating");
     assert!(b.until(100, |b| b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & 0x3400 == ERROR_STOPPED));
-    assert_eq!(b.read(0x603F, 0), 0x8613, "fact 44: 0x8613");
+    assert_eq!(b.read(0x603F, 0), 0x8613, "CoE 3.2: 0x8613");
     assert_ne!(b.read(0x2101, 0) & (1 << 31), 0, "0x2101 bit 31: CiA-402 home failed");
 
-    // Facts 45 and 47: an unsupported method when bit 4 rises.
+    // CoE table 3-8: an unsupported method when bit 4 rises.
     for method in [3, 35] {
         let mut b = homing(DriveModel::D1, switches(), 0.0, method);
         assert_eq!(run_to_end(&mut b), ERROR_STOPPED, "method {method}");
         assert_eq!(b.read(0x603F, 0), 0x8613, "method {method}");
     }
 
-    // Fact 53: a limit switch while searching the index: method 34 toward a limit 1 mm away
+    // CoE 3.2: a limit switch while searching the index: method 34 toward a limit 1 mm away
     // with no index before it.
     let travel = TravelConfig {
         positive_limit: Some(1.0),
@@ -186,11 +186,11 @@ fn errors() {
         ..TravelConfig::default()
     };
     let mut b = homing(DriveModel::D1, travel, 0.0, 34);
-    assert_eq!(run_to_end(&mut b), ERROR_STOPPED, "fact 53");
+    assert_eq!(run_to_end(&mut b), ERROR_STOPPED, "CoE 3.2");
     assert_eq!(b.read(0x603F, 0), 0x8613);
 }
 
-/// Fact 54: methods -3, -4, -5 per drive model (table 3-8).
+/// CoE table 3-8: methods -3, -4, -5 per drive model.
 #[test]
 fn model_specific_methods() {
     let rows: [(i64, DriveModel, bool); 8] = [
@@ -210,7 +210,7 @@ fn model_specific_methods() {
     }
 }
 
-/// Facts 56 and 57: homing restarts on a new bit-4 edge, or on a mode switch away and back.
+/// CoE 3.2: homing restarts on a new bit-4 edge, or on a mode switch away and back.
 #[test]
 fn restarts() {
     let mut b = homing(DriveModel::D1, switches(), 0.0, 34);
@@ -218,7 +218,7 @@ fn restarts() {
     b.cw(0x000F);
     b.cw(0x001F);
     b.cycle();
-    assert_eq!(status(&mut b), IN_PROGRESS, "fact 56: restarted by the edge");
+    assert_eq!(status(&mut b), IN_PROGRESS, "CoE 3.2: restarted by the edge");
 
     let mut b = homing(DriveModel::D1, switches(), 0.0, 34);
     assert_eq!(run_to_end(&mut b), ATTAINED);
@@ -226,10 +226,10 @@ fn restarts() {
     b.cycles(2);
     b.write(0x6060, 0, 6);
     b.cycles(2);
-    assert_eq!(status(&mut b), IN_PROGRESS, "fact 57: 6 -> 1 -> 6 with bit 4 held");
+    assert_eq!(status(&mut b), IN_PROGRESS, "CoE 3.2: 6 -> 1 -> 6 with bit 4 held");
 }
 
-/// Fact 58: leaving homing mode clears the limit flags of 0x60FD.
+/// CoE 3.2: leaving homing mode clears the limit flags of 0x60FD.
 #[test]
 fn leaving_homing_clears_the_limit_flags() {
     let mut b = homing(DriveModel::D1, switches(), 0.0, 1);

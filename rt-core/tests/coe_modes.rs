@@ -34,25 +34,25 @@ fn settle(b: &mut Bench) {
     b.cycles(100);
 }
 
-/// Facts 34 to 36: 0x6060 accepts {0,1,3,4,6,8,9,10}; other values are ignored.
+/// CoE table 4-17: 0x6060 accepts {0,1,3,4,6,8,9,10}; other values are ignored.
 #[test]
 fn mode_switching() {
     let mut b = Bench::new();
-    assert_eq!((b.read(0x6060, 0), b.read(0x6061, 0)), (8, 8), "fact 34: defaults");
+    assert_eq!((b.read(0x6060, 0), b.read(0x6061, 0)), (8, 8), "CoE table 4-17: defaults");
     for ignored in [2, 5, 7] {
         b.write(0x6060, 0, ignored);
         b.cycle();
-        assert_eq!(b.read(0x6061, 0), 8, "fact 35: {ignored} leaves 0x6061 unchanged");
+        assert_eq!(b.read(0x6061, 0), 8, "CoE table 4-17: {ignored} leaves 0x6061 unchanged");
     }
-    assert!(b.try_write(0x6060, 0, 11).is_err(), "fact 35: 11 is out of range");
+    assert!(b.try_write(0x6060, 0, 11).is_err(), "CoE table 4-17: 11 is out of range");
     for mode in [0, 1, 3, 4, 6, 8, 9, 10] {
         b.write(0x6060, 0, mode);
         b.cycle();
-        assert_eq!(b.read(0x6061, 0), mode, "fact 36: mode {mode}");
+        assert_eq!(b.read(0x6061, 0), mode, "CoE table 4-17: mode {mode}");
     }
 }
 
-/// Fact 59: a set-point is acknowledged, bit 10 is 0 while moving and 1 at the target.
+/// CoE 3.3: a set-point is acknowledged, bit 10 is 0 while moving and 1 at the target.
 #[test]
 fn pp_set_point_and_target_reached() {
     let mut b = profile_position();
@@ -67,7 +67,7 @@ fn pp_set_point_and_target_reached() {
     assert!((b.position() - 10_000).abs() <= 20, "at 10000: {}", b.position());
 }
 
-/// Facts 60 and 61: no edge, no set-point; bit 6 makes it relative to the last target.
+/// CoE 3.3: no edge, no set-point; bit 6 makes it relative to the last target.
 #[test]
 fn pp_edges_and_relative_targets() {
     let mut b = profile_position();
@@ -75,18 +75,18 @@ fn pp_edges_and_relative_targets() {
     b.set_target(50_000);
     b.cycles(200);
     settle(&mut b);
-    assert!((b.position() - 10_000).abs() <= 20, "fact 60: holding bit 4 takes no new set-point");
+    assert!((b.position() - 10_000).abs() <= 20, "CoE 3.3: holding bit 4 takes no new set-point");
     b.cw(0x000F);
     set_point(&mut b, 5_000, 0x004F);
     b.cw(0x004F);
     settle(&mut b);
-    assert!((b.position() - 15_000).abs() <= 20, "fact 61: relative: 10000 + 5000, at {}", b.position());
+    assert!((b.position() - 15_000).abs() <= 20, "CoE 3.3: relative: 10000 + 5000, at {}", b.position());
 }
 
-/// Facts 62 to 64: the two-deep set-point buffer (fig. 3-12).
+/// CoE 3.3.1: the two-deep set-point buffer (fig. 3-12).
 #[test]
 fn pp_set_point_buffer() {
-    // Fact 62: a second set-point is buffered; bit 12 stays 1 until the first completes.
+    // CoE 3.3.1: a second set-point is buffered; bit 12 stays 1 until the first completes.
     let mut b = profile_position();
     set_point(&mut b, 20_000, 0x000F);
     b.cw(0x000F);
@@ -99,7 +99,7 @@ fn pp_set_point_buffer() {
     settle(&mut b);
     assert!((b.position() - 40_000).abs() <= 20, "the buffered one ran");
 
-    // Fact 63: a third set-point while the buffer is full is discarded.
+    // CoE 3.3.1: a third set-point while the buffer is full is discarded.
     let mut b = profile_position();
     set_point(&mut b, 20_000, 0x000F);
     b.cw(0x000F);
@@ -108,9 +108,9 @@ fn pp_set_point_buffer() {
     set_point(&mut b, 90_000, 0x000F);
     b.cw(0x000F);
     settle(&mut b);
-    assert!((b.position() - 30_000).abs() <= 20, "fact 63: ends at the second target, {}", b.position());
+    assert!((b.position() - 30_000).abs() <= 20, "CoE 3.3.1: ends at the second target, {}", b.position());
 
-    // Fact 64: bit 5 drops both and runs the new one at once.
+    // CoE 3.3.1: bit 5 drops both and runs the new one at once.
     let mut b = profile_position();
     set_point(&mut b, 20_000, 0x000F);
     b.cw(0x000F);
@@ -119,10 +119,10 @@ fn pp_set_point_buffer() {
     set_point(&mut b, -5_000, 0x002F);
     b.cw(0x002F);
     settle(&mut b);
-    assert!((b.position() + 5_000).abs() <= 20, "fact 64: immediately to -5000, at {}", b.position());
+    assert!((b.position() + 5_000).abs() <= 20, "CoE 3.3.1: immediately to -5000, at {}", b.position());
 }
 
-/// Fact 65: halt decelerates; bit 10 is 0 while decelerating, 1 at rest; the target is not reached.
+/// CoE 3.3: halt decelerates; bit 10 is 0 while decelerating, 1 at rest; the target is not reached.
 #[test]
 fn pp_halt() {
     let mut b = profile_position();
@@ -139,7 +139,7 @@ fn pp_halt() {
     assert!((b.position() - 500_000).abs() <= 20, "halt released: carries on to the target");
 }
 
-/// Fact 66: software limits stop pp at the limit; the reverse direction is accepted.
+/// CoE table 4-6: software limits stop pp at the limit; the reverse direction is accepted.
 #[test]
 fn pp_software_limits() {
     let mut b = profile_position();
@@ -156,7 +156,7 @@ fn pp_software_limits() {
     assert!(b.position().abs() <= 20, "the reverse target is accepted");
 }
 
-/// Fact 67: a hardware limit latches 0x60FD bit 1 and blocks positive motion; negative
+/// CoE table 4-6: a hardware limit latches 0x60FD bit 1 and blocks positive motion; negative
 /// motion is accepted and clears the bit.
 #[test]
 fn pp_hardware_limit() {
@@ -185,7 +185,7 @@ fn pp_hardware_limit() {
     assert_eq!(b.read(0x60FD, 0) & 2, 0, "bit 1 cleared after moving back");
 }
 
-/// Fact 68: following error: > 0x6065 for > 0x6066 ms sets bit 13 and faults with 0x8611.
+/// CoE 3.3.2: following error: > 0x6065 for > 0x6066 ms sets bit 13 and faults with 0x8611.
 #[test]
 fn following_error() {
     let mut b = profile_position();
@@ -212,7 +212,7 @@ fn following_error() {
     assert_eq!(b.sw() & FOLLOWING_ERROR, 0);
 }
 
-/// Facts 69 and 70: pv reaches 0x60FF after velocity/0x6083; halt ramps to 0.
+/// CoE 3.4: pv reaches 0x60FF after velocity/0x6083; halt ramps to 0.
 #[test]
 fn profile_velocity() {
     let mut b = Bench::new();
@@ -222,16 +222,16 @@ fn profile_velocity() {
     b.write(0x6084, 0, 500);
     b.enable();
     b.cycles(1900);
-    assert_eq!(b.sw() & REACHED, 0, "fact 69: not yet at 1.9 s");
+    assert_eq!(b.sw() & REACHED, 0, "CoE 3.4: not yet at 1.9 s");
     b.cycles(150);
-    assert_ne!(b.sw() & REACHED, 0, "fact 69: 1000 counts/s after 2 s");
+    assert_ne!(b.sw() & REACHED, 0, "CoE 3.4: 1000 counts/s after 2 s");
     b.cw(0x010F);
     b.cycles(2100);
-    assert_ne!(b.sw() & REACHED, 0, "fact 70: halted, velocity 0");
+    assert_ne!(b.sw() & REACHED, 0, "CoE 3.4: halted, velocity 0");
     assert_ne!(b.sw() & ACK, 0, "bit 12: speed 0 (table 3-12)");
 }
 
-/// Fact 71: in pv, software limits do not stop the motion; a hardware limit does.
+/// CoE 3.4: in pv, software limits do not stop the motion; a hardware limit does.
 #[test]
 fn profile_velocity_limits() {
     let travel = TravelConfig { positive_limit: Some(2.0), ..TravelConfig::default() };
@@ -250,7 +250,7 @@ fn profile_velocity_limits() {
     assert_ne!(b.read(0x60FD, 0) & 2, 0);
 }
 
-/// Facts 72 and 73: tq ramps the current by 0x6087; torque = Kt x I_rated x 0x6071 / 1000.
+/// CoE 3.5: tq ramps the current by 0x6087; torque = Kt x I_rated x 0x6071 / 1000.
 #[test]
 fn profile_torque() {
     let mut b = Bench::new();
@@ -259,16 +259,16 @@ fn profile_torque() {
     b.write(0x6071, 0, 500);
     b.enable();
     b.cycles(400);
-    assert_eq!(b.sw() & REACHED, 0, "fact 72: still ramping at 0.4 s");
+    assert_eq!(b.sw() & REACHED, 0, "CoE 3.5: still ramping at 0.4 s");
     b.cycles(150);
-    assert_ne!(b.sw() & REACHED, 0, "fact 72: 50 % after 0.5 s at 100 %/s");
+    assert_ne!(b.sw() & REACHED, 0, "CoE 3.5: 50 % after 0.5 s at 100 %/s");
     let torque = b.read(0x6077, 0);
-    assert!((490..=510).contains(&torque), "fact 73: 50 % of rated, {torque}");
+    assert!((490..=510).contains(&torque), "CoE 3.5: 50 % of rated, {torque}");
     let current = f32::from_bits(b.read(0x2022, 0) as u32);
     assert!((current - 1.0).abs() < 0.05, "half the 2 A rated current: {current}");
 }
 
-/// Facts 74 to 76: the cyclic modes ignore halt; csp applies software limits, csv does not.
+/// CoE 3.6, 3.7: the cyclic modes ignore halt; csp applies software limits, csv does not.
 #[test]
 fn cyclic_modes() {
     let mut b = Bench::new();
@@ -280,17 +280,17 @@ fn cyclic_modes() {
         b.cycle();
     }
     b.cycles(50);
-    assert!((b.position() - (start + 10_000)).abs() < 20, "fact 74: csp follows with halt set");
+    assert!((b.position() - (start + 10_000)).abs() < 20, "CoE 3.6: csp follows with halt set");
     assert_ne!(b.sw() & ACK, 0, "table 3-14: target used");
 
     b.write(0x2041, 0, 1);
     b.write(0x607D, 2, start + 12_000);
     b.set_target(start + 50_000);
     b.cycles(200);
-    assert!((b.position() - (start + 12_000)).abs() < 20, "fact 75: csp stops at the software limit");
+    assert!((b.position() - (start + 12_000)).abs() < 20, "CoE 3.6: csp stops at the software limit");
 
     b.write(0x6060, 0, 9);
     b.write(0x60FF, 0, 20_000);
     b.cycles(500);
-    assert!(b.position() > start + 15_000, "fact 76: csv passes the software limit, halt ignored");
+    assert!(b.position() > start + 15_000, "CoE 3.7: csv passes the software limit, halt ignored");
 }

@@ -29,7 +29,7 @@ fn probe(function: i64) -> Bench {
     b
 }
 
-/// Fact 77: single trigger, rising edge: latches the first mark only.
+/// CoE 3.9: single trigger, rising edge: latches the first mark only.
 #[test]
 fn single_rising_edge() {
     let mut b = probe(0x0011);
@@ -41,7 +41,7 @@ fn single_rising_edge() {
     assert_eq!(b.read(0x60BA, 0), (3.0 * CPU) as i64, "single mode keeps the first");
 }
 
-/// Fact 78: continuous trigger overwrites on every rising edge.
+/// CoE 3.9: continuous trigger overwrites on every rising edge.
 #[test]
 fn continuous_rising_edge() {
     let mut b = probe(0x0013);
@@ -49,7 +49,7 @@ fn continuous_rising_edge() {
     assert_eq!(b.read(0x60BA, 0), (23.0 * CPU) as i64, "the last mark crossed (3, 13, 23)");
 }
 
-/// Fact 79: falling edge latches into 0x60BB with status bit 2.
+/// CoE 3.9: falling edge latches into 0x60BB with status bit 2.
 #[test]
 fn single_falling_edge() {
     let mut b = probe(0x0021);
@@ -58,7 +58,7 @@ fn single_falling_edge() {
     assert_eq!(b.read(0x60BB, 0), (3.1 * CPU).round() as i64, "the end of the 0.1 mm pulse");
 }
 
-/// Fact 80: both edges at once is reserved and latches nothing.
+/// CoE 3.9: both edges at once is reserved and latches nothing.
 #[test]
 fn both_edges_latch_nothing() {
     let mut b = probe(0x0031);
@@ -66,7 +66,7 @@ fn both_edges_latch_nothing() {
     assert_eq!(b.read(0x60B9, 0) & 0b110, 0);
 }
 
-/// Fact 81: 0x60B8 = 0 switches the probe off.
+/// CoE 3.9: 0x60B8 = 0 switches the probe off.
 #[test]
 fn off() {
     let mut b = probe(0x0011);

@@ -1,6 +1,6 @@
 //! The core's command rules that involve tasks, cycle by cycle and deterministic: one
-//! task per axis and cycle (DXMC alarm 0x001F), the E-stop latch (HMPL 2.9, fact 29),
-//! StopAll (fact 30), and the fault reactions of a stopped task. Two attached (external)
+//! task per axis and cycle (DXMC alarm 0x001F), the E-stop latch (HMPL 2.9),
+//! StopAll (HMPL 2.8), and the fault reactions of a stopped task. Two attached (external)
 //! tasks send requests straight to `dispatch`, as the RT thread would.
 
 mod rig;
@@ -11,7 +11,8 @@ use rt_core::tasks::Entry;
 
 use rig::Rig;
 
-/// DXMC 9 (0x001F) and DESIGN: one task commands an axis in a cycle; the second is refused.
+/// DXMC 9 (0x001F; docs/decisions.md, "Two tasks on one axis"): one task commands an
+/// axis in a cycle; the second is refused.
 #[test]
 fn one_task_per_axis_and_cycle() {
     let mut rig = Rig::new(FaultReaction::Decelerate);
@@ -31,7 +32,7 @@ fn one_task_per_axis_and_cycle() {
     assert_eq!(rig.machine.kernel.axes()[0].commander(), Some(1), "the last commander owns the motion");
 }
 
-/// Fact 29: after an E-stop every axis is disabled, every task stopped, and motion is
+/// HMPL 2.9: after an E-stop every axis is disabled, every task stopped, and motion is
 /// refused with 0x0064 until the axis is enabled again.
 #[test]
 fn the_estop_latch() {
@@ -56,7 +57,7 @@ fn the_estop_latch() {
     assert_eq!(rig.call(1, Command::MoveAbs, &[0], &[0.0]), 0, "and lifts the latch");
 }
 
-/// Fact 30: StopAll stops every moving axis with its kill deceleration; they stay enabled.
+/// HMPL 2.8: StopAll stops every moving axis with its kill deceleration; they stay enabled.
 #[test]
 fn stop_all() {
     let mut rig = Rig::new(FaultReaction::Decelerate);

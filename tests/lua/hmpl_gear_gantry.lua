@@ -1,11 +1,11 @@
--- HMPL Part 6 facts 51 (gear) and 52 (gantry), on the built-in machine.
+-- HMPL ch. 6 (gear) and ch. 7 (gantry), on the built-in machine.
 local function check(cond, what)
   if not cond then error("FAILED: " .. what, 2) end
 end
 local function enable(a) Enable(a) Till(function() return IsEnabled(a) end) end
 local function settle(a) Till(function() return IsInPos(a) end) end
 
--- Fact 51: master 0 drives slaves 1 (ratio 2) and 2 (ratio -1).
+-- HMPL ch. 6: master 0 drives slaves 1 (ratio 2) and 2 (ratio -1).
 check(EnableGear(0, 1) == 0x83000078, "51: both must be enabled")
 enable(0) enable(1) enable(2)
 check(GearIn(0, 1, 2.0) == 0x83010FA0, "GearIn before EnableGear: 0x83II0FA0")
@@ -23,7 +23,7 @@ MoveAbs(0, 0) settle(0)
 check(math.abs(GetPosFb(1) - 200) < 0.02, "a disengaged slave stays")
 check(DisableGear(1) == 0 and DisableGear(2) == 0 and not IsGearMaster(0), "unlinked")
 
--- Fact 52: gantry pair 2 (right-hand) and 3 (left-hand).
+-- HMPL ch. 7: gantry pair 2 (right-hand) and 3 (left-hand).
 Disable(2) Till(function() return not IsEnabled(2) end)
 enable(3)
 check(EnableGantryPair(2, 3) == 0x8303006E, "52: refused while an axis is enabled")

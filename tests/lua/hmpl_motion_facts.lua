@@ -1,4 +1,4 @@
--- HMPL Part 6 facts 35 to 43 (ch. 5 motion and settings), on axis 1 of the built-in machine.
+-- HMPL 5.1 to 5.3 (axis motion and settings), on axis 1 of the built-in machine.
 local a = 1
 local function check(cond, what)
   if not cond then error("FAILED: " .. what, 2) end
@@ -8,18 +8,18 @@ local function settle() Till(function() return IsInPos(a) end) end
 Enable(a)
 Till(function() return IsEnabled(a) end)
 
--- Fact 35: moving, then the profile ends on the target, then in position.
+-- HMPL 5.2.4: moving, then the profile ends on the target, then in position.
 check(MoveAbs(a, 100) == 0 and IsMoving(a) and not IsInPos(a), "35: moving at once")
 Till(function() return not IsMoving(a) end)
 check(GetRefPos(a) == 100, "35: reference exactly 100")
 settle()
 check(GetMoveTime(a) > 1000 and GetSettlingTime(a) >= 0, "5.3.17/18: move and settling times")
 
--- Fact 36: MoveRel from 100 by 10.
+-- HMPL 5.2.5: MoveRel from 100 by 10.
 MoveRel(a, 10) settle()
 check(GetRefPos(a) == 110, "36: 110")
 
--- Fact 37: MoveVel runs until Stop; then not moving and nothing queued.
+-- HMPL 5.2.6, 5.2.9: MoveVel runs until Stop; then not moving and nothing queued.
 check(MoveVel(a, -20) == 0, "37: MoveVel accepted")
 Sleep(300)
 check(IsMoving(a) and GetRefVel(a) == -20, "37: moving negative at 20")
@@ -30,7 +30,7 @@ Till(function() return not IsMoving(a) end)
 check(GetCmdNum(a) == 0 and GetRefVel(a) == 0, "37: stopped, queue empty")
 MoveAbs(a, 0) settle()
 
--- Fact 38: Halt stops short of the target; Resume carries on to it.
+-- HMPL 5.2.10, 5.2.11: Halt stops short of the target; Resume carries on to it.
 MoveAbs(a, 200)
 Sleep(500)
 Halt(a)
@@ -40,7 +40,7 @@ Resume(a)
 settle()
 check(GetRefPos(a) == 200, "38: resumed to 200")
 
--- Fact 39: non-positive values are refused; the last valid one stays.
+-- HMPL 5.3: non-positive values are refused; the last valid one stays.
 SetVel(a, 150)
 for _, f in ipairs({SetVel, SetAcc, SetDec, SetKillDec, SetAccTime, SetDecTime, SetPosWindow, SetPosWindowTime}) do
   check(f(a, 0) ~= 0 and f(a, -1) ~= 0, "39: 0 and -1 refused")
@@ -50,14 +50,14 @@ check(SetAccTime(a, 100) == 0 and GetAcc(a) == 1500, "5.3.5: acc = vel / time")
 SetAcc(a, 1000) SetDec(a, 1000) SetVel(a, 100)
 check(SetKillDec(a, 20000) == 0 and GetKillDec(a) == 20000, "5.3.9/10")
 
--- Fact 40: smooth time 0..500 ms, not while moving.
+-- HMPL 5.3.16: smooth time 0..500 ms, not while moving.
 check(SetSMTime(a, 501) ~= 0 and GetAxisLastErr(a) == 0x83010168, "40: 501 refused (0x83II0168)")
 check(SetSMTime(a, 100) == 0 and GetSMTime(a) == 100, "40: 100 accepted at rest")
 MoveAbs(a, 0)
 check(SetSMTime(a, 50) ~= 0 and GetAxisLastErr(a) == 0x83010082, "40: refused while moving")
 settle()
 
--- Fact 41: with Ts = 100 ms and A = 1000, the acceleration phase lasts v/A + Ts = 0.2 s,
+-- HMPL 5.1: with Ts = 100 ms and A = 1000, the acceleration phase lasts v/A + Ts = 0.2 s,
 -- and the jerk is A / Ts = 10 000 mm/s³. The phase is timed in controller cycles, from the
 -- first cycle with a velocity (the first 1 ms sample of the move) to the first at 100 mm/s.
 MoveAbs(a, 100)
@@ -77,7 +77,7 @@ check(math.abs(peak_jerk - 10000) < 200, "41: jerk A/Ts, got " .. peak_jerk)
 settle()
 SetSMTime(a, 0)
 
--- Fact 42: a velocity scale of 50 % halves the cruise velocity.
+-- HMPL 5.3.37: a velocity scale of 50 % halves the cruise velocity.
 SetVelScale(a, 50)
 MoveAbs(a, 0)
 Sleep(500)
@@ -87,7 +87,7 @@ check(GetVelScale(a) == 50, "42: GetVelScale")
 SetVelScale(a, 100)
 settle()
 
--- Fact 43: a software limit stops the axis at or before it, in ErrorStop.
+-- HMPL 5.3.11-14: a software limit stops the axis at or before it, in ErrorStop.
 check(SetSWRL(a, 50) == 0 and GetSWRL(a) == 50, "5.3.11/12")
 MoveAbs(a, 100)
 Till(function() return IsErrorStop(a) end)

@@ -121,7 +121,7 @@ mod tests {
     use super::*;
 
     /// CoE manual 3.3.2: a persistent error over the window for longer than the timeout
-    /// trips; a shorter one does not (fact 68).
+    /// trips; a shorter one does not (CoE 3.3.2).
     #[test]
     fn following_error_needs_the_whole_timeout() {
         let mut fe = FollowingError::default();

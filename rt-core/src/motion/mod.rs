@@ -186,7 +186,7 @@ impl Kernel {
     }
 
     /// A task failed or was stopped: the motion it set going reacts as its fault reaction
-    /// says (DESIGN, "Watchdogs and fault reaction").
+    /// says (docs/decisions.md, "Fault reaction").
     pub fn react(&mut self, task: u8, reaction: FaultReaction) {
         for id in 0..self.axes.len() {
             let axis = &self.axes[id];

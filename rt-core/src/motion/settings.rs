@@ -125,7 +125,7 @@ pub fn rate_from_time(vel: f64, time_ms: f64, max: f64, error: AxisError) -> Res
 mod tests {
     use super::*;
 
-    /// HMPL 20 and fact 93: the defaults.
+    /// HMPL 20.1: the defaults.
     #[test]
     fn home_defaults() {
         let h = HomeSettings::default();
@@ -146,7 +146,7 @@ mod tests {
         assert_eq!(h.timeout_ms, 5);
     }
 
-    /// HMPL 20.3 and fact 94: the methods SetHomeMethod accepts.
+    /// HMPL 20.3: the methods SetHomeMethod accepts.
     #[test]
     fn home_methods() {
         for m in [1, 2, 7, 14, 17, 18, 23, 30, 33, 34, 37] {

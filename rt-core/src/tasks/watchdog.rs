@@ -1,4 +1,4 @@
-//! A task's watchdog (DESIGN, "Watchdogs and fault reaction"): a task is hung when it
+//! A task's watchdog (docs/decisions.md, "Watchdog"): a task is hung when it
 //! runs Lua without reaching the controller for longer than its watchdog time. The
 //! heartbeat advances with every API call and every change of run state, so an endless
 //! loop, a hang inside a C function and a stopped process all leave it standing, while

@@ -363,7 +363,7 @@ fn printf_arg<'a>(v: &Value, string: Option<&'a [u8]>) -> Arg<'a> {
 mod tests {
     use super::*;
 
-    /// HMPL 2.19 and fact 15: a burst of 100, then one event per ms of controller time.
+    /// HMPL 2.19: a burst of 100, then one event per ms of controller time.
     #[test]
     fn the_throttle_lets_1000_events_per_second_through() {
         let mut t = Throttle::default();

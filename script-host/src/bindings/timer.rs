@@ -62,7 +62,7 @@ impl UserData for Timer {
 mod tests {
     use super::*;
 
-    /// HMPL 2.24 and fact 13: (ms, IN, Q) rows of an on-delay of 1000 ms.
+    /// HMPL 2.24: (ms, IN, Q) rows of an on-delay of 1000 ms.
     #[test]
     fn on_delay() {
         let mut t = Timer::default();
@@ -81,7 +81,7 @@ mod tests {
         }
     }
 
-    /// HMPL 2.25 and fact 13: (ms, IN, Q) rows of an off-delay of 1000 ms.
+    /// HMPL 2.25: (ms, IN, Q) rows of an off-delay of 1000 ms.
     #[test]
     fn off_delay() {
         let mut t = Timer::default();

@@ -1,4 +1,4 @@
--- Fact 32: the E-stop input.
+-- HMPL 9.1, 9.2.6: the E-stop input.
 local function check(cond, what)
   if not cond then error("FAILED: " .. what, 2) end
 end

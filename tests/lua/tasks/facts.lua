@@ -1,4 +1,4 @@
--- HMPL Part 6 facts 5 to 15, 28, 30, 31 (ch. 2, 11, 16, 19, 23), task 0 of machine.toml.
+-- HMPL ch. 2, 11, 16, 19 and 23.2 (system, user table, tasks, keywords), task 0 of machine.toml.
 local function check(cond, what)
   if not cond then error("FAILED: " .. what, 2) end
 end
@@ -10,23 +10,23 @@ local function within(ms, cond)
 end
 local function stopped(t) return function() return IsTaskStop(t) end end
 
--- Fact 5: 64 tasks; a running task cannot be started again.
+-- HMPL 16.1, 16.2: 64 tasks; a running task cannot be started again.
 check(StartTask(64) == 0x0107 and StartTask(-1) == 0x0107, "5: task ids 0..63 (0x0107)")
 check(StartTask(7) == 0x010A, "16.2: no program configured (0x010A)")
 check(StartTaskFunc(1, "Forever") == 0, "16.3: started at a function")
 check(StartTask(1) == 0x0108 and StartTaskFunc(1, "Counter") == 0x0108, "5: running (0x0108)")
 
--- Fact 6: a function the program does not have.
+-- HMPL 16.3: a function the program does not have.
 check(StartTaskFunc(2, "NoSuchFunc") == 0x0109, "6: 0x0109, got " .. hex(StartTaskFunc(2, "NoSuchFunc")))
 
--- Fact 7: stopped before, running while, stopped after main returns or StopTask.
+-- HMPL 16.6: stopped before, running while, stopped after main returns or StopTask.
 check(IsTaskStop(3), "7: stopped before it starts")
 check(not IsTaskStop(1), "7: running")
 check(StopTask(1) == 0 and IsTaskStop(1), "7: stopped after StopTask")
 check(StopTask(1) == 0x010B, "16.4: not running (0x010B)")
 check(StartTaskFunc(3, "Counter") == 0 and within(1000, stopped(3)), "7: stopped after its function returns")
 
--- Fact 9: MutexLock blocks while another task holds the mutex, until it is unlocked...
+-- HMPL 2.22, 2.23: MutexLock blocks while another task holds the mutex, until it is unlocked...
 system_ltest0 = 0
 MutexLock(0)
 StartTaskFunc(2, "TakeMutex0")
@@ -47,12 +47,12 @@ check(within(1000, function() return system_ltest2 == 1 end), "9: released when 
 -- Locking twice stops the task (0x13EC, see the test's log).
 check(StartTaskFunc(6, "LockTwice") == 0 and within(1000, stopped(6)), "9: a second MutexLock stops the task")
 
--- Fact 10: Sleep(100) waits 100 cycles of 1 ms (more only when the OS wakes us late).
+-- HMPL 2.18: Sleep(100) waits 100 cycles of 1 ms (more only when the OS wakes us late).
 local c = system_fclk
 Sleep(100)
 check(system_fclk - c >= 100 and system_fclk - c < 150, "10: Sleep(100), got " .. (system_fclk - c))
 
--- Fact 12: Till returns at the first evaluation that holds; Till(0) never returns.
+-- HMPL 19.3: Till returns at the first evaluation that holds; Till(0) never returns.
 local target = system_fclk + 50
 local held = 0
 Till(function()
@@ -65,7 +65,7 @@ Sleep(300)
 check(not IsTaskStop(2), "12: Till(0) never returns")
 StopTask(2)
 
--- Fact 13: TON and TOF on controller time.
+-- HMPL 2.24, 2.25: TON and TOF on controller time.
 local t = TimerInit()
 local on_at = system_timeInMs
 local rose
@@ -88,11 +88,11 @@ Till(function()
 end)
 check(dropped - fell_at >= 100 and dropped - fell_at <= 101, "13: TOF 100 ms after IN fell, got " .. (dropped - fell_at))
 
--- Fact 14: a task's variables keep their values when it runs again.
+-- HMPL 1.5: a task's variables keep their values when it runs again.
 StartTaskFunc(3, "Counter")
 check(within(1000, stopped(3)) and system_ltest9 == 2, "14: the second run counts 2, got " .. system_ltest9)
 
--- Fact 15: messages up to 128 characters; events throttled to about 1000 per second.
+-- HMPL 2.19, 2.20: messages up to 128 characters; events throttled to about 1000 per second.
 check(SendMsgEvent("%s", string.rep("x", 128)) == 0, "15: 128 characters")
 check(SendMsgEvent("%s", string.rep("x", 129)) == 0x138D, "15: 129 refused (0x138D)")
 local t0 = system_timeInMs
@@ -100,7 +100,7 @@ for i = 1, 1500 do SendEvent(i) end
 local took = system_timeInMs - t0
 check(took >= 1390 and took < 3000, "15: 1500 events take 1.4 s after a burst of 100, took " .. took)
 
--- Facts 28, 30, 31: system state, StopAll, DisableAll.
+-- HMPL 2.1-2.5, 2.8, 2.7: system state, StopAll, DisableAll.
 check(GetECATSt() == 8 and IsSystemOper(), "28: EtherCAT in Op")
 Enable(0) Till(function() return IsEnabled(0) end)
 SetBufferMode(0, 1)

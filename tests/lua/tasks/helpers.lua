@@ -1,4 +1,4 @@
--- Entry points for the task facts: task 0 starts them with StartTaskFunc. The top level
+-- Entry points for the task checks: task 0 starts them with StartTaskFunc. The top level
 -- only declares, as a program meant for StartTaskFunc should.
 function Counter()
   task_vars.runs = (task_vars.runs or 0) + 1

@@ -1,4 +1,4 @@
--- Fact 8: StopAllTask stops every task, the caller too.
+-- HMPL 16.5: StopAllTask stops every task, the caller too.
 StartTaskFunc(1, "Forever")
 Print("before StopAllTask")
 StopAllTask()

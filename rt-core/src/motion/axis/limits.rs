@@ -10,7 +10,7 @@ use crate::profile::Kinematics;
 
 impl Axis {
     /// Before the generator steps: if the move would pass a software limit, stop it with
-    /// the kill deceleration so that it ends at or before the limit (HMPL 5.3.11, fact 43).
+    /// the kill deceleration so that it ends at or before the limit (HMPL 5.3.11-14).
     /// The ends of the drive's 32-bit counts are limits no switch turns off: a velocity
     /// move, a rollover axis or a PVT curve stops before the counts overflow.
     pub(super) fn guard_software_limits(&mut self) {
