@@ -7,10 +7,13 @@
 
 use std::fmt;
 
+use num_enum::{IntoPrimitive, TryFromPrimitive};
+
 macro_rules! error_table {
     ($(#[$meta:meta])* $ty:ident { $( $id:literal $variant:ident $name:literal $meaning:literal, )* }) => {
         $(#[$meta])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        /// An id no row lists is an error (`TryFromPrimitive`).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, TryFromPrimitive)]
         #[repr(u16)]
         pub enum $ty { $( $variant = $id, )* }
 
@@ -31,10 +34,6 @@ macro_rules! error_table {
             /// The manual's explanation, in English.
             pub const fn meaning(self) -> &'static str {
                 match self { $( $ty::$variant => $meaning, )* }
-            }
-
-            pub fn from_id(id: u16) -> Option<Self> {
-                Self::ALL.iter().copied().find(|e| e.id() == id)
             }
         }
     };
@@ -272,8 +271,9 @@ error_table! {
 
 macro_rules! sdo_aborts {
     ($( $code:literal $variant:ident $meaning:literal, )*) => {
-        /// SDO abort codes (CiA 301; DXMC manual 9.3, table of SDO abort codes).
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        /// SDO abort codes (CiA 301; DXMC manual 9.3, table of SDO abort codes). A code no
+        /// row lists is an error (`TryFromPrimitive`).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, TryFromPrimitive, IntoPrimitive)]
         #[repr(u32)]
         pub enum SdoAbort { $( $variant = $code, )* }
 
@@ -312,11 +312,7 @@ sdo_aborts! {
 
 impl SdoAbort {
     pub fn code(self) -> u32 {
-        self as u32
-    }
-
-    pub fn from_code(code: u32) -> Option<Self> {
-        Self::ALL.iter().copied().find(|a| a.code() == code)
+        self.into()
     }
 }
 
@@ -367,9 +363,9 @@ impl ErrorCode {
         let index = (code >> 16) as u8;
         let id = code as u16;
         match class {
-            0 if index == 0 => SystemError::from_id(id).map(ErrorCode::System),
-            CLASS_AXIS => AxisError::from_id(id).map(|error| ErrorCode::axis(index, error)),
-            CLASS_GROUP => GroupError::from_id(id).map(|error| ErrorCode::group(index, error)),
+            0 if index == 0 => SystemError::try_from(id).ok().map(ErrorCode::System),
+            CLASS_AXIS => AxisError::try_from(id).ok().map(|error| ErrorCode::axis(index, error)),
+            CLASS_GROUP => GroupError::try_from(id).ok().map(|error| ErrorCode::group(index, error)),
             _ => None,
         }
     }

@@ -5,14 +5,18 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
+use num_enum::{FromPrimitive, IntoPrimitive, TryFromPrimitive};
+
 /// Breakpoints a program can hold at once: 8 set before a run, more added one at a time.
 pub const MAX_BREAKPOINTS: usize = 16;
 
 /// Why the program is not running Lua, as the script reports it (DXMC A.3, 0x6B01).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// An unknown word reads as `None` (not halted).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum Halt {
     /// Running (or not started).
+    #[num_enum(default)]
     None = 0,
     /// Stopped on a breakpoint's line.
     BreakPoint = 2,
@@ -21,8 +25,8 @@ pub enum Halt {
 }
 
 /// What the console asks of the debugger (DXMC A.3, 0x6B05 codes 4, 11, 12, 13 and the
-/// resume of 2 and 44).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// resume of 2 and 44). An unknown code is no command (an error, ignored by the reader).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum DebugCommand {
     /// Stop at the next line of the main chunk.
@@ -37,39 +41,18 @@ pub enum DebugCommand {
     StepOut = 5,
 }
 
-impl DebugCommand {
-    fn from_u32(v: u32) -> Option<Self> {
-        Some(match v {
-            1 => DebugCommand::Pause,
-            2 => DebugCommand::Continue,
-            3 => DebugCommand::StepInto,
-            4 => DebugCommand::StepOver,
-            5 => DebugCommand::StepOut,
-            _ => return None,
-        })
-    }
-}
-
-/// How a program runs (DXMC A.3, 0x6B05 codes 2, 44, 21).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How a program runs (DXMC A.3, 0x6B05 codes 2, 44, 21). An unknown word reads as
+/// `Release`, the mode of a zeroed slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum RunMode {
     /// Release Run: breakpoints ignored; Pause still works.
+    #[num_enum(default)]
     Release = 0,
     /// Debug Run: breakpoints honoured.
     Debug = 1,
     /// Block Run: Debug Run that stops before the first line of the main chunk.
     Block = 2,
-}
-
-impl RunMode {
-    fn from_u32(v: u32) -> Self {
-        match v {
-            1 => RunMode::Debug,
-            2 => RunMode::Block,
-            _ => RunMode::Release,
-        }
-    }
 }
 
 /// The debugger's words. Zeroed: release mode, no breakpoints, no command, speed 100 %.
@@ -97,11 +80,11 @@ impl DebugBlock {
 
     /// Before a start: the mode, the breakpoints, no pending command, not halted.
     pub fn prepare(&self, mode: RunMode, breakpoints: &[u32]) {
-        self.mode.store(mode as u32, Ordering::Relaxed);
+        self.mode.store(mode.into(), Ordering::Relaxed);
         for (i, slot) in self.breakpoints.iter().enumerate() {
             slot.store(breakpoints.get(i).copied().unwrap_or(0), Ordering::Relaxed);
         }
-        self.halt.store(Halt::None as u32, Ordering::Relaxed);
+        self.halt.store(Halt::None.into(), Ordering::Relaxed);
         self.main_line.store(0, Ordering::Relaxed);
         self.done.store(self.command.load(Ordering::Relaxed) >> 8, Ordering::Relaxed);
         self.generation.fetch_add(1, Ordering::Release);
@@ -109,14 +92,14 @@ impl DebugBlock {
 
     /// Sets the mode of a running program (Debug Run from a Release Run's pause).
     pub fn set_mode(&self, mode: RunMode) {
-        self.mode.store(mode as u32, Ordering::Relaxed);
+        self.mode.store(mode.into(), Ordering::Relaxed);
         self.generation.fetch_add(1, Ordering::Release);
     }
 
     /// Sends a command; returns its sequence number, to compare with `done`.
     pub fn send(&self, command: DebugCommand) -> u32 {
         let seq = ((self.command.load(Ordering::Relaxed) >> 8) + 1) & 0x00FF_FFFF;
-        self.command.store(seq << 8 | command as u32, Ordering::Release);
+        self.command.store(seq << 8 | u32::from(command), Ordering::Release);
         seq
     }
 
@@ -148,7 +131,7 @@ impl DebugBlock {
     // Both sides.
 
     pub fn mode(&self) -> RunMode {
-        RunMode::from_u32(self.mode.load(Ordering::Relaxed))
+        RunMode::from(self.mode.load(Ordering::Relaxed))
     }
 
     pub fn generation(&self) -> u32 {
@@ -172,7 +155,7 @@ impl DebugBlock {
         if seq == self.done.load(Ordering::Acquire) {
             return None;
         }
-        DebugCommand::from_u32(word & 0xFF).map(|c| (seq, c))
+        DebugCommand::try_from(word & 0xFF).ok().map(|c| (seq, c))
     }
 
     pub fn done(&self) -> u32 {
@@ -180,11 +163,7 @@ impl DebugBlock {
     }
 
     pub fn halt(&self) -> Halt {
-        match self.halt.load(Ordering::Acquire) {
-            2 => Halt::BreakPoint,
-            3 => Halt::Pause,
-            _ => Halt::None,
-        }
+        Halt::from(self.halt.load(Ordering::Acquire))
     }
 
     pub fn main_line(&self) -> u32 {
@@ -207,7 +186,7 @@ impl DebugBlock {
     }
 
     pub fn set_halt(&self, halt: Halt) {
-        self.halt.store(halt as u32, Ordering::Release);
+        self.halt.store(halt.into(), Ordering::Release);
     }
 
     pub fn set_main_line(&self, line: u32) {

@@ -2,6 +2,7 @@
 //! free of pointers, so that iceoryx2 can hand them between processes without copying.
 
 use iceoryx2::prelude::ZeroCopySend;
+use num_enum::{FromPrimitive, IntoPrimitive, TryFromPrimitive};
 
 /// 32 drives + 64 virtual axes (DXMC), more than HMPL's 16.
 pub const MAX_AXES: usize = 96;
@@ -258,8 +259,8 @@ pub const EVENT_TEXT_BYTES: usize = 160;
 /// The `task` of an event the controller raised.
 pub const CONTROLLER: u32 = 0xFF;
 
-/// What an event record is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What an event record is. An unknown kind is an error: the tools skip the record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum EventKind {
     /// `SendEvent(id)` (HMPL 2.19).
@@ -287,7 +288,7 @@ pub struct EventRecord {
 
 impl EventRecord {
     pub fn new(kind: EventKind, task: u32, cycle: u64, code: u32, text: &str) -> Self {
-        let mut record = EventRecord { cycle, kind: kind as u32, task, code, len: 0, text: [0; EVENT_TEXT_BYTES] };
+        let mut record = EventRecord { cycle, kind: kind.into(), task, code, len: 0, text: [0; EVENT_TEXT_BYTES] };
         let mut n = text.len().min(EVENT_TEXT_BYTES);
         while !text.is_char_boundary(n) {
             n -= 1;
@@ -298,12 +299,7 @@ impl EventRecord {
     }
 
     pub fn kind(&self) -> Option<EventKind> {
-        match self.kind {
-            1 => Some(EventKind::Event),
-            2 => Some(EventKind::Message),
-            3 => Some(EventKind::Alarm),
-            _ => None,
-        }
+        EventKind::try_from(self.kind).ok()
     }
 
     pub fn text(&self) -> String {
@@ -312,8 +308,8 @@ impl EventRecord {
 }
 
 /// A task as the core sees it (HMPL ch. 16): `IsTaskStop` is true unless it is starting
-/// or running.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// or running. An unknown word reads as `Empty`, the state of a zeroed snapshot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum TaskState {
     /// No program configured for this id (`StartTask` gives 0x010A).
@@ -330,17 +326,6 @@ pub enum TaskState {
 }
 
 impl TaskState {
-    pub fn from_u32(v: u32) -> Self {
-        match v {
-            1 => TaskState::Stopped,
-            2 => TaskState::Starting,
-            3 => TaskState::Running,
-            4 => TaskState::Stopping,
-            5 => TaskState::Error,
-            _ => TaskState::Empty,
-        }
-    }
-
     /// HMPL 16.6: `IsTaskStop`.
     pub fn is_stopped(self) -> bool {
         !matches!(self, TaskState::Starting | TaskState::Running)

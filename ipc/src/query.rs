@@ -158,7 +158,7 @@ pub fn evaluate(query: Query, args: Words, s: &Snapshot) -> Result<Answer, Error
         Query::IsTaskStop => {
             let task = usize::try_from(args.int(0)).ok().and_then(|t| s.tasks.get(t));
             let task = task.ok_or(ErrorCode::System(SystemError::NotValidTaskid))?;
-            Value::Bool(TaskState::from_u32(task.state).is_stopped()).into()
+            Value::Bool(TaskState::from(task.state).is_stopped()).into()
         }
     })
 }

@@ -5,16 +5,20 @@
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
+use num_enum::{FromPrimitive, IntoPrimitive};
+
 use crate::debug::DebugBlock;
 use crate::futex;
 use crate::messages::MAX_TASKS;
 use crate::shm::Shareable;
 
-/// What a task's script is doing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a task's script is doing. An unknown word reads as `Idle`: a slot no script
+/// has written yet is zero, and a torn or foreign value must not look alive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum RunState {
     /// No process, or not started yet.
+    #[num_enum(default)]
     Idle = 0,
     /// Running Lua: the heartbeat must advance.
     Running = 1,
@@ -28,20 +32,6 @@ pub enum RunState {
     Blocked = 5,
     /// Stopped by its debugger (a breakpoint, Pause, a step): the console holds it.
     Paused = 6,
-}
-
-impl RunState {
-    fn from_u32(v: u32) -> Self {
-        match v {
-            1 => RunState::Running,
-            2 => RunState::Waiting,
-            3 => RunState::InCall,
-            4 => RunState::Finished,
-            5 => RunState::Blocked,
-            6 => RunState::Paused,
-            _ => RunState::Idle,
-        }
-    }
 }
 
 /// A request to be woken at a cycle. Each wait has a new sequence number, so that the
@@ -113,13 +103,13 @@ impl TaskSlot {
     }
 
     pub fn state(&self) -> RunState {
-        RunState::from_u32(self.state.load(Ordering::Acquire))
+        RunState::from(self.state.load(Ordering::Acquire))
     }
 
     /// A new run state; the heartbeat advances with it.
     pub fn set_state(&self, state: RunState) {
         self.beat();
-        self.state.store(state as u32, Ordering::Release);
+        self.state.store(state.into(), Ordering::Release);
     }
 
     /// Publishes a wait request, then marks the task waiting.
@@ -225,7 +215,7 @@ impl TaskSlot {
         self.started.store(0, Ordering::Relaxed);
         self.end_code.store(0, Ordering::Relaxed);
         self.cpu_ms.store(0, Ordering::Relaxed);
-        self.state.store(RunState::Idle as u32, Ordering::Release);
+        self.state.store(RunState::Idle.into(), Ordering::Release);
     }
 }
 

@@ -8,12 +8,15 @@ pub mod profile_position;
 pub mod profile_torque;
 pub mod profile_velocity;
 
+use num_enum::{IntoPrimitive, TryFromPrimitive};
+
 use crate::drive::od::ObjectStore;
 use crate::drive::travel::{Edges, Travel};
 use crate::profile::Kinematics;
 
-/// 0x6060 values (CoE manual table 4-17); any other value is ignored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// 0x6060 values (CoE manual table 4-17); any other value is an error, which the drive
+/// ignores (it keeps its mode).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(i8)]
 pub enum ModeOfOperation {
     /// "Stand-alone mode" in table 4-17, "no mode" in the homing text: hold still.
@@ -28,21 +31,6 @@ pub enum ModeOfOperation {
 }
 
 impl ModeOfOperation {
-    pub fn from_i64(v: i64) -> Option<Self> {
-        use ModeOfOperation::*;
-        Some(match v {
-            0 => NoMode,
-            1 => ProfilePosition,
-            3 => ProfileVelocity,
-            4 => ProfileTorque,
-            6 => Homing,
-            8 => CyclicSyncPosition,
-            9 => CyclicSyncVelocity,
-            10 => CyclicSyncTorque,
-            _ => return None,
-        })
-    }
-
     /// Software limits act in pp and csp only (CoE manual 3, "Limit functions by mode").
     pub fn software_limits_apply(self) -> bool {
         matches!(self, ModeOfOperation::ProfilePosition | ModeOfOperation::CyclicSyncPosition)
