@@ -407,3 +407,44 @@ pub fn describe(code: u32) -> String {
         None => format!("0x{code:08X} (unknown code)"),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// HMPL 18.1: the manual's own codes as byte literals, and every row of the three
+    /// tables decoded from its code; ids no table lists decode to nothing.
+    #[test]
+    fn error_codes_round_trip() {
+        let axis = ErrorCode::axis(2, AxisError::ALL[0]);
+        assert_eq!(axis.code() >> 16, 0x8302);
+        assert_eq!(ErrorCode::from_code(0x0000_010A), Some(ErrorCode::System(SystemError::TaskEmpty)));
+        for &e in SystemError::ALL {
+            assert_eq!(ErrorCode::from_code(e.id() as u32), Some(ErrorCode::System(e)));
+        }
+        for &e in AxisError::ALL {
+            let code = ErrorCode::axis(7, e);
+            assert_eq!(ErrorCode::from_code(code.code()), Some(code));
+        }
+        for &e in GroupError::ALL {
+            let code = ErrorCode::group(3, e);
+            assert_eq!(ErrorCode::from_code(code.code()), Some(code));
+        }
+        assert_eq!(ErrorCode::from_code(0), None);
+        assert_eq!(ErrorCode::from_code(0x0000_FFFE), None);
+        assert_eq!(ErrorCode::from_code(0x8300_FFFE), None);
+        assert!(SystemError::try_from(0xFFFE).is_err());
+    }
+
+    /// CiA 301 SDO abort codes: the 32-bit code each row carries, and back.
+    #[test]
+    fn sdo_abort_codes_round_trip() {
+        assert_eq!(SdoAbort::NoObject.code(), 0x0602_0000);
+        assert_eq!(SdoAbort::try_from(0x0609_0011), Ok(SdoAbort::NoSubIndex));
+        for &abort in SdoAbort::ALL {
+            assert_eq!(SdoAbort::try_from(abort.code()), Ok(abort));
+        }
+        assert!(SdoAbort::try_from(0x0602_0001).is_err());
+        assert!(SdoAbort::try_from(0).is_err());
+    }
+}

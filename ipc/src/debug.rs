@@ -246,4 +246,38 @@ mod tests {
         b.set_speed_pct(40);
         assert_eq!(b.speed_pct(), 40);
     }
+
+    /// The debugger's words in the slot, as both processes read them: an unknown mode
+    /// is Release, an unknown halt is none, an unknown command is no command.
+    #[test]
+    fn debugger_word_codes() {
+        for (mode, word) in [(RunMode::Release, 0u32), (RunMode::Debug, 1), (RunMode::Block, 2)] {
+            assert_eq!(u32::from(mode), word);
+            assert_eq!(RunMode::from(word), mode);
+        }
+        assert_eq!(RunMode::from(3), RunMode::Release);
+        for (halt, word) in [(Halt::None, 0u32), (Halt::BreakPoint, 2), (Halt::Pause, 3)] {
+            assert_eq!(u32::from(halt), word);
+            assert_eq!(Halt::from(word), halt);
+        }
+        assert_eq!(Halt::from(1), Halt::None);
+        let commands = [
+            (DebugCommand::Pause, 1u32),
+            (DebugCommand::Continue, 2),
+            (DebugCommand::StepInto, 3),
+            (DebugCommand::StepOver, 4),
+            (DebugCommand::StepOut, 5),
+        ];
+        let b = block();
+        for (command, word) in commands {
+            assert_eq!(u32::from(command), word);
+            let seq = b.send(command);
+            assert_eq!(b.command.load(Ordering::Relaxed), seq << 8 | word);
+            assert_eq!(b.pending(), Some((seq, command)));
+        }
+        for word in [0, 6, 0xFF] {
+            b.command.store(0x7F << 8 | word, Ordering::Relaxed);
+            assert_eq!(b.pending(), None, "word {word}");
+        }
+    }
 }

@@ -428,7 +428,42 @@ impl Default for Snapshot {
 
 #[cfg(test)]
 mod tests {
-    use super::{fault_status, motion_status};
+    use super::{EventKind, EventRecord, TaskState, fault_status, motion_status};
+
+    /// The task states as the snapshot carries them; an unknown word reads as `Empty`.
+    #[test]
+    fn task_state_words() {
+        let rows = [
+            (TaskState::Empty, 0u32),
+            (TaskState::Stopped, 1),
+            (TaskState::Starting, 2),
+            (TaskState::Running, 3),
+            (TaskState::Stopping, 4),
+            (TaskState::Error, 5),
+        ];
+        for (state, word) in rows {
+            assert_eq!(u32::from(state), word, "{state:?}");
+            assert_eq!(TaskState::from(word), state, "word {word}");
+        }
+        for word in [6, 0x100, u32::MAX] {
+            assert_eq!(TaskState::from(word), TaskState::Empty, "word {word}");
+        }
+    }
+
+    /// The kinds of the `events` stream; a record of an unknown kind has none.
+    #[test]
+    fn event_kind_words() {
+        let rows = [(EventKind::Event, 1u32), (EventKind::Message, 2), (EventKind::Alarm, 3)];
+        for (kind, word) in rows {
+            let record = EventRecord::new(kind, 0, 0, 0, "");
+            assert_eq!(record.kind, word, "{kind:?}");
+            assert_eq!(record.kind(), Some(kind));
+        }
+        for word in [0, 4, u32::MAX] {
+            let record = EventRecord { kind: word, ..EventRecord::new(EventKind::Event, 0, 0, 0, "") };
+            assert_eq!(record.kind(), None, "word {word}");
+        }
+    }
 
     /// HMPL Part 6 fact 50, HMPL table 5.1.1.5: one row per `motion_status` bit.
     #[test]

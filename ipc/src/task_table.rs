@@ -232,6 +232,27 @@ unsafe impl Shareable for TaskTable {}
 mod tests {
     use super::*;
 
+    /// The run state word each script writes; an unknown word reads as `Idle`.
+    #[test]
+    fn run_state_words() {
+        let rows = [
+            (RunState::Idle, 0u32),
+            (RunState::Running, 1),
+            (RunState::Waiting, 2),
+            (RunState::InCall, 3),
+            (RunState::Finished, 4),
+            (RunState::Blocked, 5),
+            (RunState::Paused, 6),
+        ];
+        for (state, word) in rows {
+            assert_eq!(u32::from(state), word, "{state:?}");
+            assert_eq!(RunState::from(word), state, "word {word}");
+        }
+        for word in [7, u32::MAX] {
+            assert_eq!(RunState::from(word), RunState::Idle, "word {word}");
+        }
+    }
+
     #[test]
     fn a_program_path_round_trips_and_is_cut_at_a_character() {
         let table: Box<TaskTable> = crate::shm::zeroed();

@@ -90,3 +90,31 @@ pub fn capped(od: &ObjectStore, value: crate::drive::od::ObjId, limit: crate::dr
     let cap = od.get(limit) as f64;
     if cap > 0.0 { v.min(cap) } else { v }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::ModeOfOperation;
+
+    /// 0x6060 values, CoE manual table 4-17; the values it does not list are refused.
+    #[test]
+    fn mode_of_operation_codes() {
+        use ModeOfOperation::*;
+        let rows = [
+            (NoMode, 0i8),
+            (ProfilePosition, 1),
+            (ProfileVelocity, 3),
+            (ProfileTorque, 4),
+            (Homing, 6),
+            (CyclicSyncPosition, 8),
+            (CyclicSyncVelocity, 9),
+            (CyclicSyncTorque, 10),
+        ];
+        for (mode, code) in rows {
+            assert_eq!(i8::from(mode), code, "{mode:?}");
+            assert_eq!(ModeOfOperation::try_from(code), Ok(mode), "code {code}");
+        }
+        for code in [-1i8, 2, 5, 7, 11, i8::MIN, i8::MAX] {
+            assert!(ModeOfOperation::try_from(code).is_err(), "code {code}");
+        }
+    }
+}
