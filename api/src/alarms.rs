@@ -10,8 +10,11 @@ use num_enum::{FromPrimitive, IntoPrimitive};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
 pub enum Source {
+    /// The controller as a whole.
     General = 0,
+    /// The motion kernel; the extension is the axis id.
     MotionCore = 1,
+    /// The PLC runtime (luamotion has none; kept for the format).
     PlcCore = 2,
     /// "RL core": the script runtime; the extension is the task id.
     RlCore = 3,
@@ -51,6 +54,7 @@ impl Event {
         self.into()
     }
 
+    /// What the event means, for the operator.
     pub fn meaning(self) -> &'static str {
         match self {
             Event::CommandBufferBusy => "command buffer busy: two tasks commanded the same axis in one cycle",
@@ -88,14 +92,17 @@ impl Alarm {
         Self::error(Source::MotionCore, axis as u16, event)
     }
 
+    /// Bit 31: a warning rather than an error.
     pub fn is_warning(self) -> bool {
         self.0 & 0x8000_0000 != 0
     }
 
+    /// `YZU`: the task or axis id the alarm is about.
     pub fn extension(self) -> u16 {
         ((self.0 >> 16) & 0xFFF) as u16
     }
 
+    /// `ABCD`: the event code, see `Event`.
     pub fn event_code(self) -> u16 {
         self.0 as u16
     }

@@ -15,7 +15,7 @@ macro_rules! error_table {
         /// An id no row lists is an error (`TryFromPrimitive`).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, TryFromPrimitive)]
         #[repr(u16)]
-        pub enum $ty { $( $variant = $id, )* }
+        pub enum $ty { $( #[doc = $meaning] $variant = $id, )* }
 
         impl $ty {
             /// Every row of the table, in the manual's order.
@@ -275,11 +275,13 @@ macro_rules! sdo_aborts {
         /// row lists is an error (`TryFromPrimitive`).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, TryFromPrimitive, IntoPrimitive)]
         #[repr(u32)]
-        pub enum SdoAbort { $( $variant = $code, )* }
+        pub enum SdoAbort { $( #[doc = $meaning] $variant = $code, )* }
 
         impl SdoAbort {
+            /// Every row of the table.
             pub const ALL: &'static [SdoAbort] = &[ $( SdoAbort::$variant, )* ];
 
+            /// The abort's meaning (CiA 301), in English.
             pub fn meaning(self) -> &'static str {
                 match self { $( SdoAbort::$variant => $meaning, )* }
             }
@@ -311,6 +313,7 @@ sdo_aborts! {
 }
 
 impl SdoAbort {
+    /// The 32-bit abort code the mailbox carries.
     pub fn code(self) -> u32 {
         self.into()
     }
@@ -334,16 +337,31 @@ const CLASS_GROUP: u32 = 0x82;
 /// HMPL's C `int` would show axis and group codes as negative numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ErrorCode {
+    /// Class 0x00: a system error (table 18.1.1.1).
     System(SystemError),
-    Axis { axis: u8, error: AxisError },
-    Group { group: u8, error: GroupError },
+    /// Class 0x83: an error of one axis (table 18.1.2.1).
+    Axis {
+        /// The axis id (`II`).
+        axis: u8,
+        /// The error id (`EEEE`).
+        error: AxisError,
+    },
+    /// Class 0x82: an error of one group (table 18.1.3.1).
+    Group {
+        /// The group id (`II`).
+        group: u8,
+        /// The error id (`EEEE`).
+        error: GroupError,
+    },
 }
 
 impl ErrorCode {
+    /// An axis error of axis `axis`.
     pub const fn axis(axis: u8, error: AxisError) -> Self {
         ErrorCode::Axis { axis, error }
     }
 
+    /// A group error of group `group`.
     pub const fn group(group: u8, error: GroupError) -> Self {
         ErrorCode::Group { group, error }
     }
@@ -370,6 +388,7 @@ impl ErrorCode {
         }
     }
 
+    /// The manual's name of the error id, e.g. `eERR_AXIS_CMD_INVALID_DISABLED`.
     pub const fn name(self) -> &'static str {
         match self {
             ErrorCode::System(e) => e.name(),
@@ -378,6 +397,7 @@ impl ErrorCode {
         }
     }
 
+    /// The manual's explanation of the error id.
     pub const fn meaning(self) -> &'static str {
         match self {
             ErrorCode::System(e) => e.meaning(),
