@@ -124,16 +124,19 @@ impl DebugBlock {
         true
     }
 
+    /// Sets the run speed, 1..100 % (DXMC A.3, 0x6B03).
     pub fn set_speed_pct(&self, pct: u32) {
         self.speed_pct.store(pct, Ordering::Relaxed);
     }
 
     // Both sides.
 
+    /// The run mode the console set.
     pub fn mode(&self) -> RunMode {
         RunMode::from(self.mode.load(Ordering::Relaxed))
     }
 
+    /// Bumped by every change of mode or breakpoints, so the script rereads them only then.
     pub fn generation(&self) -> u32 {
         self.generation.load(Ordering::Acquire)
     }
@@ -158,14 +161,17 @@ impl DebugBlock {
         DebugCommand::try_from(word & 0xFF).ok().map(|c| (seq, c))
     }
 
+    /// The sequence number of the last command the script carried out.
     pub fn done(&self) -> u32 {
         self.done.load(Ordering::Acquire)
     }
 
+    /// Why the script is not running Lua, as it reported.
     pub fn halt(&self) -> Halt {
         Halt::from(self.halt.load(Ordering::Acquire))
     }
 
+    /// The line of `main.lua` the program is at (DXMC A.3, 0x6B02).
     pub fn main_line(&self) -> u32 {
         self.main_line.load(Ordering::Relaxed)
     }
@@ -185,10 +191,12 @@ impl DebugBlock {
         self.done.store(seq, Ordering::Release);
     }
 
+    /// Reports why the program stopped (or that it runs again).
     pub fn set_halt(&self, halt: Halt) {
         self.halt.store(halt.into(), Ordering::Release);
     }
 
+    /// Reports the line of `main.lua` the program is at.
     pub fn set_main_line(&self, line: u32) {
         self.main_line.store(line, Ordering::Relaxed);
     }

@@ -38,7 +38,9 @@ pub enum RunState {
 /// core notifies every wait exactly once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WaitRequest {
+    /// The wait's sequence number.
     pub seq: u16,
+    /// The cycle to be woken at.
     pub cycle: u64,
 }
 
@@ -94,14 +96,17 @@ pub enum EndCode {
 }
 
 impl TaskSlot {
+    /// The heartbeat: the watchdog sees a task alive while it moves.
     pub fn heartbeat(&self) -> u64 {
         self.heartbeat.load(Ordering::Relaxed)
     }
 
+    /// Advances the heartbeat (one atomic add).
     pub fn beat(&self) {
         self.heartbeat.fetch_add(1, Ordering::Relaxed);
     }
 
+    /// What the script is doing.
     pub fn state(&self) -> RunState {
         RunState::from(self.state.load(Ordering::Acquire))
     }
@@ -118,6 +123,7 @@ impl TaskSlot {
         self.set_state(RunState::Waiting);
     }
 
+    /// The current wait request.
     pub fn wait_request(&self) -> WaitRequest {
         WaitRequest::unpack(self.wait.load(Ordering::Acquire))
     }
@@ -127,18 +133,22 @@ impl TaskSlot {
         self.line.load(Ordering::Relaxed)
     }
 
+    /// Records the line the program is at.
     pub fn set_line(&self, line: u32) {
         self.line.store(line, Ordering::Relaxed);
     }
 
+    /// The script process' pid; 0 for none.
     pub fn pid(&self) -> u32 {
         self.pid.load(Ordering::Relaxed)
     }
 
+    /// Records the script process' pid.
     pub fn set_pid(&self, pid: u32) {
         self.pid.store(pid, Ordering::Relaxed);
     }
 
+    /// The script reported that it started.
     pub fn started(&self) -> bool {
         self.started.load(Ordering::Acquire) != 0
     }
@@ -148,22 +158,27 @@ impl TaskSlot {
         self.started.store(1, Ordering::Release);
     }
 
+    /// Why the program failed: an HMPL code or an `EndCode`; 0 when it did not.
     pub fn end_code(&self) -> u32 {
         self.end_code.load(Ordering::Acquire)
     }
 
+    /// Records how the program ended.
     pub fn set_end_code(&self, code: u32) {
         self.end_code.store(code, Ordering::Release);
     }
 
+    /// CPU time the task's process used, ms.
     pub fn cpu_ms(&self) -> u64 {
         self.cpu_ms.load(Ordering::Relaxed)
     }
 
+    /// Records the CPU time of the task's process (the supervisor).
     pub fn set_cpu_ms(&self, ms: u64) {
         self.cpu_ms.store(ms, Ordering::Relaxed);
     }
 
+    /// When the core last woke this task (CLOCK_MONOTONIC, ns).
     pub fn notified_ns(&self) -> u64 {
         self.notified_ns.load(Ordering::Acquire)
     }
@@ -193,6 +208,7 @@ impl TaskSlot {
         String::from_utf8_lossy(&bytes[..end]).into_owned()
     }
 
+    /// Records the program path the tools show.
     pub fn set_program(&self, path: &str) {
         let mut bytes = [0u8; PROGRAM_BYTES];
         let mut n = path.len().min(PROGRAM_BYTES - 1);
@@ -222,6 +238,7 @@ impl TaskSlot {
 /// All 64 slots.
 #[repr(C)]
 pub struct TaskTable {
+    /// One slot per HMPL task.
     pub slots: [TaskSlot; MAX_TASKS],
 }
 
