@@ -6,6 +6,8 @@
 use std::sync::atomic::{AtomicI64, AtomicU16, AtomicU32, AtomicU64, Ordering};
 use std::time::Duration;
 
+use num_enum::{FromPrimitive, IntoPrimitive};
+
 use crate::futex;
 use crate::messages::MAX_TASKS;
 use crate::shm::Shareable;
@@ -275,9 +277,22 @@ struct VarEntry {
     copies: [VarCopy; 2],
 }
 
+/// What a copy of a persistent variable holds. An unknown word reads as `Nil`: the
+/// variable is not set.
+#[derive(Clone, Copy, FromPrimitive, IntoPrimitive)]
+#[repr(u32)]
+enum VarKind {
+    #[num_enum(default)]
+    Nil = 0,
+    Int = 1,
+    Double = 2,
+    Bool = 3,
+    Text = 4,
+}
+
 #[repr(C)]
 struct VarCopy {
-    /// 0 nil, 1 integer, 2 double, 3 boolean, 4 string.
+    /// A `VarKind`.
     kind: AtomicU32,
     len: AtomicU32,
     word: AtomicU64,
@@ -313,15 +328,15 @@ impl TaskVars {
         let entry = self.find(name.as_bytes())?;
         let copy = &entry.copies[(entry.header.load(Ordering::Acquire) & 1) as usize];
         let word = copy.word.load(Ordering::Relaxed);
-        Some(match copy.kind.load(Ordering::Relaxed) {
-            1 => VarValue::Int(word as i64),
-            2 => VarValue::Double(f64::from_bits(word)),
-            3 => VarValue::Bool(word != 0),
-            4 => {
+        Some(match VarKind::from(copy.kind.load(Ordering::Relaxed)) {
+            VarKind::Int => VarValue::Int(word as i64),
+            VarKind::Double => VarValue::Double(f64::from_bits(word)),
+            VarKind::Bool => VarValue::Bool(word != 0),
+            VarKind::Text => {
                 let len = (copy.len.load(Ordering::Relaxed) as usize).min(VAR_TEXT_BYTES);
                 VarValue::Text(String::from_utf8_lossy(&unpack(&copy.text)[..len]).into_owned())
             }
-            _ => return None,
+            VarKind::Nil => return None,
         })
     }
 
@@ -346,7 +361,7 @@ impl TaskVars {
                     .find(|e| e.header.load(Ordering::Acquire) & IN_USE == 0)
                     .ok_or(VarError::Full)?;
                 pack(key, &free.name);
-                free.copies[0].kind.store(0, Ordering::Relaxed);
+                free.copies[0].kind.store(VarKind::Nil.into(), Ordering::Relaxed);
                 free.header.store(IN_USE, Ordering::Release);
                 free
             }
@@ -355,17 +370,17 @@ impl TaskVars {
         let next = (header & 1) ^ 1;
         let copy = &entry.copies[next as usize];
         let (kind, word) = match value {
-            None => (0, 0),
-            Some(VarValue::Int(i)) => (1, *i as u64),
-            Some(VarValue::Double(d)) => (2, d.to_bits()),
-            Some(VarValue::Bool(b)) => (3, *b as u64),
+            None => (VarKind::Nil, 0),
+            Some(VarValue::Int(i)) => (VarKind::Int, *i as u64),
+            Some(VarValue::Double(d)) => (VarKind::Double, d.to_bits()),
+            Some(VarValue::Bool(b)) => (VarKind::Bool, *b as u64),
             Some(VarValue::Text(t)) => {
                 pack(t.as_bytes(), &copy.text);
                 copy.len.store(t.len() as u32, Ordering::Relaxed);
-                (4, 0)
+                (VarKind::Text, 0)
             }
         };
-        copy.kind.store(kind, Ordering::Relaxed);
+        copy.kind.store(kind.into(), Ordering::Relaxed);
         copy.word.store(word, Ordering::Relaxed);
         entry.header.store(IN_USE | next, Ordering::Release);
         Ok(())
