@@ -85,8 +85,9 @@ pub struct TaskSlot {
     pub debug: DebugBlock,
 }
 
-/// Why a program ended, beyond HMPL's own codes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Why a program ended, beyond HMPL's own codes. Written only: the end-code word also
+/// carries HMPL codes, so readers compare it with these values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, IntoPrimitive)]
 #[repr(u32)]
 pub enum EndCode {
     /// A Lua error (syntax or runtime).
