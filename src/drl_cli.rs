@@ -217,7 +217,7 @@ pub fn drl(args: DrlArgs) -> Result<ExitCode> {
             None => None,
         };
         print_status(&mut client).await?;
-        match status.and_then(Status::from_code) {
+        match status.and_then(|code| Status::try_from(code).ok()) {
             Some(status) if status.is_failure() => bail!("{}", refusal(&args.command, status)),
             _ => Ok(ExitCode::SUCCESS),
         }
@@ -250,8 +250,8 @@ async fn settle(client: &mut Client) -> Result<u16> {
 
 async fn print_status(client: &mut Client) -> Result<()> {
     let r = client.read(0x6B00, 7).await?;
-    let state = ExecState::from_code(r[1]).map_or("unknown", ExecState::name);
-    let status = Status::from_code(r[6]).map_or("unknown", Status::name);
+    let state = ExecState::try_from(r[1]).ok().map_or("unknown", ExecState::name);
+    let status = Status::try_from(r[6]).ok().map_or("unknown", Status::name);
     println!("id {}  state {} ({state})  line {}  speed {} %  status {} ({status})", r[0], r[1], r[2], r[3], r[6]);
     Ok(())
 }

@@ -28,7 +28,7 @@ pub fn tasks(ns: &str) -> Result<ExitCode> {
         "task", "state", "pid", "cpu ms", "watchdog", "last alarm"
     );
     for (id, task) in snapshot.tasks.iter().enumerate() {
-        let state = TaskState::from_u32(task.state);
+        let state = TaskState::from(task.state);
         if state == TaskState::Empty {
             continue;
         }

@@ -104,7 +104,7 @@ fn sixty_four_tasks_at_once_with_the_tools_attached() {
 
     let running_seen_by = |monitor: &mut ipc::Monitor| {
         let snapshot = monitor.snapshot().unwrap();
-        snapshot.tasks.iter().filter(|t| TaskState::from_u32(t.state) == TaskState::Running).count()
+        snapshot.tasks.iter().filter(|t| TaskState::from(t.state) == TaskState::Running).count()
     };
     // Starting 64 processes takes a while in a debug build on a busy machine.
     let all_running = eventually(Duration::from_secs(240), || running_seen_by(&mut monitors[0]) == MAX_TASKS);

@@ -4,74 +4,57 @@
 
 use std::fmt;
 
+use num_enum::{FromPrimitive, IntoPrimitive};
+
 /// DXMC alarm sources (bits 30..28).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
 pub enum Source {
+    /// The controller as a whole.
     General = 0,
+    /// The motion kernel; the extension is the axis id.
     MotionCore = 1,
+    /// The PLC runtime (luamotion has none; kept for the format).
     PlcCore = 2,
     /// "RL core": the script runtime; the extension is the task id.
     RlCore = 3,
 }
 
-/// The events luamotion raises, with the DXMC event code each reuses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The events luamotion raises, with the DXMC event code each reuses (the `ABCD` of the
+/// alarm code). Any other code is kept as an HMPL runtime error (`Hmpl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
+#[repr(u16)]
 pub enum Event {
-    /// 0x001F: two tasks commanded the same axis in the same cycle.
-    CommandBufferBusy,
-    /// 0x0020: a motion command while the controller is not in Run or Diagnosis.
-    WrongMode,
-    /// 0x7000: an invalid DRL control command (DXMC A.3, register 0x6B05).
-    DrlControl,
-    /// 0x4105: an unsupported PLC control command (DXMC A.3, register 0x6B10).
-    PlcControl,
-    /// 0x4100: the program ended with a Lua error.
-    ProgramError,
-    /// 0x4102: the task ran Lua past its watchdog time without reaching the controller.
-    Watchdog,
-    /// 0x4103: the task's process ran out of its memory limit.
-    MemoryLimit,
-    /// 0x4104: the task's process died of a signal (crash, `kill -9`).
-    ProcessDied,
+    /// Two tasks commanded the same axis in the same cycle.
+    CommandBufferBusy = 0x001F,
+    /// A motion command while the controller is not in Run or Diagnosis.
+    WrongMode = 0x0020,
+    /// An invalid DRL control command (DXMC A.3, register 0x6B05).
+    DrlControl = 0x7000,
+    /// An unsupported PLC control command (DXMC A.3, register 0x6B10).
+    PlcControl = 0x4105,
+    /// The program ended with a Lua error.
+    ProgramError = 0x4100,
+    /// The task ran Lua past its watchdog time without reaching the controller.
+    Watchdog = 0x4102,
+    /// The task's process ran out of its memory limit.
+    MemoryLimit = 0x4103,
+    /// The task's process died of a signal (crash, `kill -9`).
+    ProcessDied = 0x4104,
+    /// The task's process did not start in time.
+    StartTimeout = 0x1772,
     /// An HMPL runtime error that stops a task, with its HMPL code (0x13EC: mutex locked twice).
+    #[num_enum(catch_all)]
     Hmpl(u16),
-    /// 0x1772: the task's process did not start in time.
-    StartTimeout,
 }
 
 impl Event {
+    /// The event code, `ABCD` of the alarm.
     pub fn code(self) -> u16 {
-        match self {
-            Event::CommandBufferBusy => 0x001F,
-            Event::WrongMode => 0x0020,
-            Event::DrlControl => 0x7000,
-            Event::PlcControl => 0x4105,
-            Event::ProgramError => 0x4100,
-            Event::Watchdog => 0x4102,
-            Event::MemoryLimit => 0x4103,
-            Event::ProcessDied => 0x4104,
-            Event::Hmpl(code) => code,
-            Event::StartTimeout => 0x1772,
-        }
+        self.into()
     }
 
-    /// The event an alarm's code stands for; unknown codes are HMPL runtime errors.
-    pub fn from_code(code: u16) -> Self {
-        match code {
-            0x001F => Event::CommandBufferBusy,
-            0x0020 => Event::WrongMode,
-            0x7000 => Event::DrlControl,
-            0x4105 => Event::PlcControl,
-            0x4100 => Event::ProgramError,
-            0x4102 => Event::Watchdog,
-            0x4103 => Event::MemoryLimit,
-            0x4104 => Event::ProcessDied,
-            0x1772 => Event::StartTimeout,
-            other => Event::Hmpl(other),
-        }
-    }
-
+    /// What the event means, for the operator.
     pub fn meaning(self) -> &'static str {
         match self {
             Event::CommandBufferBusy => "command buffer busy: two tasks commanded the same axis in one cycle",
@@ -109,14 +92,17 @@ impl Alarm {
         Self::error(Source::MotionCore, axis as u16, event)
     }
 
+    /// Bit 31: a warning rather than an error.
     pub fn is_warning(self) -> bool {
         self.0 & 0x8000_0000 != 0
     }
 
+    /// `YZU`: the task or axis id the alarm is about.
     pub fn extension(self) -> u16 {
         ((self.0 >> 16) & 0xFFF) as u16
     }
 
+    /// `ABCD`: the event code, see `Event`.
     pub fn event_code(self) -> u16 {
         self.0 as u16
     }
@@ -154,7 +140,7 @@ mod tests {
         assert!(Alarm(0x9001_0815).is_warning(), "DXMC example: the same as a warning");
         assert_eq!(Alarm::task(7, Event::Watchdog).to_string(), "0x30074102");
         for event in [Event::CommandBufferBusy, Event::Watchdog, Event::ProcessDied, Event::Hmpl(0x13EC)] {
-            assert_eq!(Event::from_code(event.code()), event);
+            assert_eq!(Event::from(event.code()), event);
         }
     }
 }

@@ -3,8 +3,11 @@
 /// A numeric constant a script sees as a global.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Constant {
+    /// A Lua integer.
     Int(i64),
+    /// A Lua float.
     Double(f64),
+    /// A Lua string.
     Str(&'static str),
 }
 

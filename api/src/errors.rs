@@ -7,12 +7,15 @@
 
 use std::fmt;
 
+use num_enum::{IntoPrimitive, TryFromPrimitive};
+
 macro_rules! error_table {
     ($(#[$meta:meta])* $ty:ident { $( $id:literal $variant:ident $name:literal $meaning:literal, )* }) => {
         $(#[$meta])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        /// An id no row lists is an error (`TryFromPrimitive`).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, TryFromPrimitive)]
         #[repr(u16)]
-        pub enum $ty { $( $variant = $id, )* }
+        pub enum $ty { $( #[doc = $meaning] $variant = $id, )* }
 
         impl $ty {
             /// Every row of the table, in the manual's order.
@@ -31,10 +34,6 @@ macro_rules! error_table {
             /// The manual's explanation, in English.
             pub const fn meaning(self) -> &'static str {
                 match self { $( $ty::$variant => $meaning, )* }
-            }
-
-            pub fn from_id(id: u16) -> Option<Self> {
-                Self::ALL.iter().copied().find(|e| e.id() == id)
             }
         }
     };
@@ -272,14 +271,17 @@ error_table! {
 
 macro_rules! sdo_aborts {
     ($( $code:literal $variant:ident $meaning:literal, )*) => {
-        /// SDO abort codes (CiA 301; DXMC manual 9.3, table of SDO abort codes).
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        /// SDO abort codes (CiA 301; DXMC manual 9.3, table of SDO abort codes). A code no
+        /// row lists is an error (`TryFromPrimitive`).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, TryFromPrimitive, IntoPrimitive)]
         #[repr(u32)]
-        pub enum SdoAbort { $( $variant = $code, )* }
+        pub enum SdoAbort { $( #[doc = $meaning] $variant = $code, )* }
 
         impl SdoAbort {
+            /// Every row of the table.
             pub const ALL: &'static [SdoAbort] = &[ $( SdoAbort::$variant, )* ];
 
+            /// The abort's meaning (CiA 301), in English.
             pub fn meaning(self) -> &'static str {
                 match self { $( SdoAbort::$variant => $meaning, )* }
             }
@@ -311,12 +313,9 @@ sdo_aborts! {
 }
 
 impl SdoAbort {
+    /// The 32-bit abort code the mailbox carries.
     pub fn code(self) -> u32 {
-        self as u32
-    }
-
-    pub fn from_code(code: u32) -> Option<Self> {
-        Self::ALL.iter().copied().find(|a| a.code() == code)
+        self.into()
     }
 }
 
@@ -338,16 +337,31 @@ const CLASS_GROUP: u32 = 0x82;
 /// HMPL's C `int` would show axis and group codes as negative numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ErrorCode {
+    /// Class 0x00: a system error (table 18.1.1.1).
     System(SystemError),
-    Axis { axis: u8, error: AxisError },
-    Group { group: u8, error: GroupError },
+    /// Class 0x83: an error of one axis (table 18.1.2.1).
+    Axis {
+        /// The axis id (`II`).
+        axis: u8,
+        /// The error id (`EEEE`).
+        error: AxisError,
+    },
+    /// Class 0x82: an error of one group (table 18.1.3.1).
+    Group {
+        /// The group id (`II`).
+        group: u8,
+        /// The error id (`EEEE`).
+        error: GroupError,
+    },
 }
 
 impl ErrorCode {
+    /// An axis error of axis `axis`.
     pub const fn axis(axis: u8, error: AxisError) -> Self {
         ErrorCode::Axis { axis, error }
     }
 
+    /// A group error of group `group`.
     pub const fn group(group: u8, error: GroupError) -> Self {
         ErrorCode::Group { group, error }
     }
@@ -367,13 +381,14 @@ impl ErrorCode {
         let index = (code >> 16) as u8;
         let id = code as u16;
         match class {
-            0 if index == 0 => SystemError::from_id(id).map(ErrorCode::System),
-            CLASS_AXIS => AxisError::from_id(id).map(|error| ErrorCode::axis(index, error)),
-            CLASS_GROUP => GroupError::from_id(id).map(|error| ErrorCode::group(index, error)),
+            0 if index == 0 => SystemError::try_from(id).ok().map(ErrorCode::System),
+            CLASS_AXIS => AxisError::try_from(id).ok().map(|error| ErrorCode::axis(index, error)),
+            CLASS_GROUP => GroupError::try_from(id).ok().map(|error| ErrorCode::group(index, error)),
             _ => None,
         }
     }
 
+    /// The manual's name of the error id, e.g. `eERR_AXIS_CMD_INVALID_DISABLED`.
     pub const fn name(self) -> &'static str {
         match self {
             ErrorCode::System(e) => e.name(),
@@ -382,6 +397,7 @@ impl ErrorCode {
         }
     }
 
+    /// The manual's explanation of the error id.
     pub const fn meaning(self) -> &'static str {
         match self {
             ErrorCode::System(e) => e.meaning(),
@@ -409,5 +425,46 @@ pub fn describe(code: u32) -> String {
         Some(e) => e.to_string(),
         None if code == 0 => "0 (no error)".to_string(),
         None => format!("0x{code:08X} (unknown code)"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// HMPL 18.1: the manual's own codes as byte literals, and every row of the three
+    /// tables decoded from its code; ids no table lists decode to nothing.
+    #[test]
+    fn error_codes_round_trip() {
+        let axis = ErrorCode::axis(2, AxisError::ALL[0]);
+        assert_eq!(axis.code() >> 16, 0x8302);
+        assert_eq!(ErrorCode::from_code(0x0000_010A), Some(ErrorCode::System(SystemError::TaskEmpty)));
+        for &e in SystemError::ALL {
+            assert_eq!(ErrorCode::from_code(e.id() as u32), Some(ErrorCode::System(e)));
+        }
+        for &e in AxisError::ALL {
+            let code = ErrorCode::axis(7, e);
+            assert_eq!(ErrorCode::from_code(code.code()), Some(code));
+        }
+        for &e in GroupError::ALL {
+            let code = ErrorCode::group(3, e);
+            assert_eq!(ErrorCode::from_code(code.code()), Some(code));
+        }
+        assert_eq!(ErrorCode::from_code(0), None);
+        assert_eq!(ErrorCode::from_code(0x0000_FFFE), None);
+        assert_eq!(ErrorCode::from_code(0x8300_FFFE), None);
+        assert!(SystemError::try_from(0xFFFE).is_err());
+    }
+
+    /// CiA 301 SDO abort codes: the 32-bit code each row carries, and back.
+    #[test]
+    fn sdo_abort_codes_round_trip() {
+        assert_eq!(SdoAbort::NoObject.code(), 0x0602_0000);
+        assert_eq!(SdoAbort::try_from(0x0609_0011), Ok(SdoAbort::NoSubIndex));
+        for &abort in SdoAbort::ALL {
+            assert_eq!(SdoAbort::try_from(abort.code()), Ok(abort));
+        }
+        assert!(SdoAbort::try_from(0x0602_0001).is_err());
+        assert!(SdoAbort::try_from(0).is_err());
     }
 }

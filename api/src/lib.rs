@@ -1,6 +1,9 @@
 //! The contract between scripts and the controller: the registry of API functions, the
 //! HMPL error codes, the DXMC alarm format and the constants scripts see.
 
+// Every public item is part of a contract with other processes or crates: say what it is.
+#![warn(missing_docs)]
+
 pub mod alarms;
 pub mod constants;
 pub mod docs;

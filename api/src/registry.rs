@@ -47,10 +47,13 @@ pub enum ArgType {
 /// The type of one returned value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ValueType {
+    /// A Lua integer.
     Int,
+    /// A Lua float.
     Double,
     /// HMPL's TRUE/FALSE, returned to Lua as a boolean: 0 is true in Lua.
     Bool,
+    /// A Lua string.
     Str,
     /// An out-pointer buffer: a table of integers 0..255.
     Bytes,
@@ -85,12 +88,16 @@ pub enum Quantity {
     /// An acceleration, deceleration or kill deceleration: at least one count per s²,
     /// at most the machine file's `max_acc`.
     Acceleration,
+    /// See `Acceleration`.
     Deceleration,
+    /// See `Acceleration`.
     KillDeceleration,
     /// An acceleration or deceleration time (HMPL 5.3.5, 5.3.8) and the in-position time
     /// (HMPL 5.3.47): > 0, at most a minute.
     AccTime,
+    /// See `AccTime`.
     DecTime,
+    /// See `AccTime`.
     Time,
     /// The smooth time, 0..500 ms (HMPL table 5.1.1.2).
     SmoothTime,
@@ -103,6 +110,7 @@ pub enum Quantity {
     /// PVT times, ms from 0, at most a minute, and velocities, |v| at most `max_vel`
     /// (HMPL 5.2.8).
     PvtTime,
+    /// See `PvtTime`.
     PvtVelocity,
 }
 
@@ -126,9 +134,12 @@ impl Quantity {
     }
 }
 
+/// One argument of a registry function.
 #[derive(Clone, Copy, Debug)]
 pub struct ArgSpec {
+    /// Its name in the manual's prototype.
     pub name: &'static str,
+    /// How a script passes it.
     pub ty: ArgType,
     /// What the argument is, for the core's range check; `None` for what has no range of
     /// its own (pins, flags, modes checked by the command itself).
@@ -138,12 +149,15 @@ pub struct ArgSpec {
 /// One function of the registry.
 #[derive(Debug)]
 pub struct FunctionSpec {
+    /// The manual's name, which is also the Lua global.
     pub name: &'static str,
+    /// The typed function, which tells where it runs.
     pub func: Func,
     /// The manual section that defines it, e.g. `HMPL 5.2.4`.
     pub manual: &'static str,
     /// Callable from the Native ASCII server (the manual's icon).
     pub ascii: bool,
+    /// The arguments, in the manual's order.
     pub args: &'static [ArgSpec],
     /// Returned values, first the C return value, then the out-pointers. Empty: `void`.
     pub returns: &'static [ValueType],
@@ -160,6 +174,7 @@ impl FunctionSpec {
         })
     }
 
+    /// Where the function runs.
     pub fn kind(&self) -> Kind {
         match self.func {
             Func::Command(_) => Kind::Command,
@@ -201,8 +216,11 @@ impl FunctionSpec {
 /// A function, typed by where it runs, so that each side matches exhaustively on its own kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Func {
+    /// Carried out by the core in its cycle.
     Command(crate::Command),
+    /// Answered from the snapshot in the script process.
     Query(crate::Query),
+    /// Runs in the script process alone.
     Local(crate::Local),
 }
 
@@ -228,14 +246,17 @@ macro_rules! declare_functions {
             fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? ),* $(,)? ) $(-> $ret:tt)? ;
         )*
     ) => {
+        #[doc = concat!("The registry's functions of kind `", stringify!($enum), "`, one variant each.")]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(u16)]
         #[allow(non_camel_case_types)]
-        pub enum $enum { $( $name, )* }
+        pub enum $enum { $( #[doc = concat!("`", stringify!($name), "` (", $manual, ").")] $name, )* }
 
         impl $enum {
+            /// Every function of this kind, in wire-id order.
             pub const ALL: &'static [$enum] = &[ $( $enum::$name, )* ];
 
+            /// Its row of the registry.
             pub fn spec(self) -> &'static $crate::registry::FunctionSpec {
                 &$table[self as usize]
             }
@@ -245,6 +266,7 @@ macro_rules! declare_functions {
                 self as u16
             }
 
+            /// The function with wire id `id`; `None` for an id past the table.
             pub fn from_id(id: u16) -> Option<Self> {
                 Self::ALL.get(id as usize).copied()
             }

@@ -5,6 +5,7 @@
 /// HMPL 23.2: `system_ltest0..9` and `system_dtest0..9`.
 pub const TEST_VARS: usize = 10;
 
+/// A variable every program sees, by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SystemVar {
     /// `system_fclk`: controller cycles since start (read-only).
@@ -27,13 +28,18 @@ pub enum SystemVar {
 
 /// One line of the reference: name, Lua type, where it comes from, what it is.
 pub struct Described {
+    /// The global's name, e.g. `system_fclk`.
     pub name: &'static str,
+    /// Its Lua type for the editor annotations.
     pub lua_type: &'static str,
+    /// The manual section it comes from.
     pub source: &'static str,
+    /// What it is.
     pub doc: &'static str,
 }
 
 impl SystemVar {
+    /// Every variable, for the reference and the editor annotations.
     pub const ALL: &'static [Described] = &[
         Described {
             name: "system_fclk",
@@ -80,6 +86,7 @@ impl SystemVar {
         },
     ];
 
+    /// The variable a global name stands for; `None` for any other name.
     pub fn parse(name: &str) -> Option<Self> {
         let numbered = |prefix: &str| {
             name.strip_prefix(prefix)

@@ -1,8 +1,11 @@
 //! The codes of the DRL registers, DXMC manual appendix A.3 ("程序流程"): execution state
-//! (0x6B01), control commands (0x6B05) and status (0x6B06).
+//! (0x6B01), control commands (0x6B05) and status (0x6B06). An unknown code of any of
+//! them is an error (`TryFromPrimitive`): the caller answers it as the manual says.
+
+use num_enum::{IntoPrimitive, TryFromPrimitive};
 
 /// DXMC A.3, register 0x6B01: the current DRL execution state.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u16)]
 pub enum ExecState {
     Close = 0,
@@ -19,12 +22,6 @@ impl ExecState {
         matches!(self, ExecState::Running | ExecState::BreakPoint | ExecState::Pause)
     }
 
-    pub fn from_code(code: u16) -> Option<Self> {
-        [ExecState::Close, ExecState::Running, ExecState::BreakPoint, ExecState::Pause, ExecState::PreRun]
-            .into_iter()
-            .find(|s| *s as u16 == code)
-    }
-
     /// The manual's name (DXMC A.3).
     pub fn name(self) -> &'static str {
         match self {
@@ -37,60 +34,35 @@ impl ExecState {
     }
 }
 
-/// DXMC A.3, register 0x6B05: the DRL control commands.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// DXMC A.3, register 0x6B05: the DRL control commands, by code; any other code is
+/// alarm 0x7000.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
+#[repr(u16)]
 pub enum Control {
-    Open,
-    ReleaseRun,
-    Stop,
-    Pause,
-    OpenAndReleaseRun,
-    StepInto,
-    StepOver,
-    StepOut,
-    BlockRun,
-    OpenAndBlockRun,
-    DebugRun,
-    OpenAndDebugRun,
+    Open = 1,
+    ReleaseRun = 2,
+    Stop = 3,
+    Pause = 4,
+    OpenAndReleaseRun = 6,
+    StepInto = 11,
+    StepOver = 12,
+    StepOut = 13,
+    BlockRun = 21,
+    OpenAndBlockRun = 22,
+    DebugRun = 44,
+    OpenAndDebugRun = 45,
     /// FTP area -> USB.
-    ExportProject,
+    ExportProject = 31,
     /// USB -> FTP area.
-    ImportProject,
-    SetBp,
-    AddBp,
-    DeleteBp,
-}
-
-impl Control {
-    /// DXMC A.3: 1, 2, 3, 4, 6, 11, 12, 13, 21, 22, 44, 45, 31, 32, 41, 42, 43; any other
-    /// code is alarm 0x7000.
-    pub fn from_code(code: u16) -> Option<Self> {
-        Some(match code {
-            1 => Control::Open,
-            2 => Control::ReleaseRun,
-            3 => Control::Stop,
-            4 => Control::Pause,
-            6 => Control::OpenAndReleaseRun,
-            11 => Control::StepInto,
-            12 => Control::StepOver,
-            13 => Control::StepOut,
-            21 => Control::BlockRun,
-            22 => Control::OpenAndBlockRun,
-            44 => Control::DebugRun,
-            45 => Control::OpenAndDebugRun,
-            31 => Control::ExportProject,
-            32 => Control::ImportProject,
-            41 => Control::SetBp,
-            42 => Control::AddBp,
-            43 => Control::DeleteBp,
-            _ => return None,
-        })
-    }
+    ImportProject = 32,
+    SetBp = 41,
+    AddBp = 42,
+    DeleteBp = 43,
 }
 
 /// DXMC A.3, register 0x6B06: the DRL status display. Each command family has a
 /// "cannot", an "in progress" and a "done" code.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u16)]
 pub enum Status {
     Busy = 0,
@@ -164,10 +136,6 @@ const STATUS_NAMES: [(Status, &str); 32] = [
 ];
 
 impl Status {
-    pub fn from_code(code: u16) -> Option<Self> {
-        STATUS_NAMES.iter().map(|(s, _)| *s).find(|s| *s as u16 == code)
-    }
-
     /// The manual's name (DXMC A.3), e.g. `CANNOT_OPEN`.
     pub fn name(self) -> &'static str {
         STATUS_NAMES.iter().find(|(s, _)| *s == self).map_or("", |(_, name)| name)
@@ -199,10 +167,10 @@ impl Status {
     /// The statuses that still change by themselves (DXMC A.3): BUSY, CHECKING, OPENING,
     /// STOPPING, EXPORTING, USB_ID_CHECKING, IMPORTING, BP_SETTING.
     pub fn in_progress(code: u16) -> bool {
-        [Status::Busy, Status::Checking, Status::Opening, Status::Stopping, Status::Exporting]
-            .into_iter()
-            .chain([Status::UsbIdChecking, Status::Importing, Status::BpSetting])
-            .any(|s| s as u16 == code)
+        use Status::*;
+        Status::try_from(code).is_ok_and(|s| {
+            matches!(s, Busy | Checking | Opening | Stopping | Exporting | UsbIdChecking | Importing | BpSetting)
+        })
     }
 }
 
@@ -222,10 +190,10 @@ mod tests {
         ];
         for (state, code) in rows {
             assert_eq!(state as u16, code, "{state:?}");
-            assert_eq!(ExecState::from_code(code), Some(state));
+            assert_eq!(ExecState::try_from(code).ok(), Some(state));
         }
         assert_eq!(ExecState::PreRun.name(), "Pre-Run");
-        assert_eq!(ExecState::from_code(5), None);
+        assert_eq!(ExecState::try_from(5).ok(), None);
     }
 
     /// DXMC A.3, 0x6B05; codes not in the table are alarm 0x7000 (DXMC 9).
@@ -251,11 +219,11 @@ mod tests {
             (43, Control::DeleteBp),
         ];
         for (code, control) in rows {
-            assert_eq!(Control::from_code(code), Some(control), "code {code}");
+            assert_eq!(Control::try_from(code).ok(), Some(control), "code {code}");
         }
         let valid: Vec<u16> = rows.iter().map(|r| r.0).collect();
         for code in (0..=100).filter(|c| !valid.contains(c)) {
-            assert_eq!(Control::from_code(code), None, "code {code} is not a DRL control command");
+            assert_eq!(Control::try_from(code).ok(), None, "code {code} is not a DRL control command");
         }
     }
 
@@ -299,13 +267,13 @@ mod tests {
         ];
         for (status, code) in rows {
             assert_eq!(status as u16, code, "{status:?}");
-            assert_eq!(Status::from_code(code), Some(status));
+            assert_eq!(Status::try_from(code).ok(), Some(status));
             let name = status.name();
             assert!(!name.is_empty() && name.chars().all(|c| c.is_ascii_uppercase() || c == '_'), "{name}");
             assert_eq!(status.is_failure(), name.contains("CANNOT") || name.contains("ERROR") || name == "FAILED");
         }
         assert_eq!(Status::CannotOpen.name(), "CANNOT_OPEN");
-        assert_eq!(Status::from_code(3), None);
+        assert_eq!(Status::try_from(3).ok(), None);
         let settling = [0, 1, 11, 31, 63, 66, 68, 71];
         for code in 0..=80 {
             assert_eq!(Status::in_progress(code), settling.contains(&code), "status {code}");

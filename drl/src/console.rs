@@ -217,7 +217,7 @@ impl State {
 
 impl Resources {
     fn task_state_of(&self, task: u8) -> TaskState {
-        self.monitor.latest().map_or(TaskState::Empty, |s| TaskState::from_u32(s.tasks[task as usize].state))
+        self.monitor.latest().map_or(TaskState::Empty, |s| TaskState::from(s.tasks[task as usize].state))
     }
 
     fn save_dh(&mut self) {
@@ -234,12 +234,12 @@ impl Resources {
             Register::ControllerState => self.monitor.latest().map_or(0, |s| s.controller_state as u16),
             Register::TargetState => self.target as u16,
             Register::DrlId => program.current_id(),
-            Register::ExecState => program.state() as u16,
+            Register::ExecState => program.state().into(),
             Register::Line => program.line(self),
             Register::RunSpeed => program.speed_pct(),
             Register::IdSelect => program.selected(),
             Register::Control => program.last_control(),
-            Register::Status => program.status() as u16,
+            Register::Status => program.status().into(),
             Register::Breakpoint(i) => program.breakpoint_register(i),
             Register::PlcControl => self.plc_control,
             Register::PlcStatus => self.plc_status(),
@@ -311,7 +311,7 @@ impl Resources {
 
     fn alarm(&self, alarm: Alarm, what: &str) {
         let cycle = self.monitor.latest().map_or(0, |s| s.cycle);
-        let text = format!("{what}: {} ({alarm})", Event::from_code(alarm.event_code()).meaning());
+        let text = format!("{what}: {} ({alarm})", Event::from(alarm.event_code()).meaning());
         tracing::warn!("{text}");
         let record = EventRecord::new(EventKind::Alarm, CONTROLLER, cycle, alarm.0, &text);
         if let Err(e) = self.events.send(&record) {

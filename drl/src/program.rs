@@ -142,7 +142,7 @@ impl ProgramControl {
 
     /// 0x6B05. `None` for a code the manual does not list: alarm 0x7000, nothing changes.
     pub fn control(&mut self, code: u16, host: &dyn Host) -> Option<Status> {
-        let command = Control::from_code(code)?;
+        let command = Control::try_from(code).ok()?;
         self.control = code;
         self.status = self.carry_out(command, host);
         Some(self.status)

@@ -45,13 +45,19 @@ struct TaskChannel {
 /// Counters the soak test and the logs read.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CoreIpcStats {
+    /// Requests received from tasks.
     pub requests: u64,
+    /// Replies published.
     pub replies: u64,
+    /// Replies that could not be published.
     pub send_failures: u64,
+    /// Futex wakes of tasks.
     pub wakes: u64,
+    /// Snapshots that could not be published.
     pub publish_failures: u64,
 }
 
+/// The controller's end of the IPC: publishes the snapshot, serves the tasks' requests and wakes them.
 pub struct CoreEndpoint {
     state: StatePublisher,
     tasks: Vec<TaskChannel>,
@@ -87,10 +93,12 @@ impl CoreEndpoint {
         Ok(CoreEndpoint { state, tasks, table, shared, stats: CoreIpcStats::default(), _node: node })
     }
 
+    /// The task table in shared memory.
     pub fn table(&self) -> &TaskTable {
         &self.table
     }
 
+    /// The shared data in shared memory.
     pub fn shared(&self) -> &SharedData {
         &self.shared
     }
@@ -100,6 +108,7 @@ impl CoreEndpoint {
         self.tasks.iter().filter(|t| t.deferred.is_some()).fold(0, |mask, t| mask | 1 << t.id)
     }
 
+    /// The counters so far.
     pub fn stats(&self) -> CoreIpcStats {
         self.stats
     }

@@ -5,14 +5,18 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
+use num_enum::{FromPrimitive, IntoPrimitive, TryFromPrimitive};
+
 /// Breakpoints a program can hold at once: 8 set before a run, more added one at a time.
 pub const MAX_BREAKPOINTS: usize = 16;
 
 /// Why the program is not running Lua, as the script reports it (DXMC A.3, 0x6B01).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// An unknown word reads as `None` (not halted).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum Halt {
     /// Running (or not started).
+    #[num_enum(default)]
     None = 0,
     /// Stopped on a breakpoint's line.
     BreakPoint = 2,
@@ -21,8 +25,8 @@ pub enum Halt {
 }
 
 /// What the console asks of the debugger (DXMC A.3, 0x6B05 codes 4, 11, 12, 13 and the
-/// resume of 2 and 44).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// resume of 2 and 44). An unknown code is no command (an error, ignored by the reader).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum DebugCommand {
     /// Stop at the next line of the main chunk.
@@ -37,39 +41,18 @@ pub enum DebugCommand {
     StepOut = 5,
 }
 
-impl DebugCommand {
-    fn from_u32(v: u32) -> Option<Self> {
-        Some(match v {
-            1 => DebugCommand::Pause,
-            2 => DebugCommand::Continue,
-            3 => DebugCommand::StepInto,
-            4 => DebugCommand::StepOver,
-            5 => DebugCommand::StepOut,
-            _ => return None,
-        })
-    }
-}
-
-/// How a program runs (DXMC A.3, 0x6B05 codes 2, 44, 21).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How a program runs (DXMC A.3, 0x6B05 codes 2, 44, 21). An unknown word reads as
+/// `Release`, the mode of a zeroed slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum RunMode {
     /// Release Run: breakpoints ignored; Pause still works.
+    #[num_enum(default)]
     Release = 0,
     /// Debug Run: breakpoints honoured.
     Debug = 1,
     /// Block Run: Debug Run that stops before the first line of the main chunk.
     Block = 2,
-}
-
-impl RunMode {
-    fn from_u32(v: u32) -> Self {
-        match v {
-            1 => RunMode::Debug,
-            2 => RunMode::Block,
-            _ => RunMode::Release,
-        }
-    }
 }
 
 /// The debugger's words. Zeroed: release mode, no breakpoints, no command, speed 100 %.
@@ -97,11 +80,11 @@ impl DebugBlock {
 
     /// Before a start: the mode, the breakpoints, no pending command, not halted.
     pub fn prepare(&self, mode: RunMode, breakpoints: &[u32]) {
-        self.mode.store(mode as u32, Ordering::Relaxed);
+        self.mode.store(mode.into(), Ordering::Relaxed);
         for (i, slot) in self.breakpoints.iter().enumerate() {
             slot.store(breakpoints.get(i).copied().unwrap_or(0), Ordering::Relaxed);
         }
-        self.halt.store(Halt::None as u32, Ordering::Relaxed);
+        self.halt.store(Halt::None.into(), Ordering::Relaxed);
         self.main_line.store(0, Ordering::Relaxed);
         self.done.store(self.command.load(Ordering::Relaxed) >> 8, Ordering::Relaxed);
         self.generation.fetch_add(1, Ordering::Release);
@@ -109,14 +92,14 @@ impl DebugBlock {
 
     /// Sets the mode of a running program (Debug Run from a Release Run's pause).
     pub fn set_mode(&self, mode: RunMode) {
-        self.mode.store(mode as u32, Ordering::Relaxed);
+        self.mode.store(mode.into(), Ordering::Relaxed);
         self.generation.fetch_add(1, Ordering::Release);
     }
 
     /// Sends a command; returns its sequence number, to compare with `done`.
     pub fn send(&self, command: DebugCommand) -> u32 {
         let seq = ((self.command.load(Ordering::Relaxed) >> 8) + 1) & 0x00FF_FFFF;
-        self.command.store(seq << 8 | command as u32, Ordering::Release);
+        self.command.store(seq << 8 | u32::from(command), Ordering::Release);
         seq
     }
 
@@ -141,16 +124,19 @@ impl DebugBlock {
         true
     }
 
+    /// Sets the run speed, 1..100 % (DXMC A.3, 0x6B03).
     pub fn set_speed_pct(&self, pct: u32) {
         self.speed_pct.store(pct, Ordering::Relaxed);
     }
 
     // Both sides.
 
+    /// The run mode the console set.
     pub fn mode(&self) -> RunMode {
-        RunMode::from_u32(self.mode.load(Ordering::Relaxed))
+        RunMode::from(self.mode.load(Ordering::Relaxed))
     }
 
+    /// Bumped by every change of mode or breakpoints, so the script rereads them only then.
     pub fn generation(&self) -> u32 {
         self.generation.load(Ordering::Acquire)
     }
@@ -172,21 +158,20 @@ impl DebugBlock {
         if seq == self.done.load(Ordering::Acquire) {
             return None;
         }
-        DebugCommand::from_u32(word & 0xFF).map(|c| (seq, c))
+        DebugCommand::try_from(word & 0xFF).ok().map(|c| (seq, c))
     }
 
+    /// The sequence number of the last command the script carried out.
     pub fn done(&self) -> u32 {
         self.done.load(Ordering::Acquire)
     }
 
+    /// Why the script is not running Lua, as it reported.
     pub fn halt(&self) -> Halt {
-        match self.halt.load(Ordering::Acquire) {
-            2 => Halt::BreakPoint,
-            3 => Halt::Pause,
-            _ => Halt::None,
-        }
+        Halt::from(self.halt.load(Ordering::Acquire))
     }
 
+    /// The line of `main.lua` the program is at (DXMC A.3, 0x6B02).
     pub fn main_line(&self) -> u32 {
         self.main_line.load(Ordering::Relaxed)
     }
@@ -206,10 +191,12 @@ impl DebugBlock {
         self.done.store(seq, Ordering::Release);
     }
 
+    /// Reports why the program stopped (or that it runs again).
     pub fn set_halt(&self, halt: Halt) {
-        self.halt.store(halt as u32, Ordering::Release);
+        self.halt.store(halt.into(), Ordering::Release);
     }
 
+    /// Reports the line of `main.lua` the program is at.
     pub fn set_main_line(&self, line: u32) {
         self.main_line.store(line, Ordering::Relaxed);
     }
@@ -266,5 +253,39 @@ mod tests {
         assert_eq!(b.speed_pct(), 100);
         b.set_speed_pct(40);
         assert_eq!(b.speed_pct(), 40);
+    }
+
+    /// The debugger's words in the slot, as both processes read them: an unknown mode
+    /// is Release, an unknown halt is none, an unknown command is no command.
+    #[test]
+    fn debugger_word_codes() {
+        for (mode, word) in [(RunMode::Release, 0u32), (RunMode::Debug, 1), (RunMode::Block, 2)] {
+            assert_eq!(u32::from(mode), word);
+            assert_eq!(RunMode::from(word), mode);
+        }
+        assert_eq!(RunMode::from(3), RunMode::Release);
+        for (halt, word) in [(Halt::None, 0u32), (Halt::BreakPoint, 2), (Halt::Pause, 3)] {
+            assert_eq!(u32::from(halt), word);
+            assert_eq!(Halt::from(word), halt);
+        }
+        assert_eq!(Halt::from(1), Halt::None);
+        let commands = [
+            (DebugCommand::Pause, 1u32),
+            (DebugCommand::Continue, 2),
+            (DebugCommand::StepInto, 3),
+            (DebugCommand::StepOver, 4),
+            (DebugCommand::StepOut, 5),
+        ];
+        let b = block();
+        for (command, word) in commands {
+            assert_eq!(u32::from(command), word);
+            let seq = b.send(command);
+            assert_eq!(b.command.load(Ordering::Relaxed), seq << 8 | word);
+            assert_eq!(b.pending(), Some((seq, command)));
+        }
+        for word in [0, 6, 0xFF] {
+            b.command.store(0x7F << 8 | word, Ordering::Relaxed);
+            assert_eq!(b.pending(), None, "word {word}");
+        }
     }
 }

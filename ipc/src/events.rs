@@ -13,6 +13,7 @@ pub struct EventSender {
 }
 
 impl EventSender {
+    /// Opens (or, for the controller, creates) the `events` service with a publisher.
     pub fn new(node: &Node<Ipc>, ns: &Namespace, open: Open) -> Result<Self, IpcError> {
         let publisher = services::events(node, ns, open)?.publisher_builder().create().map_err(|e| match open {
             Open::Create => too_big("events publisher", e),
@@ -21,6 +22,7 @@ impl EventSender {
         Ok(EventSender { publisher })
     }
 
+    /// Publishes one record; never blocks.
     pub fn send(&self, record: &EventRecord) -> Result<(), IpcError> {
         self.publisher.send_copy(*record).map(|_| ()).map_err(|e| failed("send event", e))
     }
@@ -41,6 +43,7 @@ pub struct EventReader {
 }
 
 impl EventReader {
+    /// Opens the `events` service of namespace `ns` for reading.
     pub fn open(ns: &Namespace) -> Result<Self, IpcError> {
         let node = services::node(ns, &format!("luamotion-events-{}", std::process::id()))?;
         let subscriber = services::events(&node, ns, Open::Existing)?

@@ -53,8 +53,24 @@ pub fn shm_free_bytes() -> Option<usize> {
 /// files in a folder.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Foreign {
-    Folder { path: PathBuf, uid: u32 },
-    Files { dir: PathBuf, ns: String, count: usize, uid: u32 },
+    /// An iceoryx2 folder another user owns.
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// Its owner.
+        uid: u32,
+    },
+    /// A namespace's files another user owns.
+    Files {
+        /// The folder they are in.
+        dir: PathBuf,
+        /// The namespace.
+        ns: String,
+        /// How many.
+        count: usize,
+        /// Their owner.
+        uid: u32,
+    },
 }
 
 impl std::fmt::Display for Foreign {

@@ -34,6 +34,7 @@ pub struct Pong {
 /// One ping's timestamps (CLOCK_MONOTONIC, ns).
 #[derive(Clone, Copy, Debug)]
 pub struct Echo {
+    /// The ping left.
     pub sent_ns: u64,
     /// The pong side had the ping.
     pub pong_received_ns: u64,
@@ -102,6 +103,7 @@ pub struct Ping {
 }
 
 impl Ping {
+    /// Opens the ping-pong services of namespace `ns`.
     pub fn open(ns: &Namespace) -> Result<Self, IpcError> {
         let node = services::node(ns, "luamotion-floor-ping")?;
         let requests = services::requests(&node, ns, CHANNEL, Open::Existing)?

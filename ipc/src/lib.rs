@@ -9,6 +9,9 @@
 //! | `shared` | shared memory (atomics) | all: user table, test variables, mutexes, task variables |
 //! | `events` | publish-subscribe | tasks and controller -> tools: SendEvent, SendMsgEvent, alarms |
 
+// Every public item is part of a contract with other processes or crates: say what it is.
+#![warn(missing_docs)]
+
 pub mod clock;
 mod core_side;
 pub mod debug;
@@ -37,25 +40,54 @@ pub use namespace::Namespace;
 pub use task_side::{CallTiming, ReplyCounters, TaskEndpoint};
 
 #[derive(Debug, thiserror::Error)]
+/// Why an IPC operation failed.
 pub enum IpcError {
     #[error("invalid namespace {0:?}: use 1 to 40 characters of A-Z a-z 0-9 _ -")]
+    /// The `--ns` name breaks the rules of iceoryx2's service names.
     Namespace(String),
     #[error("iceoryx2: {0}")]
+    /// iceoryx2 refused to create or open a service or port.
     Service(String),
     #[error("iceoryx2: {what}: {error}: {advice}")]
-    Permissions { what: String, error: String, advice: String },
+    /// Another user's files are in the way.
+    Permissions {
+        /// The service or file concerned.
+        what: String,
+        /// iceoryx2's error.
+        error: String,
+        /// What the operator can do.
+        advice: String,
+    },
     #[error("iceoryx2: {what}: {error}: {advice}")]
-    Capacity { what: String, error: String, advice: String },
+    /// A service's limits (nodes, ports, buffers) or the room in `/dev/shm` are used up.
+    Capacity {
+        /// The service or file concerned.
+        what: String,
+        /// iceoryx2's error.
+        error: String,
+        /// What the operator can do.
+        advice: String,
+    },
     #[error("shared memory: {0}")]
+    /// Creating or mapping a shared-memory segment failed.
     Shm(String),
     #[error("protocol: {0}")]
+    /// The other side sent something this side does not understand.
     Protocol(String),
     #[error("the controller is gone")]
+    /// The controller's process ended while a script waited on it.
     ControllerGone,
     #[error("no reply to request {0} in time")]
+    /// A request's reply did not come (its sequence number).
     ReplyLost(u64),
     #[error("a controller (pid {pid}) is already running in namespace {ns}")]
-    NamespaceInUse { ns: String, pid: u32 },
+    /// Another live controller owns the namespace.
+    NamespaceInUse {
+        /// The namespace.
+        ns: String,
+        /// The other controller's pid.
+        pid: u32,
+    },
 }
 
 /// Makes the namespace ready for a new controller: removes what dead processes left

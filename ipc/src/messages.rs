@@ -2,6 +2,7 @@
 //! free of pointers, so that iceoryx2 can hand them between processes without copying.
 
 use iceoryx2::prelude::ZeroCopySend;
+use num_enum::{FromPrimitive, IntoPrimitive, TryFromPrimitive};
 
 /// 32 drives + 64 virtual axes (DXMC), more than HMPL's 16.
 pub const MAX_AXES: usize = 96;
@@ -27,21 +28,28 @@ pub struct Request {
     pub sent_ns: u64,
     /// `api::Command::id()`.
     pub func: u16,
+    /// Arguments used in `args`.
     pub argc: u16,
+    /// Bytes used in `blob`.
     pub blob_len: u32,
+    /// The argument words.
     pub args: [u64; MAX_ARGS],
+    /// Bytes that do not fit in words (a string, a PVT table).
     pub blob: [u8; BLOB_SIZE],
 }
 
 impl Request {
+    /// An empty request for function id `func`.
     pub fn new(func: u16) -> Self {
         Request { seq: 0, sent_ns: 0, func, argc: 0, blob_len: 0, args: [0; MAX_ARGS], blob: [0; BLOB_SIZE] }
     }
 
+    /// Appends an `Int` argument.
     pub fn push_int(&mut self, v: i64) {
         self.push_word(v as u64);
     }
 
+    /// Appends a `Double` argument.
     pub fn push_double(&mut self, v: f64) {
         self.push_word(v.to_bits());
     }
@@ -51,18 +59,22 @@ impl Request {
         self.argc += 1;
     }
 
+    /// Argument `i` as an `Int`.
     pub fn int(&self, i: usize) -> i64 {
         self.args[i] as i64
     }
 
+    /// Argument `i` as a `Double`.
     pub fn double(&self, i: usize) -> f64 {
         f64::from_bits(self.args[i])
     }
 
+    /// The blob's used bytes.
     pub fn blob(&self) -> &[u8] {
         &self.blob[..self.blob_len as usize]
     }
 
+    /// Sets the blob; bytes past `BLOB_SIZE` are cut.
     pub fn set_blob(&mut self, bytes: &[u8]) {
         let n = bytes.len().min(BLOB_SIZE);
         self.blob[..n].copy_from_slice(&bytes[..n]);
@@ -83,6 +95,7 @@ impl Request {
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 pub struct Reply {
+    /// The request's sequence number.
     pub seq: u64,
     /// The request's `sent_ns`, echoed for the round trip.
     pub request_sent_ns: u64,
@@ -95,9 +108,13 @@ pub struct Reply {
     /// 0 on success, otherwise why it failed: the HMPL error code (`0x83IIEEEE`, ...),
     /// or for SDO services the CiA 301 abort code.
     pub rc: u32,
+    /// Values used in `values`.
     pub valuec: u16,
+    /// Bytes used in `blob`.
     pub blob_len: u16,
+    /// Returned values as words, typed by the registry's `returns`.
     pub values: [u64; MAX_ARGS],
+    /// A returned out-pointer buffer.
     pub blob: [u8; BLOB_SIZE],
 }
 
@@ -108,16 +125,19 @@ impl Reply {
         self.valuec += 1;
     }
 
+    /// Sets the blob; bytes past `BLOB_SIZE` are cut.
     pub fn set_blob(&mut self, bytes: &[u8]) {
         let n = bytes.len().min(BLOB_SIZE);
         self.blob[..n].copy_from_slice(&bytes[..n]);
         self.blob_len = n as u16;
     }
 
+    /// The blob's used bytes.
     pub fn blob(&self) -> &[u8] {
         &self.blob[..self.blob_len as usize]
     }
 
+    /// An empty successful reply to `request`.
     pub fn to(request: &Request) -> Self {
         Reply {
             seq: request.seq,
@@ -136,30 +156,51 @@ impl Reply {
 
 /// HMPL table 5.1.1.5: the bits of an axis' `motion_status`.
 pub mod motion_status {
+    /// Bit 0: the axis is enabled.
     pub const ENABLED: u32 = 1 << 0;
+    /// Bit 1: the axis is moving.
     pub const MOVING: u32 = 1 << 1;
+    /// Bit 2: in position.
     pub const IN_POSITION: u32 = 1 << 2;
+    /// Bit 3: in a synchronous motion (gear, cam).
     pub const SYNCHRONOUS: u32 = 1 << 3;
+    /// Bit 4: a member of a group.
     pub const GROUP: u32 = 1 << 4;
+    /// Bit 5: a member of a gantry pair.
     pub const GANTRY: u32 = 1 << 5;
+    /// Bit 6: input shaping on.
     pub const INPUT_SHAPE: u32 = 1 << 6;
+    /// Bit 7: VSF on.
     pub const VSF: u32 = 1 << 7;
+    /// Bit 8: geared to a master.
     pub const GEAR: u32 = 1 << 8;
+    /// Bit 9: following a cam.
     pub const CAM: u32 = 1 << 9;
+    /// Bit 10: accelerating.
     pub const ACCELERATING: u32 = 1 << 10;
+    /// Bit 11: homed.
     pub const HOMED: u32 = 1 << 11;
+    /// Bit 12: homing.
     pub const HOMING: u32 = 1 << 12;
+    /// Bit 13: the home switch is on.
     pub const HOME_SWITCH: u32 = 1 << 13;
 }
 
 /// HMPL table 5.1.1.4: the bits of an axis' `fault_status`.
 pub mod fault_status {
+    /// Bit 0: stopped by an error.
     pub const ERROR_STOP: u32 = 1 << 0;
+    /// Bit 1: the drive is in fault.
     pub const DRIVE_FAULT: u32 = 1 << 1;
+    /// Bit 2: following error too large.
     pub const POSITION_ERROR: u32 = 1 << 2;
+    /// Bit 3: the right (positive) hardware limit.
     pub const HW_RIGHT_LIMIT: u32 = 1 << 3;
+    /// Bit 4: the left (negative) hardware limit.
     pub const HW_LEFT_LIMIT: u32 = 1 << 4;
+    /// Bit 5: the right (positive) software limit.
     pub const SW_RIGHT_LIMIT: u32 = 1 << 5;
+    /// Bit 6: the left (negative) software limit.
     pub const SW_LEFT_LIMIT: u32 = 1 << 6;
 }
 
@@ -168,55 +209,87 @@ pub mod fault_status {
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
 #[repr(C)]
 pub struct AxisSnapshot {
+    /// `motion_status` bits (HMPL table 5.1.1.5).
     pub motion_status: u32,
+    /// `fault_status` bits (HMPL table 5.1.1.4).
     pub fault_status: u32,
+    /// The axis' last HMPL error code (HMPL 18.3).
     pub last_err: u32,
     /// The drive's own error code, 0x603F (HMPL 18.7).
     pub drive_err: u32,
+    /// The controlword last sent (0x6040).
     pub coe_controlword: u16,
+    /// The statusword last received (0x6041).
     pub coe_statusword: u16,
+    /// Commands waiting in the queue (HMPL 5.3.44).
     pub cmd_num: u32,
+    /// The buffer mode for the next command (1: buffered).
     pub buffer_mode: u32,
+    /// Whole turns of a rollover axis.
     pub rollover_turns: i32,
     /// -1 when not in a gantry pair.
     pub gantry_pair_id: i32,
+    /// The gear master's axis id.
     pub gear_master: u32,
+    /// 1 while geared.
     pub in_gear: u32,
     /// 8 csp, 9 csv, 10 cst.
     pub op_mode: u32,
+    /// Reference position, counts.
     pub ref_pos: f64,
+    /// Reference velocity, counts/s.
     pub ref_vel: f64,
+    /// Reference acceleration, counts/s².
     pub ref_acc: f64,
+    /// Position sent to the drive, counts.
     pub pos_out: f64,
+    /// Velocity sent to the drive, counts/s.
     pub vel_out: f64,
+    /// Acceleration sent to the drive, counts/s².
     pub acc_out: f64,
+    /// The origin's shift by `SetPos` (HMPL 5.3.19), counts.
     pub pos_offset: f64,
+    /// Position feedback, counts.
     pub pos_fb: f64,
+    /// Velocity feedback, counts/s.
     pub vel_fb: f64,
+    /// Position error, counts.
     pub pos_err: f64,
+    /// Velocity error, counts/s.
     pub vel_err: f64,
     /// Current feedback, A (HMPL 5.3.26, from 0x6077).
     pub curr_fb: f64,
+    /// Profile velocity setting, counts/s.
     pub vel: f64,
+    /// Acceleration setting, counts/s².
     pub acc: f64,
+    /// Deceleration setting, counts/s².
     pub dec: f64,
+    /// Kill deceleration setting, counts/s².
     pub kill_dec: f64,
     /// Smooth time, ms.
     pub sm_time: f64,
+    /// Right (positive) software limit, counts.
     pub swrl: f64,
+    /// Left (negative) software limit, counts.
     pub swll: f64,
     /// ms.
     pub move_time: f64,
+    /// Time from the end of the profile to in position, ms.
     pub settling_time: f64,
     /// Percent.
     pub vel_scale: f64,
+    /// In-position window, counts.
     pub pos_window: f64,
+    /// Time the position must stay in the window, ms.
     pub pos_window_time: f64,
+    /// Gear ratio to the master.
     pub gear_ratio: f64,
 }
 
 /// Entries and bytes of one PDO (CoE manual 2.4: at most 7 entries, 20 bytes).
 pub const MAX_PDO_ENTRIES: usize = 7;
+/// Bytes of one PDO's process data.
 pub const MAX_PDO_BYTES: usize = 20;
 /// One drive per axis.
 pub const MAX_SLAVES: usize = MAX_AXES;
@@ -225,9 +298,13 @@ pub const MAX_SLAVES: usize = MAX_AXES;
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
 #[repr(C)]
 pub struct PdoEntrySnapshot {
+    /// Object index.
     pub index: u16,
+    /// Object sub-index.
     pub sub: u8,
+    /// Bit length.
     pub bits: u8,
+    /// Byte offset in the process data.
     pub offset: u8,
     /// The object's type is signed (sign-extend when reading).
     pub signed: u8,
@@ -239,17 +316,23 @@ pub struct PdoEntrySnapshot {
 pub struct SlaveSnapshot {
     /// 1 Init, 2 PreOp, 4 SafeOp, 8 Op.
     pub al_state: u8,
+    /// Entries of the RxPDO used in `rx`.
     pub rx_count: u8,
+    /// Entries of the TxPDO used in `tx`.
     pub tx_count: u8,
     /// Digital inputs and outputs of the slave (HMPL ch. 21).
     pub digital_inputs: u8,
+    /// See `digital_inputs`.
     pub digital_outputs: u8,
     /// AL status code of the last refused state change (0: none).
     pub al_status_code: u16,
+    /// The RxPDO mapping (master to slave).
     pub rx: [PdoEntrySnapshot; MAX_PDO_ENTRIES],
+    /// The TxPDO mapping (slave to master).
     pub tx: [PdoEntrySnapshot; MAX_PDO_ENTRIES],
     /// RxPDO as the master last sent it, TxPDO as the slave last returned it.
     pub outputs: [u8; MAX_PDO_BYTES],
+    /// See `outputs`.
     pub inputs: [u8; MAX_PDO_BYTES],
 }
 
@@ -258,8 +341,8 @@ pub const EVENT_TEXT_BYTES: usize = 160;
 /// The `task` of an event the controller raised.
 pub const CONTROLLER: u32 = 0xFF;
 
-/// What an event record is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What an event record is. An unknown kind is an error: the tools skip the record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum EventKind {
     /// `SendEvent(id)` (HMPL 2.19).
@@ -274,6 +357,7 @@ pub enum EventKind {
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 pub struct EventRecord {
+    /// The cycle it was raised in.
     pub cycle: u64,
     /// `EventKind` as a number.
     pub kind: u32,
@@ -281,13 +365,16 @@ pub struct EventRecord {
     pub task: u32,
     /// The event id or the alarm code.
     pub code: u32,
+    /// Bytes used in `text`.
     pub len: u32,
+    /// UTF-8 text, cut at a character boundary.
     pub text: [u8; EVENT_TEXT_BYTES],
 }
 
 impl EventRecord {
+    /// A record; `text` is cut to `EVENT_TEXT_BYTES` at a character boundary.
     pub fn new(kind: EventKind, task: u32, cycle: u64, code: u32, text: &str) -> Self {
-        let mut record = EventRecord { cycle, kind: kind as u32, task, code, len: 0, text: [0; EVENT_TEXT_BYTES] };
+        let mut record = EventRecord { cycle, kind: kind.into(), task, code, len: 0, text: [0; EVENT_TEXT_BYTES] };
         let mut n = text.len().min(EVENT_TEXT_BYTES);
         while !text.is_char_boundary(n) {
             n -= 1;
@@ -297,31 +384,30 @@ impl EventRecord {
         record
     }
 
+    /// The record's kind; `None` for a number no kind has.
     pub fn kind(&self) -> Option<EventKind> {
-        match self.kind {
-            1 => Some(EventKind::Event),
-            2 => Some(EventKind::Message),
-            3 => Some(EventKind::Alarm),
-            _ => None,
-        }
+        EventKind::try_from(self.kind).ok()
     }
 
+    /// The text (invalid UTF-8 replaced).
     pub fn text(&self) -> String {
         String::from_utf8_lossy(&self.text[..(self.len as usize).min(EVENT_TEXT_BYTES)]).into_owned()
     }
 }
 
 /// A task as the core sees it (HMPL ch. 16): `IsTaskStop` is true unless it is starting
-/// or running.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// or running. An unknown word reads as `Empty`, the state of a zeroed snapshot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum TaskState {
     /// No program configured for this id (`StartTask` gives 0x010A).
     #[default]
     Empty = 0,
+    /// Has a program, not running.
     Stopped = 1,
     /// Its process is being started; `StartTask` returns once it runs.
     Starting = 2,
+    /// Its program runs.
     Running = 3,
     /// Stopped by `StopTask`, `StopAllTask` or an E-stop; its process is being ended.
     Stopping = 4,
@@ -330,22 +416,12 @@ pub enum TaskState {
 }
 
 impl TaskState {
-    pub fn from_u32(v: u32) -> Self {
-        match v {
-            1 => TaskState::Stopped,
-            2 => TaskState::Starting,
-            3 => TaskState::Running,
-            4 => TaskState::Stopping,
-            5 => TaskState::Error,
-            _ => TaskState::Empty,
-        }
-    }
-
     /// HMPL 16.6: `IsTaskStop`.
     pub fn is_stopped(self) -> bool {
         !matches!(self, TaskState::Starting | TaskState::Running)
     }
 
+    /// The state's name for the tools.
     pub fn name(self) -> &'static str {
         match self {
             TaskState::Empty => "empty",
@@ -368,6 +444,7 @@ pub struct TaskSnapshot {
     pub alarm: u32,
     /// The script process, 0 when none.
     pub pid: u32,
+    /// Its watchdog time, ms (0: none).
     pub watchdog_ms: u32,
 }
 
@@ -380,8 +457,11 @@ pub const GPIO_PINS: i64 = 8;
 pub struct GpioSnapshot {
     /// Inputs as programs read them (after inversion).
     pub gpi: u32,
+    /// Outputs as the controller drives them.
     pub gpo: u32,
+    /// The inversion mask of the inputs (HMPL 9.5).
     pub gpi_invert: u32,
+    /// The inversion mask of the outputs (HMPL 9.5).
     pub gpo_invert: u32,
     /// The input bound to the E-stop (1-based; 0: none).
     pub emo_input: u32,
@@ -393,11 +473,13 @@ pub struct GpioSnapshot {
 pub struct Snapshot {
     /// `system_fclk`: cycles since start.
     pub cycle: u64,
+    /// The cycle period, ns.
     pub period_ns: u64,
     /// `system_timeInMs`: controller time, derived from the cycle count.
     pub time_in_ms: u64,
     /// CLOCK_MONOTONIC at publication, for the age of a snapshot when read.
     pub published_ns: u64,
+    /// Axes in use (of `MAX_AXES`).
     pub axis_count: u32,
     /// EtherCAT master state: 1 Init, 2 PreOp, 4 SafeOp, 8 Op (HMPL 2.5).
     pub ecat_state: u32,
@@ -405,6 +487,7 @@ pub struct Snapshot {
     pub system_error: u32,
     /// The last system error code (HMPL 18.2).
     pub system_last_err: u32,
+    /// Slaves on the segment (of `MAX_SLAVES`).
     pub slave_count: u32,
     /// Each group's last error (HMPL 18.5).
     pub group_last_err: [u32; MAX_GROUPS],
@@ -412,9 +495,13 @@ pub struct Snapshot {
     pub overruns: u64,
     /// DXMC 3.6, register 0x6A80: 0 Initial, 1 Fail, 2 Edit, 4 Run, 5 Diagnosis.
     pub controller_state: u32,
+    /// The controller's digital I/O.
     pub gpio: GpioSnapshot,
+    /// Every task's slot.
     pub tasks: [TaskSnapshot; MAX_TASKS],
+    /// Every axis, the first `axis_count` in use.
     pub axes: [AxisSnapshot; MAX_AXES],
+    /// Every slave, the first `slave_count` present.
     pub slaves: [SlaveSnapshot; MAX_SLAVES],
 }
 
@@ -443,7 +530,42 @@ impl Default for Snapshot {
 
 #[cfg(test)]
 mod tests {
-    use super::{fault_status, motion_status};
+    use super::{EventKind, EventRecord, TaskState, fault_status, motion_status};
+
+    /// The task states as the snapshot carries them; an unknown word reads as `Empty`.
+    #[test]
+    fn task_state_words() {
+        let rows = [
+            (TaskState::Empty, 0u32),
+            (TaskState::Stopped, 1),
+            (TaskState::Starting, 2),
+            (TaskState::Running, 3),
+            (TaskState::Stopping, 4),
+            (TaskState::Error, 5),
+        ];
+        for (state, word) in rows {
+            assert_eq!(u32::from(state), word, "{state:?}");
+            assert_eq!(TaskState::from(word), state, "word {word}");
+        }
+        for word in [6, 0x100, u32::MAX] {
+            assert_eq!(TaskState::from(word), TaskState::Empty, "word {word}");
+        }
+    }
+
+    /// The kinds of the `events` stream; a record of an unknown kind has none.
+    #[test]
+    fn event_kind_words() {
+        let rows = [(EventKind::Event, 1u32), (EventKind::Message, 2), (EventKind::Alarm, 3)];
+        for (kind, word) in rows {
+            let record = EventRecord::new(kind, 0, 0, 0, "");
+            assert_eq!(record.kind, word, "{kind:?}");
+            assert_eq!(record.kind(), Some(kind));
+        }
+        for word in [0, 4, u32::MAX] {
+            let record = EventRecord { kind: word, ..EventRecord::new(EventKind::Event, 0, 0, 0, "") };
+            assert_eq!(record.kind(), None, "word {word}");
+        }
+    }
 
     /// HMPL table 5.1.1.5: one row per `motion_status` bit.
     #[test]

@@ -10,6 +10,7 @@ use crate::shm::Region;
 use crate::task_table::TaskTable;
 use crate::{IpcError, Namespace};
 
+/// A tool's read-only view of a running controller: its snapshot and its task table.
 pub struct Monitor {
     state: StateSubscriber,
     latest: Option<Sample<Ipc, Snapshot, ()>>,
@@ -69,6 +70,7 @@ impl Monitor {
         self.latest.as_deref()
     }
 
+    /// The controller's task table.
     pub fn table(&self) -> &TaskTable {
         &self.table
     }

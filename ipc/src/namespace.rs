@@ -11,6 +11,7 @@ use crate::IpcError;
 const MAX_LEN: usize = 40;
 
 #[derive(Clone, Debug, PartialEq, Eq)]
+/// A controller's namespace (`--ns`): every service and file of one controller carries it.
 pub struct Namespace(String);
 
 impl Namespace {
@@ -22,6 +23,7 @@ impl Namespace {
         if valid { Ok(Namespace(name.to_string())) } else { Err(IpcError::Namespace(name.to_string())) }
     }
 
+    /// The name as given.
     pub fn as_str(&self) -> &str {
         &self.0
     }
@@ -42,6 +44,7 @@ impl Namespace {
         config
     }
 
+    /// The iceoryx2 service name of `path` within this namespace.
     pub fn service_name(&self, path: &str) -> Result<ServiceName, IpcError> {
         let name = format!("luamotion/{}/{path}", self.0);
         ServiceName::new(&name).map_err(|e| IpcError::Service(format!("{name}: {e:?}")))

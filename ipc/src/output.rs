@@ -27,10 +27,12 @@ pub struct Capped {
 }
 
 impl Capped {
+    /// Keeps at most `limit` bytes.
     pub fn new(limit: usize) -> Self {
         Capped { limit, kept: Vec::new(), cut: 0, full: false }
     }
 
+    /// Adds bytes: kept while there is room, counted as cut after.
     pub fn push(&mut self, bytes: &[u8]) {
         if self.full {
             self.cut += bytes.len() as u64;
@@ -47,6 +49,7 @@ impl Capped {
         self.full = true;
     }
 
+    /// The bytes kept.
     pub fn kept(&self) -> &[u8] {
         &self.kept
     }
@@ -56,10 +59,12 @@ impl Capped {
         self.cut
     }
 
+    /// Nothing was pushed since the last `clear`.
     pub fn is_empty(&self) -> bool {
         self.kept.is_empty() && self.cut == 0
     }
 
+    /// Starts over, empty.
     pub fn clear(&mut self) {
         self.kept.clear();
         self.cut = 0;
@@ -73,6 +78,7 @@ pub struct Lines {
 }
 
 impl Lines {
+    /// Cuts each line at `limit` bytes.
     pub fn new(limit: usize) -> Self {
         Lines { line: Capped::new(limit) }
     }

@@ -9,12 +9,17 @@ use crate::messages::{AxisSnapshot, GPIO_PINS, PdoEntrySnapshot, Snapshot, TaskS
 /// A query's answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
+    /// A Lua integer.
     Int(i64),
+    /// A Lua float.
     Double(f64),
+    /// A Lua boolean.
     Bool(bool),
     /// An out-pointer buffer (at most 8 bytes: the widest drive object).
     Bytes {
+        /// The bytes, the first `len` of them used.
         data: [u8; 8],
+        /// How many bytes are used.
         len: u8,
     },
 }
@@ -34,10 +39,12 @@ impl From<Value> for Answer {
 pub struct Words<'a>(pub &'a [u64]);
 
 impl Words<'_> {
+    /// Argument word `i` as an integer.
     pub fn int(&self, i: usize) -> i64 {
         self.0[i] as i64
     }
 
+    /// Argument word `i` as a float (its bits).
     pub fn double(&self, i: usize) -> f64 {
         f64::from_bits(self.0[i])
     }
@@ -47,6 +54,7 @@ impl Words<'_> {
 const ECAT_PRE_OP: u32 = 2;
 const ECAT_OP: u32 = 8;
 
+/// Answers a status query from the snapshot, in the script process, without a round trip to the core.
 pub fn evaluate(query: Query, args: Words, s: &Snapshot) -> Result<Answer, ErrorCode> {
     let axis = || axis(s, args.int(0));
     let status = |bit| axis().map(|a| Value::Bool(a.motion_status & bit != 0).into());
@@ -158,7 +166,7 @@ pub fn evaluate(query: Query, args: Words, s: &Snapshot) -> Result<Answer, Error
         Query::IsTaskStop => {
             let task = usize::try_from(args.int(0)).ok().and_then(|t| s.tasks.get(t));
             let task = task.ok_or(ErrorCode::System(SystemError::NotValidTaskid))?;
-            Value::Bool(TaskState::from_u32(task.state).is_stopped()).into()
+            Value::Bool(TaskState::from(task.state).is_stopped()).into()
         }
     })
 }

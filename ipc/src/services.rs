@@ -13,17 +13,29 @@ use crate::shared::SharedData;
 use crate::task_table::TaskTable;
 use crate::{IpcError, Namespace, files};
 
+/// The iceoryx2 service flavour every port uses (inter-process, shared memory).
 pub type Ipc = ipc::Service;
+/// A node of this process.
 pub type IpcNode = Node<Ipc>;
+/// The controller's publisher of the `state` snapshot.
 pub type StatePublisher = Publisher<Ipc, Snapshot, ()>;
+/// A reader of the `state` snapshot.
 pub type StateSubscriber = Subscriber<Ipc, Snapshot, ()>;
+/// A task's publisher of its requests.
 pub type RequestPublisher = Publisher<Ipc, Request, ()>;
+/// The controller's subscriber to one task's requests.
 pub type RequestSubscriber = Subscriber<Ipc, Request, ()>;
+/// The controller's publisher of one task's replies.
 pub type ReplyPublisher = Publisher<Ipc, Reply, ()>;
+/// A task's subscriber to its replies.
 pub type ReplySubscriber = Subscriber<Ipc, Reply, ()>;
+/// The notifier of the soak's event floor.
 pub type WakeNotifier = Notifier<Ipc>;
+/// A publisher of `events` records.
 pub type EventPublisher = Publisher<Ipc, EventRecord, ()>;
+/// A reader of `events` records.
 pub type EventSubscriber = Subscriber<Ipc, EventRecord, ()>;
+/// The listener of the soak's event floor.
 pub type WakeListener = Listener<Ipc>;
 
 // Who attaches to one controller. Every limit of every service below is derived from
@@ -60,6 +72,7 @@ const STATE_BUFFER: usize = 1;
 const STATE_BORROWED: usize = 2;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
+/// Whether a service is created (by its owner) or opened (by the others).
 pub enum Open {
     /// The controller creates its services.
     Create,
@@ -184,6 +197,7 @@ fn call_channel<T: std::fmt::Debug + ZeroCopySend>(
     }
 }
 
+/// The `task/<id>/request` service of task `task`.
 pub fn requests(
     node: &Node<Ipc>,
     ns: &Namespace,
@@ -193,6 +207,7 @@ pub fn requests(
     call_channel(node, ns, task, "request", open)
 }
 
+/// The `task/<id>/reply` service of task `task`.
 pub fn replies(
     node: &Node<Ipc>,
     ns: &Namespace,

@@ -6,6 +6,8 @@
 use std::sync::atomic::{AtomicI64, AtomicU16, AtomicU32, AtomicU64, Ordering};
 use std::time::Duration;
 
+use num_enum::{FromPrimitive, IntoPrimitive};
+
 use crate::futex;
 use crate::messages::MAX_TASKS;
 use crate::shm::Shareable;
@@ -20,9 +22,11 @@ pub const MUTEXES: usize = 8;
 pub const TASK_VARS: usize = 64;
 /// Longest variable name and longest string value, bytes.
 pub const VAR_NAME_BYTES: usize = 31;
+/// Longest string value of a persistent variable, bytes.
 pub const VAR_TEXT_BYTES: usize = 64;
 
 #[repr(C)]
+/// The data all processes of a namespace share (HMPL ch. 11, 23.2, 16; DXMC A.1): user table, test variables, mutexes, task variables, DV and DH.
 pub struct SharedData {
     user_table: [AtomicU64; USER_TABLE_LEN],
     ltest: [AtomicI64; TEST_VARS],
@@ -42,6 +46,7 @@ pub struct SharedData {
 pub const USER_AREA_WORDS: usize = 0x3000;
 /// DXMC A.1: DV at Modbus 0x0000..0x2FFF, DH at 0x8000..0xAFFF.
 pub const DV_BASE: u16 = 0x0000;
+/// Where DH starts in the Modbus address space.
 pub const DH_BASE: u16 = 0x8000;
 
 /// A Modbus user area (DXMC A.1).
@@ -86,6 +91,7 @@ pub enum TestVar {
 /// What `MutexLock` found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lock {
+    /// The caller holds it now.
     Acquired,
     /// The caller holds it already: HMPL stops the task (0x13EC).
     Twice,
@@ -133,10 +139,12 @@ impl SharedData {
         }
     }
 
+    /// Entry `index` of the user table; `None` past its end.
     pub fn user_table(&self, index: usize) -> Option<f64> {
         self.user_table.get(index).map(|w| f64::from_bits(w.load(Ordering::Relaxed)))
     }
 
+    /// Writes entry `index` of the user table; false past its end.
     pub fn set_user_table(&self, index: usize, value: f64) -> bool {
         self.user_table.get(index).map(|w| w.store(value.to_bits(), Ordering::Relaxed)).is_some()
     }
@@ -149,6 +157,7 @@ impl SharedData {
         (end <= USER_TABLE_LEN).then_some(start..end)
     }
 
+    /// A test variable's value; `None` for an index past 9.
     pub fn test_var(&self, var: TestVar) -> Option<TestValue> {
         Some(match var {
             TestVar::L(i) => TestValue::Int(self.ltest.get(i)?.load(Ordering::Relaxed)),
@@ -207,33 +216,45 @@ impl SharedData {
         }
     }
 
+    /// The persistent variables of task `task`.
     pub fn task_vars(&self, task: u8) -> &TaskVars {
         &self.task_vars[task as usize]
     }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
+/// A test variable's value (HMPL 23.2).
 pub enum TestValue {
+    /// `system_ltest0..9`.
     Int(i64),
+    /// `system_dtest0..9` and `system_mtest`.
     Double(f64),
 }
 
 /// A value a persistent variable holds.
 #[derive(Clone, Debug, PartialEq)]
 pub enum VarValue {
+    /// A Lua integer.
     Int(i64),
+    /// A Lua float.
     Double(f64),
+    /// A Lua boolean.
     Bool(bool),
+    /// A Lua string, at most `VAR_TEXT_BYTES`.
     Text(String),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+/// Why a persistent variable was not stored.
 pub enum VarError {
     #[error("names are 1 to {VAR_NAME_BYTES} bytes")]
+    /// The name is empty, too long or holds a NUL.
     Name,
     #[error("strings hold at most {VAR_TEXT_BYTES} bytes")]
+    /// The string is too long.
     TooLong,
     #[error("a task keeps at most {TASK_VARS} variables")]
+    /// The task has no free entry.
     Full,
 }
 
@@ -256,9 +277,22 @@ struct VarEntry {
     copies: [VarCopy; 2],
 }
 
+/// What a copy of a persistent variable holds. An unknown word reads as `Nil`: the
+/// variable is not set.
+#[derive(Clone, Copy, FromPrimitive, IntoPrimitive)]
+#[repr(u32)]
+enum VarKind {
+    #[num_enum(default)]
+    Nil = 0,
+    Int = 1,
+    Double = 2,
+    Bool = 3,
+    Text = 4,
+}
+
 #[repr(C)]
 struct VarCopy {
-    /// 0 nil, 1 integer, 2 double, 3 boolean, 4 string.
+    /// A `VarKind`.
     kind: AtomicU32,
     len: AtomicU32,
     word: AtomicU64,
@@ -289,19 +323,20 @@ impl TaskVars {
         self.entries.iter().find(|e| e.header.load(Ordering::Acquire) & IN_USE != 0 && e.name_is(name))
     }
 
+    /// The value of variable `name`; `None` when it is not set.
     pub fn get(&self, name: &str) -> Option<VarValue> {
         let entry = self.find(name.as_bytes())?;
         let copy = &entry.copies[(entry.header.load(Ordering::Acquire) & 1) as usize];
         let word = copy.word.load(Ordering::Relaxed);
-        Some(match copy.kind.load(Ordering::Relaxed) {
-            1 => VarValue::Int(word as i64),
-            2 => VarValue::Double(f64::from_bits(word)),
-            3 => VarValue::Bool(word != 0),
-            4 => {
+        Some(match VarKind::from(copy.kind.load(Ordering::Relaxed)) {
+            VarKind::Int => VarValue::Int(word as i64),
+            VarKind::Double => VarValue::Double(f64::from_bits(word)),
+            VarKind::Bool => VarValue::Bool(word != 0),
+            VarKind::Text => {
                 let len = (copy.len.load(Ordering::Relaxed) as usize).min(VAR_TEXT_BYTES);
                 VarValue::Text(String::from_utf8_lossy(&unpack(&copy.text)[..len]).into_owned())
             }
-            _ => return None,
+            VarKind::Nil => return None,
         })
     }
 
@@ -326,7 +361,7 @@ impl TaskVars {
                     .find(|e| e.header.load(Ordering::Acquire) & IN_USE == 0)
                     .ok_or(VarError::Full)?;
                 pack(key, &free.name);
-                free.copies[0].kind.store(0, Ordering::Relaxed);
+                free.copies[0].kind.store(VarKind::Nil.into(), Ordering::Relaxed);
                 free.header.store(IN_USE, Ordering::Release);
                 free
             }
@@ -335,17 +370,17 @@ impl TaskVars {
         let next = (header & 1) ^ 1;
         let copy = &entry.copies[next as usize];
         let (kind, word) = match value {
-            None => (0, 0),
-            Some(VarValue::Int(i)) => (1, *i as u64),
-            Some(VarValue::Double(d)) => (2, d.to_bits()),
-            Some(VarValue::Bool(b)) => (3, *b as u64),
+            None => (VarKind::Nil, 0),
+            Some(VarValue::Int(i)) => (VarKind::Int, *i as u64),
+            Some(VarValue::Double(d)) => (VarKind::Double, d.to_bits()),
+            Some(VarValue::Bool(b)) => (VarKind::Bool, *b as u64),
             Some(VarValue::Text(t)) => {
                 pack(t.as_bytes(), &copy.text);
                 copy.len.store(t.len() as u32, Ordering::Relaxed);
-                (4, 0)
+                (VarKind::Text, 0)
             }
         };
-        copy.kind.store(kind, Ordering::Relaxed);
+        copy.kind.store(kind.into(), Ordering::Relaxed);
         copy.word.store(word, Ordering::Relaxed);
         entry.header.store(IN_USE | next, Ordering::Release);
         Ok(())

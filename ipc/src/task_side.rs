@@ -48,6 +48,7 @@ pub struct ReplyCounters {
     pub out_of_order: u64,
 }
 
+/// A script's end of the IPC: sends its requests, waits on its wake word for the replies, reads the snapshot.
 pub struct TaskEndpoint {
     task: u8,
     controller_pid: u32,
@@ -68,6 +69,7 @@ pub struct TaskEndpoint {
 }
 
 impl TaskEndpoint {
+    /// Opens task `task`'s channels in namespace `ns`; `controller_pid` is watched while blocked.
     pub fn open(ns: &Namespace, task: u8, controller_pid: u32) -> Result<Self, IpcError> {
         let node = services::node(ns, &format!("luamotion-task-{task}"))?;
         let state = services::state(&node, ns, Open::Existing)?
@@ -109,6 +111,7 @@ impl TaskEndpoint {
         Ok(endpoint)
     }
 
+    /// The task id.
     pub fn task(&self) -> u8 {
         self.task
     }
@@ -118,6 +121,7 @@ impl TaskEndpoint {
         EventSender::new(&self._node, ns, Open::Existing)
     }
 
+    /// This task's slot of the task table.
     pub fn slot(&self) -> &TaskSlot {
         &self.table.slots[self.task as usize]
     }
@@ -183,6 +187,7 @@ impl TaskEndpoint {
         self.last_call
     }
 
+    /// The reply counters so far.
     pub fn reply_counters(&self) -> ReplyCounters {
         self.counters
     }

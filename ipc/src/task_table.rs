@@ -5,16 +5,20 @@
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
+use num_enum::{FromPrimitive, IntoPrimitive};
+
 use crate::debug::DebugBlock;
 use crate::futex;
 use crate::messages::MAX_TASKS;
 use crate::shm::Shareable;
 
-/// What a task's script is doing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a task's script is doing. An unknown word reads as `Idle`: a slot no script
+/// has written yet is zero, and a torn or foreign value must not look alive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum RunState {
     /// No process, or not started yet.
+    #[num_enum(default)]
     Idle = 0,
     /// Running Lua: the heartbeat must advance.
     Running = 1,
@@ -30,25 +34,13 @@ pub enum RunState {
     Paused = 6,
 }
 
-impl RunState {
-    fn from_u32(v: u32) -> Self {
-        match v {
-            1 => RunState::Running,
-            2 => RunState::Waiting,
-            3 => RunState::InCall,
-            4 => RunState::Finished,
-            5 => RunState::Blocked,
-            6 => RunState::Paused,
-            _ => RunState::Idle,
-        }
-    }
-}
-
 /// A request to be woken at a cycle. Each wait has a new sequence number, so that the
 /// core notifies every wait exactly once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WaitRequest {
+    /// The wait's sequence number.
     pub seq: u16,
+    /// The cycle to be woken at.
     pub cycle: u64,
 }
 
@@ -93,8 +85,9 @@ pub struct TaskSlot {
     pub debug: DebugBlock,
 }
 
-/// Why a program ended, beyond HMPL's own codes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Why a program ended, beyond HMPL's own codes. Written only: the end-code word also
+/// carries HMPL codes, so readers compare it with these values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, IntoPrimitive)]
 #[repr(u32)]
 pub enum EndCode {
     /// A Lua error (syntax or runtime).
@@ -104,22 +97,25 @@ pub enum EndCode {
 }
 
 impl TaskSlot {
+    /// The heartbeat: the watchdog sees a task alive while it moves.
     pub fn heartbeat(&self) -> u64 {
         self.heartbeat.load(Ordering::Relaxed)
     }
 
+    /// Advances the heartbeat (one atomic add).
     pub fn beat(&self) {
         self.heartbeat.fetch_add(1, Ordering::Relaxed);
     }
 
+    /// What the script is doing.
     pub fn state(&self) -> RunState {
-        RunState::from_u32(self.state.load(Ordering::Acquire))
+        RunState::from(self.state.load(Ordering::Acquire))
     }
 
     /// A new run state; the heartbeat advances with it.
     pub fn set_state(&self, state: RunState) {
         self.beat();
-        self.state.store(state as u32, Ordering::Release);
+        self.state.store(state.into(), Ordering::Release);
     }
 
     /// Publishes a wait request, then marks the task waiting.
@@ -128,6 +124,7 @@ impl TaskSlot {
         self.set_state(RunState::Waiting);
     }
 
+    /// The current wait request.
     pub fn wait_request(&self) -> WaitRequest {
         WaitRequest::unpack(self.wait.load(Ordering::Acquire))
     }
@@ -137,18 +134,22 @@ impl TaskSlot {
         self.line.load(Ordering::Relaxed)
     }
 
+    /// Records the line the program is at.
     pub fn set_line(&self, line: u32) {
         self.line.store(line, Ordering::Relaxed);
     }
 
+    /// The script process' pid; 0 for none.
     pub fn pid(&self) -> u32 {
         self.pid.load(Ordering::Relaxed)
     }
 
+    /// Records the script process' pid.
     pub fn set_pid(&self, pid: u32) {
         self.pid.store(pid, Ordering::Relaxed);
     }
 
+    /// The script reported that it started.
     pub fn started(&self) -> bool {
         self.started.load(Ordering::Acquire) != 0
     }
@@ -158,22 +159,27 @@ impl TaskSlot {
         self.started.store(1, Ordering::Release);
     }
 
+    /// Why the program failed: an HMPL code or an `EndCode`; 0 when it did not.
     pub fn end_code(&self) -> u32 {
         self.end_code.load(Ordering::Acquire)
     }
 
+    /// Records how the program ended.
     pub fn set_end_code(&self, code: u32) {
         self.end_code.store(code, Ordering::Release);
     }
 
+    /// CPU time the task's process used, ms.
     pub fn cpu_ms(&self) -> u64 {
         self.cpu_ms.load(Ordering::Relaxed)
     }
 
+    /// Records the CPU time of the task's process (the supervisor).
     pub fn set_cpu_ms(&self, ms: u64) {
         self.cpu_ms.store(ms, Ordering::Relaxed);
     }
 
+    /// When the core last woke this task (CLOCK_MONOTONIC, ns).
     pub fn notified_ns(&self) -> u64 {
         self.notified_ns.load(Ordering::Acquire)
     }
@@ -203,6 +209,7 @@ impl TaskSlot {
         String::from_utf8_lossy(&bytes[..end]).into_owned()
     }
 
+    /// Records the program path the tools show.
     pub fn set_program(&self, path: &str) {
         let mut bytes = [0u8; PROGRAM_BYTES];
         let mut n = path.len().min(PROGRAM_BYTES - 1);
@@ -225,13 +232,14 @@ impl TaskSlot {
         self.started.store(0, Ordering::Relaxed);
         self.end_code.store(0, Ordering::Relaxed);
         self.cpu_ms.store(0, Ordering::Relaxed);
-        self.state.store(RunState::Idle as u32, Ordering::Release);
+        self.state.store(RunState::Idle.into(), Ordering::Release);
     }
 }
 
 /// All 64 slots.
 #[repr(C)]
 pub struct TaskTable {
+    /// One slot per HMPL task.
     pub slots: [TaskSlot; MAX_TASKS],
 }
 
@@ -241,6 +249,27 @@ unsafe impl Shareable for TaskTable {}
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The run state word each script writes; an unknown word reads as `Idle`.
+    #[test]
+    fn run_state_words() {
+        let rows = [
+            (RunState::Idle, 0u32),
+            (RunState::Running, 1),
+            (RunState::Waiting, 2),
+            (RunState::InCall, 3),
+            (RunState::Finished, 4),
+            (RunState::Blocked, 5),
+            (RunState::Paused, 6),
+        ];
+        for (state, word) in rows {
+            assert_eq!(u32::from(state), word, "{state:?}");
+            assert_eq!(RunState::from(word), state, "word {word}");
+        }
+        for word in [7, u32::MAX] {
+            assert_eq!(RunState::from(word), RunState::Idle, "word {word}");
+        }
+    }
 
     #[test]
     fn a_program_path_round_trips_and_is_cut_at_a_character() {

@@ -6,16 +6,19 @@
 use std::sync::Arc;
 
 use crossbeam::queue::ArrayQueue;
+use num_enum::{FromPrimitive, IntoPrimitive};
 
 /// Orders in flight; a console sends a few per Modbus request.
 const CAPACITY: usize = 64;
 /// Orders the RT thread carries out per cycle.
 const ORDERS_PER_CYCLE: usize = 8;
 
-/// DXMC manual 3.6 and A.3, registers 0x6A80 (current) and 0x6A81 (target).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// DXMC manual 3.6 and A.3, registers 0x6A80 (current) and 0x6A81 (target). An unknown
+/// 0x6A80 word reads as `Initial`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum ControllerState {
+    #[num_enum(default)]
     Initial = 0,
     /// A switch failed (here: the EtherCAT network is not in Op).
     Fail = 1,
@@ -30,22 +33,8 @@ pub enum ControllerState {
 impl ControllerState {
     /// A target state the console may ask for (0x6A81 takes 2, 4 and 5).
     pub fn target(value: u16) -> Option<Self> {
-        match value {
-            2 => Some(ControllerState::Edit),
-            4 => Some(ControllerState::Run),
-            5 => Some(ControllerState::Diagnosis),
-            _ => None,
-        }
-    }
-
-    pub fn from_u32(value: u32) -> Self {
-        match value {
-            1 => ControllerState::Fail,
-            2 => ControllerState::Edit,
-            4 => ControllerState::Run,
-            5 => ControllerState::Diagnosis,
-            _ => ControllerState::Initial,
-        }
+        let state = ControllerState::from(u32::from(value));
+        matches!(state, ControllerState::Edit | ControllerState::Run | ControllerState::Diagnosis).then_some(state)
     }
 
     /// DXMC 0x0020: motion commands need online operation or online diagnosis.
@@ -113,7 +102,7 @@ mod tests {
             (5, ControllerState::Diagnosis, Some(ControllerState::Diagnosis)),
         ];
         for (code, current, target) in rows {
-            assert_eq!(ControllerState::from_u32(code), current, "0x6A80 = {code}");
+            assert_eq!(ControllerState::from(code), current, "0x6A80 = {code}");
             assert_eq!(ControllerState::target(code as u16), target, "0x6A81 = {code}");
         }
         assert!(ControllerState::Run.allows_motion() && ControllerState::Diagnosis.allows_motion());

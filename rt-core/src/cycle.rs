@@ -268,7 +268,7 @@ impl CycleWork {
         self.snapshot.cycle = cycle;
         self.snapshot.time_in_ms = cycle * period / 1_000_000;
         self.snapshot.overruns = self.overruns;
-        self.snapshot.controller_state = self.machine.state as u32;
+        self.snapshot.controller_state = self.machine.state.into();
         self.snapshot.gpio = self.machine.io.snapshot();
         master::update_slaves(&self.machine.network, &mut self.snapshot);
         self.machine.kernel.fill(&mut self.snapshot);

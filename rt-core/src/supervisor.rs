@@ -232,8 +232,7 @@ impl Supervisor {
         }
         // The alarms that explain why the core killed a process become its outcome; a
         // program that ended by itself says best why, on its last line.
-        let killed =
-            matches!(Event::from_code(Alarm(report.alarm).event_code()), Event::Watchdog | Event::StartTimeout);
+        let killed = matches!(Event::from(Alarm(report.alarm).event_code()), Event::Watchdog | Event::StartTimeout);
         if killed && let Some(running) = self.running.iter_mut().find(|r| r.id == report.task) {
             running.alarm = Some(text);
         }
@@ -304,7 +303,7 @@ impl Supervisor {
 /// An alarm as the log and the event stream say it.
 pub fn describe(report: &AlarmReport) -> String {
     let alarm = Alarm(report.alarm);
-    let event = Event::from_code(alarm.event_code());
+    let event = Event::from(alarm.event_code());
     let what = match event {
         Event::Watchdog => format!(
             "watchdog: no progress for {} ms at line {} (a program that computes this long without calling \

@@ -59,8 +59,8 @@ impl ScriptError {
     /// What the controller reads in the task's slot about this end.
     fn end_code(&self) -> u32 {
         match self {
-            ScriptError::OutOfMemory { .. } => EndCode::OutOfMemory as u32,
-            _ => EndCode::LuaError as u32,
+            ScriptError::OutOfMemory { .. } => EndCode::OutOfMemory.into(),
+            _ => EndCode::LuaError.into(),
         }
     }
 }

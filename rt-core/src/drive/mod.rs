@@ -296,7 +296,8 @@ impl Drive {
     /// Applies 0x6060: a supported value becomes the mode (0x6061 follows); others are
     /// ignored. Homing under way is stopped first (CoE manual 3.2, A4 and B4).
     fn switch_mode(&mut self, cw: u16, period_s: f64) {
-        let Some(requested) = ModeOfOperation::from_i64(self.od.get(od::MODES_OF_OPERATION)) else { return };
+        let raw = self.od.get(od::MODES_OF_OPERATION);
+        let Some(requested) = i8::try_from(raw).ok().and_then(|v| ModeOfOperation::try_from(v).ok()) else { return };
         if requested == self.mode.operation() {
             return;
         }
@@ -461,7 +462,7 @@ impl Drive {
         self.od.set_f32(od::MOTOR_ACTUAL_CURRENT, (self.plant.force.abs() * self.settings.rated_current_a) as f32);
         self.od.set(od::POSITION_DEMAND_INTERNAL, self.demand.pos.round() as i64);
         self.od.set(od::FOLLOWING_ERROR_ACTUAL, self.demand.pos.round() as i64 - actual);
-        self.od.set(od::MODES_OF_OPERATION_DISPLAY, self.mode.operation() as i64);
+        self.od.set(od::MODES_OF_OPERATION_DISPLAY, i8::from(self.mode.operation()).into());
         self.od.set(od::INDEX_SIGNAL, self.travel.index_active(raw) as i64);
         if let Some(at) = self.edges.iter().find_map(|e| match e {
             travel::Edge::Index { at } => Some(at),

@@ -352,8 +352,8 @@ impl Tasks {
     fn fail(&mut self, t: u8, exit: Exit, cycle: u64, table: &TaskTable, react: &mut dyn FnMut(u8, FaultReaction)) {
         let (event, detail) = match exit {
             Exit::Signal(signal) => (Event::ProcessDied, signal as i64),
-            Exit::Failed { end_code } if end_code == EndCode::OutOfMemory as u32 => (Event::MemoryLimit, 0),
-            Exit::Failed { end_code } if end_code == EndCode::LuaError as u32 || end_code == 0 => {
+            Exit::Failed { end_code } if end_code == u32::from(EndCode::OutOfMemory) => (Event::MemoryLimit, 0),
+            Exit::Failed { end_code } if end_code == u32::from(EndCode::LuaError) || end_code == 0 => {
                 (Event::ProgramError, 0)
             }
             Exit::Failed { end_code } => (Event::Hmpl(end_code as u16), 0),
@@ -367,7 +367,7 @@ impl Tasks {
     pub fn fill(&self, out: &mut [TaskSnapshot; MAX_TASKS]) {
         for (slot, task) in out.iter_mut().zip(&self.tasks) {
             *slot = TaskSnapshot {
-                state: task.state as u32,
+                state: task.state.into(),
                 alarm: task.alarm,
                 pid: task.pid.unwrap_or(0),
                 watchdog_ms: task.spec.map_or(0, |s| s.watchdog_ms),
@@ -482,7 +482,7 @@ mod tests {
         rig.step();
         rig.orders();
         let slot = &rig.table.slots[0];
-        slot.set_end_code(EndCode::OutOfMemory as u32);
+        slot.set_end_code(EndCode::OutOfMemory.into());
         slot.set_state(RunState::Finished);
         rig.step();
         assert_eq!(rig.tasks.state(0), TaskState::Error);

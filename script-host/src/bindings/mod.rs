@@ -256,9 +256,9 @@ fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function
 
 /// Why a call failed, from its reply's `rc`: an SDO abort code or an HMPL error code.
 fn explain(rc: u32) -> String {
-    match SdoAbort::from_code(rc) {
-        Some(abort) => abort.to_string(),
-        None => api::errors::describe(rc),
+    match SdoAbort::try_from(rc) {
+        Ok(abort) => abort.to_string(),
+        Err(_) => api::errors::describe(rc),
     }
 }
 

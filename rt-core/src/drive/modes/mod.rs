@@ -8,12 +8,15 @@ pub mod profile_position;
 pub mod profile_torque;
 pub mod profile_velocity;
 
+use num_enum::{IntoPrimitive, TryFromPrimitive};
+
 use crate::drive::od::ObjectStore;
 use crate::drive::travel::{Edges, Travel};
 use crate::profile::Kinematics;
 
-/// 0x6060 values (CoE manual table 4-17); any other value is ignored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// 0x6060 values (CoE manual table 4-17); any other value is an error, which the drive
+/// ignores (it keeps its mode).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(i8)]
 pub enum ModeOfOperation {
     /// "Stand-alone mode" in table 4-17, "no mode" in the homing text: hold still.
@@ -28,21 +31,6 @@ pub enum ModeOfOperation {
 }
 
 impl ModeOfOperation {
-    pub fn from_i64(v: i64) -> Option<Self> {
-        use ModeOfOperation::*;
-        Some(match v {
-            0 => NoMode,
-            1 => ProfilePosition,
-            3 => ProfileVelocity,
-            4 => ProfileTorque,
-            6 => Homing,
-            8 => CyclicSyncPosition,
-            9 => CyclicSyncVelocity,
-            10 => CyclicSyncTorque,
-            _ => return None,
-        })
-    }
-
     /// Software limits act in pp and csp only (CoE manual 3, "Limit functions by mode").
     pub fn software_limits_apply(self) -> bool {
         matches!(self, ModeOfOperation::ProfilePosition | ModeOfOperation::CyclicSyncPosition)
@@ -101,4 +89,32 @@ pub fn capped(od: &ObjectStore, value: crate::drive::od::ObjId, limit: crate::dr
     let v = od.get(value) as f64;
     let cap = od.get(limit) as f64;
     if cap > 0.0 { v.min(cap) } else { v }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ModeOfOperation;
+
+    /// 0x6060 values, CoE manual table 4-17; the values it does not list are refused.
+    #[test]
+    fn mode_of_operation_codes() {
+        use ModeOfOperation::*;
+        let rows = [
+            (NoMode, 0i8),
+            (ProfilePosition, 1),
+            (ProfileVelocity, 3),
+            (ProfileTorque, 4),
+            (Homing, 6),
+            (CyclicSyncPosition, 8),
+            (CyclicSyncVelocity, 9),
+            (CyclicSyncTorque, 10),
+        ];
+        for (mode, code) in rows {
+            assert_eq!(i8::from(mode), code, "{mode:?}");
+            assert_eq!(ModeOfOperation::try_from(code), Ok(mode), "code {code}");
+        }
+        for code in [-1i8, 2, 5, 7, 11, i8::MIN, i8::MAX] {
+            assert!(ModeOfOperation::try_from(code).is_err(), "code {code}");
+        }
+    }
 }
