@@ -60,19 +60,25 @@ settle()
 -- HMPL 5.1: with Ts = 100 ms and A = 1000, the acceleration phase lasts v/A + Ts = 0.2 s,
 -- and the jerk is A / Ts = 10 000 mm/s³. The phase is timed in controller cycles, from the
 -- first cycle with a velocity (the first 1 ms sample of the move) to the first at 100 mm/s.
+-- Till runs once per cycle, but a busy machine may let the program miss one: a cycle
+-- seen after a gap of g cycles may have begun (or ended) the phase up to g - 1 cycles earlier.
 MoveAbs(a, 100)
 local peak_jerk, last_acc, last_cycle, first_cycle = 0, 0, system_fclk, nil
+local start_gap, end_gap = 1, 1
 Till(function()
   local acc, vel, cycle = GetRefAcc(a), GetRefVel(a), system_fclk
   if cycle > last_cycle then
     peak_jerk = math.max(peak_jerk, math.abs(acc - last_acc) / (0.001 * (cycle - last_cycle)))
   end
-  if vel > 0 and not first_cycle then first_cycle = cycle end
+  if vel > 0 and not first_cycle then first_cycle, start_gap = cycle, math.max(1, cycle - last_cycle) end
+  end_gap = math.max(1, cycle - last_cycle)
   last_acc, last_cycle = acc, cycle
   return vel >= 100 - 1e-9
 end)
 local n = last_cycle - first_cycle + 1
-check(math.abs(n - 200) <= 1, "41: acceleration phase of 200 ms, got " .. n)
+local shortest, longest = n - (end_gap - 1), n + (start_gap - 1)
+check(shortest <= 201 and longest >= 199,
+  "41: acceleration phase of 200 ms, got " .. n .. " (missed cycles at start " .. start_gap - 1 .. ", end " .. end_gap - 1 .. ")")
 check(math.abs(peak_jerk - 10000) < 200, "41: jerk A/Ts, got " .. peak_jerk)
 settle()
 SetSMTime(a, 0)
