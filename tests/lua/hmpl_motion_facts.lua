@@ -62,14 +62,20 @@ settle()
 -- first cycle with a velocity (the first 1 ms sample of the move) to the first at 100 mm/s.
 -- Till runs once per cycle, but a busy machine may let the program miss one: a cycle
 -- seen after a gap of g cycles may have begun (or ended) the phase up to g - 1 cycles earlier.
+-- Each read takes the newest snapshot, so a new cycle may land between the reads: a jerk
+-- sample counts only when the cycle number is the same before and after its reads.
 MoveAbs(a, 100)
 local peak_jerk, last_acc, last_cycle, first_cycle = 0, 0, system_fclk, nil
+local last_consistent = nil
 local start_gap, end_gap = 1, 1
 Till(function()
+  local before = system_fclk
   local acc, vel, cycle = GetRefAcc(a), GetRefVel(a), system_fclk
-  if cycle > last_cycle then
+  local consistent = before == cycle
+  if consistent and last_consistent and cycle > last_cycle then
     peak_jerk = math.max(peak_jerk, math.abs(acc - last_acc) / (0.001 * (cycle - last_cycle)))
   end
+  last_consistent = consistent
   if vel > 0 and not first_cycle then first_cycle, start_gap = cycle, math.max(1, cycle - last_cycle) end
   end_gap = math.max(1, cycle - last_cycle)
   last_acc, last_cycle = acc, cycle
