@@ -10,8 +10,9 @@ use ipc::{CoreEndpoint, Namespace};
 
 use crate::config::MachineConfig;
 use crate::console::ConsoleInbox;
-use crate::cycle::{self, CycleStats, Machine, RtControl};
+use crate::cycle::{self, CycleStats, RtControl};
 use crate::ecat::Network;
+use crate::machine::Machine;
 use crate::motion::Kernel;
 use crate::realtime;
 use crate::supervisor::{ScriptLauncher, Supervisor, TaskReport};

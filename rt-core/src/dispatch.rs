@@ -7,10 +7,10 @@ use api::{AxisError, Command, ErrorCode, FunctionSpec, SdoAbort, SystemError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
-use crate::cycle::Machine;
 use crate::drive::od::fits_width;
 use crate::ecat::{AlState, Field, SdoError};
 use crate::io::NoSuchPin;
+use crate::machine::Machine;
 use crate::motion::axis::{Axis, Ignore};
 use crate::motion::pvt::{MAX_POINTS, PvtPoint};
 use crate::motion::settings::HomeSettings;

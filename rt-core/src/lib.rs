@@ -11,6 +11,7 @@ pub mod dispatch;
 pub mod drive;
 pub mod ecat;
 pub mod io;
+pub mod machine;
 pub mod master;
 pub mod motion;
 pub mod output;

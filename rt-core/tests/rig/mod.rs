@@ -10,9 +10,9 @@ use ipc::shm::zeroed;
 use ipc::task_table::TaskTable;
 use rt_core::MachineConfig;
 use rt_core::config::{FaultReaction, TaskConfig};
-use rt_core::cycle::Machine;
 use rt_core::dispatch;
 use rt_core::ecat::Network;
+use rt_core::machine::Machine;
 use rt_core::motion::Kernel;
 use rt_core::tasks::{self, SupervisorEnd, Tasks};
 

@@ -1,0 +1,86 @@
+//! The machine the RT thread owns and steps: the EtherCAT network, the motion kernel, the
+//! tasks, the controller's I/O, and the controller state of DXMC 3.6 with each task's run
+//! speed. The cycle (`cycle.rs`) steps it; dispatch (`dispatch/`) applies commands to it.
+
+use ipc::messages::MAX_TASKS;
+
+use crate::console::{ConsoleOrder, ControllerState};
+use crate::ecat::Network;
+use crate::io::ControllerIo;
+use crate::master::PdoForces;
+use crate::motion::Kernel;
+use crate::tasks::Tasks;
+
+/// Everything the RT thread owns and steps.
+pub struct Machine {
+    pub network: Network,
+    pub kernel: Kernel,
+    pub tasks: Tasks,
+    pub io: ControllerIo,
+    pub forces: PdoForces,
+    pub period_ns: u64,
+    /// The cycle being run.
+    pub cycle: u64,
+    /// DXMC 3.6: motion commands only in Run or Diagnosis.
+    pub state: ControllerState,
+    /// Each task's run speed, % (DXMC A.3, 0x6B03; 100 but for a DRL project).
+    pub run_speed: [u32; MAX_TASKS],
+}
+
+impl Machine {
+    pub fn new(network: Network, kernel: Kernel, tasks: Tasks, period_ns: u64) -> Self {
+        Machine {
+            network,
+            kernel,
+            tasks,
+            io: ControllerIo::default(),
+            forces: PdoForces::default(),
+            period_ns,
+            cycle: 0,
+            state: ControllerState::Run,
+            run_speed: [100; MAX_TASKS],
+        }
+    }
+
+    /// A task's run speed as a factor.
+    pub fn run_speed(&self, task: u8) -> f64 {
+        self.run_speed[task as usize] as f64 / 100.0
+    }
+
+    /// DXMC 3.6, 0x6A81: a switch needs the EtherCAT network in Op, else the controller
+    /// is in Fail. Leaving Run or Diagnosis stops every axis as `StopAll` does.
+    pub fn switch_state(&mut self, target: ControllerState) {
+        let next = if self.network.state() == crate::ecat::AlState::Op { target } else { ControllerState::Fail };
+        if self.state.allows_motion() && !next.allows_motion() {
+            self.kernel.stop_all();
+        }
+        self.state = next;
+    }
+
+    /// The console watches the tasks' states in the snapshot: a refused start or stop
+    /// changes none, so its error is not passed on.
+    pub(crate) fn carry_out(&mut self, order: ConsoleOrder) {
+        let Machine { tasks, kernel, cycle, .. } = self;
+        match order {
+            ConsoleOrder::StartTask(t) => {
+                let _ = tasks.start(t as i64, crate::tasks::Entry::TOP_LEVEL, *cycle);
+            }
+            ConsoleOrder::StopTask(t) => {
+                let _ = tasks.stop(t as i64, *cycle, &mut |t, reaction| kernel.react(t, reaction));
+            }
+            ConsoleOrder::SwitchState(target) => self.switch_state(target),
+        }
+    }
+
+    /// HMPL 2.9, 9.1: every task stopped, every axis disabled.
+    pub fn emergency_stop(&mut self) {
+        self.kernel.emergency_stop();
+        self.stop_all_tasks();
+    }
+
+    /// HMPL 16.5: every task that runs is stopped; its motion reacts as configured.
+    pub fn stop_all_tasks(&mut self) {
+        let Machine { tasks, kernel, cycle, .. } = self;
+        tasks.stop_all(*cycle, &mut |t, reaction| kernel.react(t, reaction));
+    }
+}
