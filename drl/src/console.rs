@@ -95,6 +95,16 @@ impl Host for Resources {
         self.console.send(ConsoleOrder::StopTask(self.drl_task)).is_ok()
     }
 
+    /// 100 until the core's first snapshot.
+    fn run_speed(&self) -> u16 {
+        self.monitor.latest().map_or(100, |s| s.tasks[self.drl_task as usize].run_speed_pct as u16)
+    }
+
+    fn set_run_speed(&self, pct: u16) -> bool {
+        let Ok(pct) = u8::try_from(pct) else { return false };
+        self.console.send(ConsoleOrder::SetRunSpeed { task: self.drl_task, pct }).is_ok()
+    }
+
     fn wake(&self) {
         self.monitor.table().slots[self.drl_task as usize].wake(ipc::clock::monotonic_ns());
     }
@@ -236,7 +246,7 @@ impl Resources {
             Register::DrlId => program.current_id(),
             Register::ExecState => program.state().into(),
             Register::Line => program.line(self),
-            Register::RunSpeed => program.speed_pct(),
+            Register::RunSpeed => self.run_speed(),
             Register::IdSelect => program.selected(),
             Register::Control => program.last_control(),
             Register::Status => program.status().into(),

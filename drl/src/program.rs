@@ -25,6 +25,10 @@ pub trait Host {
     /// The DRL task's state as the core publishes it.
     fn task_state(&self) -> TaskState;
     fn debug(&self) -> &DebugBlock;
+    /// The DRL task's run speed, %, as the core publishes it (DXMC A.3, 0x6B03).
+    fn run_speed(&self) -> u16;
+    /// Orders a new run speed; false when the core is too busy.
+    fn set_run_speed(&self, pct: u16) -> bool;
     /// Writes the program the next start runs into the task's slot.
     fn set_program(&self, path: &Path);
     /// Orders the start or the stop of the DRL task; false when the core is too busy.
@@ -53,7 +57,6 @@ pub struct ProgramControl {
     current: u16,
     state: ExecState,
     status: Status,
-    speed_pct: u16,
     control: u16,
     breakpoint_registers: [u16; BREAKPOINT_REGISTERS],
     /// Set BP's lines, given to the debugger when the program starts.
@@ -70,7 +73,6 @@ impl ProgramControl {
             current: 0,
             state: ExecState::Close,
             status: Status::Stopped,
-            speed_pct: 100,
             control: 0,
             breakpoint_registers: [0; BREAKPOINT_REGISTERS],
             breakpoints: Vec::new(),
@@ -93,10 +95,6 @@ impl ProgramControl {
 
     pub fn selected(&self) -> u16 {
         self.selected
-    }
-
-    pub fn speed_pct(&self) -> u16 {
-        self.speed_pct
     }
 
     pub fn last_control(&self) -> u16 {
@@ -130,14 +128,10 @@ impl ProgramControl {
         ok
     }
 
-    /// 0x6B03, 1..100 %: the project's motion follows at once.
-    pub fn set_speed(&mut self, pct: u16, host: &dyn Host) -> bool {
-        let ok = Self::valid_speed(pct);
-        if ok {
-            self.speed_pct = pct;
-            host.debug().set_speed_pct(pct as u32);
-        }
-        ok
+    /// 0x6B03, 1..100 %: the core keeps it (one store, in the controller) and the
+    /// project's motion follows at once; false out of range or when the core is busy.
+    pub fn set_speed(&self, pct: u16, host: &dyn Host) -> bool {
+        Self::valid_speed(pct) && host.set_run_speed(pct)
     }
 
     /// 0x6B05. `None` for a code the manual does not list: alarm 0x7000, nothing changes.
@@ -203,7 +197,6 @@ impl ProgramControl {
             ExecState::PreRun if self.pending.is_none() => {
                 let lines: Vec<u32> = if mode == RunMode::Release { Vec::new() } else { self.breakpoints.clone() };
                 host.debug().prepare(mode, &lines);
-                host.debug().set_speed_pct(self.speed_pct as u32);
                 if !host.start() {
                     return Status::CannotRun;
                 }
@@ -424,6 +417,7 @@ mod tests {
         block: Box<DebugBlock>,
         state: Cell<TaskState>,
         program: RefCell<Option<PathBuf>>,
+        speed: Cell<u16>,
     }
 
     impl Host for FakeHost {
@@ -432,6 +426,13 @@ mod tests {
         }
         fn debug(&self) -> &DebugBlock {
             &self.block
+        }
+        fn run_speed(&self) -> u16 {
+            self.speed.get()
+        }
+        fn set_run_speed(&self, pct: u16) -> bool {
+            self.speed.set(pct);
+            true
         }
         fn set_program(&self, path: &Path) {
             *self.program.borrow_mut() = Some(path.to_path_buf());
@@ -457,6 +458,7 @@ mod tests {
             block: Box::new(unsafe { std::mem::zeroed() }),
             state: Cell::new(TaskState::Stopped),
             program: RefCell::new(None),
+            speed: Cell::new(100),
         };
         (dir, ProgramControl::new(projects), host)
     }
@@ -546,9 +548,10 @@ mod tests {
 
     #[test]
     fn run_speed_is_1_to_100_percent() {
-        let (_dir, mut p, host) = setup();
+        let (_dir, p, host) = setup();
         assert!(!p.set_speed(0, &host) && !p.set_speed(101, &host));
+        assert_eq!(host.run_speed(), 100, "a refused speed is not ordered");
         assert!(p.set_speed(50, &host));
-        assert_eq!(host.block.speed_pct(), 50);
+        assert_eq!(host.run_speed(), 50);
     }
 }

@@ -1,5 +1,5 @@
 //! The debugger's shared words in a task's slot: the console (the DRL registers of the
-//! Modbus server) writes the mode, the breakpoints, the run speed and commands; the
+//! Modbus server) writes the mode, the breakpoints and commands; the
 //! script's debugger reads them in its hook and reports where the program stopped.
 //! DXMC manual, appendix A.3, registers 0x6B01 to 0x6B05.
 
@@ -55,7 +55,7 @@ pub enum RunMode {
     Block = 2,
 }
 
-/// The debugger's words. Zeroed: release mode, no breakpoints, no command, speed 100 %.
+/// The debugger's words. Zeroed: release mode, no breakpoints, no command.
 #[repr(C)]
 pub struct DebugBlock {
     mode: AtomicU32,
@@ -71,8 +71,6 @@ pub struct DebugBlock {
     halt: AtomicU32,
     /// The line of the main chunk last run (DXMC A.3, 0x6B02: `main.lua` only).
     main_line: AtomicU32,
-    /// Run speed in % of the programmed velocity; 0 reads as 100 (DXMC A.3, 0x6B03).
-    speed_pct: AtomicU32,
 }
 
 impl DebugBlock {
@@ -124,11 +122,6 @@ impl DebugBlock {
         true
     }
 
-    /// Sets the run speed, 1..100 % (DXMC A.3, 0x6B03).
-    pub fn set_speed_pct(&self, pct: u32) {
-        self.speed_pct.store(pct, Ordering::Relaxed);
-    }
-
     // Both sides.
 
     /// The run mode the console set.
@@ -174,14 +167,6 @@ impl DebugBlock {
     /// The line of `main.lua` the program is at (DXMC A.3, 0x6B02).
     pub fn main_line(&self) -> u32 {
         self.main_line.load(Ordering::Relaxed)
-    }
-
-    /// Run speed, 1..100 %.
-    pub fn speed_pct(&self) -> u32 {
-        match self.speed_pct.load(Ordering::Relaxed) {
-            0 => 100,
-            pct => pct,
-        }
     }
 
     // The script's side.
@@ -245,14 +230,6 @@ mod tests {
             assert!(b.add_breakpoint(line));
         }
         assert!(!b.add_breakpoint(999), "full");
-    }
-
-    #[test]
-    fn speed_reads_100_until_set() {
-        let b = block();
-        assert_eq!(b.speed_pct(), 100);
-        b.set_speed_pct(40);
-        assert_eq!(b.speed_pct(), 40);
     }
 
     /// The debugger's words in the slot, as both processes read them: an unknown mode

@@ -446,6 +446,9 @@ pub struct TaskSnapshot {
     pub pid: u32,
     /// Its watchdog time, ms (0: none).
     pub watchdog_ms: u32,
+    /// Its run speed, % of the programmed velocity (DXMC A.3, 0x6B03; 100 but for a
+    /// DRL project).
+    pub run_speed_pct: u32,
 }
 
 /// HMPL 9.1: the controller has 8 inputs and 8 outputs, pins 1..8.

@@ -51,6 +51,8 @@ pub enum ConsoleOrder {
     StopTask(u8),
     /// Switch the controller state (0x6A81).
     SwitchState(ControllerState),
+    /// Set a task's run speed, 1..100 % (DXMC A.3, 0x6B03).
+    SetRunSpeed { task: u8, pct: u8 },
 }
 
 /// The console's end.

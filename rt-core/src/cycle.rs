@@ -163,7 +163,6 @@ impl CycleWork {
         let exchange_start = monotonic_ns();
         self.machine.network.exchange(period as f64 * 1e-9);
         self.simulation_ns += monotonic_ns() - exchange_start;
-        self.follow_run_speeds();
         let machine = &mut self.machine;
         self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |task, request, reply| {
             dispatch::execute(machine, task, request, reply)
@@ -195,26 +194,11 @@ impl CycleWork {
         self.snapshot.gpio = self.machine.io.snapshot();
         master::update_slaves(&self.machine.network, &mut self.snapshot);
         self.machine.kernel.fill(&mut self.snapshot);
-        self.machine.tasks.fill(&mut self.snapshot.tasks);
+        self.machine.tasks.fill(&mut self.snapshot.tasks, &self.machine.run_speed);
         self.endpoint.publish(&self.snapshot);
         self.endpoint.wake(cycle);
         if let Some(trace) = &self.trace {
             trace.push(TraceRow::of(&self.snapshot, self.lateness_ns, self.previous_execution_ns));
-        }
-    }
-}
-
-impl CycleWork {
-    /// The run speed each task's slot asks for (a DRL project's 0x6B03): one relaxed load
-    /// per task, and the axes a task commands follow a change at once.
-    fn follow_run_speeds(&mut self) {
-        let table = self.endpoint.table();
-        for (t, slot) in table.slots.iter().enumerate() {
-            let pct = slot.debug.speed_pct();
-            if pct != self.machine.run_speed[t] {
-                self.machine.run_speed[t] = pct;
-                self.machine.kernel.set_run_speed(t as u8, pct as f64 / 100.0);
-            }
         }
     }
 }

@@ -59,7 +59,7 @@ impl Machine {
 
     /// The console watches the tasks' states in the snapshot: a refused start or stop
     /// changes none, so its error is not passed on.
-    pub(crate) fn carry_out(&mut self, order: ConsoleOrder) {
+    pub fn carry_out(&mut self, order: ConsoleOrder) {
         let Machine { tasks, kernel, cycle, .. } = self;
         match order {
             ConsoleOrder::StartTask(t) => {
@@ -69,6 +69,17 @@ impl Machine {
                 let _ = tasks.stop(t as i64, *cycle, &mut |t, reaction| kernel.react(t, reaction));
             }
             ConsoleOrder::SwitchState(target) => self.switch_state(target),
+            ConsoleOrder::SetRunSpeed { task, pct } => self.set_run_speed(task, pct),
+        }
+    }
+
+    /// DXMC A.3, 0x6B03: the speed of a task's program, 1..100 % (the console checks the
+    /// range; anything else is ignored here). The motion it commands follows at once.
+    fn set_run_speed(&mut self, task: u8, pct: u8) {
+        let Some(speed) = self.run_speed.get_mut(task as usize) else { return };
+        if (1..=100).contains(&pct) && *speed != pct as u32 {
+            *speed = pct as u32;
+            self.kernel.set_run_speed(task, pct as f64 / 100.0);
         }
     }
 

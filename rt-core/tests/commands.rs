@@ -95,3 +95,30 @@ fn a_stopped_task_reacts_on_its_own_motion_only() {
         assert!(rig.moving(1) && rig.machine.kernel.axes()[1].is_enabled(), "{reaction:?}: task 1's axis goes on");
     }
 }
+
+/// DXMC A.3, 0x6B03: a run speed of 1..100 % reaches the machine as one console order,
+/// is kept there once, and scales the velocity of the motion that task commands (the
+/// move under way included), not another task's; out of range it changes nothing.
+#[test]
+fn the_run_speed_scales_the_motion_of_its_task_only() {
+    use rt_core::console::ConsoleOrder;
+    let mut rig = Rig::new(FaultReaction::Decelerate);
+    rig.enable(0);
+    rig.enable(1);
+    rig.call(0, Command::MoveVel, &[0], &[100.0]);
+    rig.call(1, Command::MoveVel, &[1], &[100.0]);
+    rig.cycles(500);
+    let vel = |rig: &Rig, a: usize| rig.machine.kernel.axes()[a].reference().vel;
+    assert!((vel(&rig, 0) - 100.0).abs() < 1e-9 && (vel(&rig, 1) - 100.0).abs() < 1e-9);
+    rig.machine.carry_out(ConsoleOrder::SetRunSpeed { task: 0, pct: 40 });
+    rig.cycles(500);
+    assert!((vel(&rig, 0) - 40.0).abs() < 1e-9, "task 0's axis at 40 %: {}", vel(&rig, 0));
+    assert!((vel(&rig, 1) - 100.0).abs() < 1e-9, "task 1's axis unchanged: {}", vel(&rig, 1));
+    for pct in [0, 101, 255] {
+        rig.machine.carry_out(ConsoleOrder::SetRunSpeed { task: 0, pct });
+    }
+    rig.machine.carry_out(ConsoleOrder::SetRunSpeed { task: 200, pct: 50 });
+    assert_eq!(rig.machine.run_speed[0], 40, "out of range: ignored");
+    rig.cycles(100);
+    assert!((vel(&rig, 0) - 40.0).abs() < 1e-9);
+}

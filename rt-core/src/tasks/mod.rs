@@ -364,13 +364,15 @@ impl Tasks {
         self.raise(alarm, t, cycle, table.slots[t as usize].line(), detail);
     }
 
-    pub fn fill(&self, out: &mut [TaskSnapshot; MAX_TASKS]) {
-        for (slot, task) in out.iter_mut().zip(&self.tasks) {
+    /// Each task's slot of the snapshot, with the run speeds the machine keeps.
+    pub fn fill(&self, out: &mut [TaskSnapshot; MAX_TASKS], run_speed_pct: &[u32; MAX_TASKS]) {
+        for ((slot, task), &run_speed_pct) in out.iter_mut().zip(&self.tasks).zip(run_speed_pct) {
             *slot = TaskSnapshot {
                 state: task.state.into(),
                 alarm: task.alarm,
                 pid: task.pid.unwrap_or(0),
                 watchdog_ms: task.spec.map_or(0, |s| s.watchdog_ms),
+                run_speed_pct,
             };
         }
     }
