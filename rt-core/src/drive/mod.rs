@@ -14,7 +14,7 @@ pub mod plant;
 pub mod touch_probe;
 pub mod travel;
 
-use serde::Deserialize;
+pub use config::DriveModel;
 
 use crate::cia402::{State, statusword};
 use crate::config::{AxisConfig, DriveSettings};
@@ -30,28 +30,6 @@ use od::ObjectStore;
 use plant::{Demand, Plant, SERVO_PERIOD_S};
 use touch_probe::TouchProbe;
 use travel::{Edges, Travel};
-
-/// Drive families of the CoE manual, with their product codes (table 4-2).
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
-pub enum DriveModel {
-    #[serde(rename = "D1-N")]
-    D1N,
-    D1,
-    D2,
-    #[serde(rename = "abily")]
-    Abily,
-}
-
-impl DriveModel {
-    pub fn product_code(self) -> u32 {
-        match self {
-            DriveModel::D1N => 1,
-            DriveModel::D1 => 2,
-            DriveModel::D2 => 3,
-            DriveModel::Abily => 4,
-        }
-    }
-}
 
 /// The "save" signature of 0x1010:01 (CiA 301; the manual's fig. 4-1 is missing).
 pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
