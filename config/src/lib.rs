@@ -69,6 +69,8 @@ pub struct MachineConfig {
     pub cycle_us: u32,
     pub rt: RtConfig,
     pub axes: Vec<AxisConfig>,
+    /// Devices on the bus that drive no axis, after the axes' drives in file order.
+    pub slaves: Vec<SlaveConfig>,
     pub tasks: Vec<TaskConfig>,
     /// DRL projects and their program control (DXMC manual A.3).
     pub drl: DrlConfig,
@@ -144,6 +146,20 @@ impl Default for ModbusConfig {
         ModbusConfig { bind: "127.0.0.1".into(), port: 502, station: 1, max_connections: 32, idle_timeout_ms: 60_000 }
     }
 }
+
+/// `[[slaves]]`: a device on the bus beside the axes' drives.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlaveConfig {
+    pub device: SlaveDevice,
+}
+
+/// The kinds of device a `[[slaves]]` entry may name. None is built yet, so every kind is
+/// refused with the name it gave (docs/decisions.md, "`[[slaves]]`"); I/O and analog
+/// terminals come next.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SlaveDevice {}
 
 /// How the RT thread asks the OS for real-time service. Each is tried and, where the OS
 /// refuses, logged and skipped.
@@ -346,6 +362,7 @@ impl Default for MachineConfig {
                     ..AxisConfig::default()
                 })
                 .collect(),
+            slaves: Vec::new(),
             tasks: Vec::new(),
             drl: DrlConfig::default(),
             modbus: ModbusConfig::default(),
@@ -590,5 +607,23 @@ mod tests {
         }
         let config = parse("[[axes]]\nname = \"x\"\nvel = 5000.0\n");
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
+    }
+
+    /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.
+    #[test]
+    fn slaves_beside_the_axes() {
+        assert!(MachineConfig::default().slaves.is_empty());
+        assert!(parse("[[axes]]\nname = \"x\"\n").slaves.is_empty(), "a file without [[slaves]]");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("machine.toml");
+        std::fs::write(&path, "[[axes]]\nname = \"x\"\n\n[[slaves]]\ndevice = \"input8\"\n").unwrap();
+        match MachineConfig::load(&path) {
+            Err(ConfigError::Parse { path: at, message }) => {
+                assert_eq!(at, path);
+                assert!(message.contains("unknown variant `input8`"), "{message}");
+                assert!(message.contains("line 5"), "the line of the entry: {message}");
+            }
+            other => panic!("expected the kind refused, got {other:?}"),
+        }
     }
 }

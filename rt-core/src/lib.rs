@@ -2,7 +2,9 @@
 //! drives, the motion kernel, and the supervisor of the script processes.
 //! See ARCHITECTURE.md for the map and the invariants.
 
+pub mod bus;
 pub mod cia402;
+pub mod coe;
 pub mod console;
 pub mod controller;
 pub mod cycle;
