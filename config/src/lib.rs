@@ -616,11 +616,11 @@ mod tests {
         assert!(parse("[[axes]]\nname = \"x\"\n").slaves.is_empty(), "a file without [[slaves]]");
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("machine.toml");
-        std::fs::write(&path, "[[axes]]\nname = \"x\"\n\n[[slaves]]\ndevice = \"input8\"\n").unwrap();
+        std::fs::write(&path, "[[axes]]\nname = \"x\"\n\n[[slaves]]\ndevice = \"stepper\"\n").unwrap();
         match MachineConfig::load(&path) {
             Err(ConfigError::Parse { path: at, message }) => {
                 assert_eq!(at, path);
-                assert!(message.contains("unknown variant `input8`"), "{message}");
+                assert!(message.contains("unknown variant `stepper`"), "{message}");
                 assert!(message.contains("line 5"), "the line of the entry: {message}");
             }
             other => panic!("expected the kind refused, got {other:?}"),
