@@ -6,8 +6,8 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
+use config::{MAX_TASKS, MachineConfig, TaskConfig};
 use ipc::Namespace;
-use rt_core::config::{MAX_TASKS, MachineConfig, TaskConfig};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
 mod drl_cli;

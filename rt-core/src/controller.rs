@@ -82,7 +82,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         }
         None => (None, None),
     };
-    let mut network = Network::new(&config.axes);
+    let mut network = Network::for_machine(&config);
     if let Err(e) = network.start(config.period_ns()) {
         tracing::error!("EtherCAT start-up stopped in {:?}: {e}", network.state());
     }

@@ -2,8 +2,9 @@
 //! drives, the motion kernel, and the supervisor of the script processes.
 //! See ARCHITECTURE.md for the map and the invariants.
 
+pub mod bus;
 pub mod cia402;
-pub mod config;
+pub mod coe;
 pub mod console;
 pub mod controller;
 pub mod cycle;
@@ -23,5 +24,8 @@ pub mod supervisor;
 pub mod tasks;
 pub mod trace;
 
+/// The machine file lives in its own crate; re-exported so that `rt_core::config` and
+/// `crate::config` paths name it.
+pub use ::config;
 pub use config::MachineConfig;
 pub use controller::{ControllerError, RunOptions, RunReport, run};

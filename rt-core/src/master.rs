@@ -3,9 +3,7 @@
 
 use ipc::messages::{MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot};
 
-use crate::drive::DriveModel;
-use crate::drive::od::DataType;
-use crate::ecat::pdo::Mapped;
+use crate::ecat::network::ImageEntry;
 use crate::ecat::{Field, Network};
 
 /// How many objects may be forced at once.
@@ -51,38 +49,28 @@ impl PdoForces {
     }
 }
 
-/// Digital inputs and outputs a drive model has (CoE manual fig. 4-2, table 4-19).
-fn channels(model: DriveModel) -> (u8, u8) {
-    match model {
-        // I1..I10, O1..O5.
-        DriveModel::D1N | DriveModel::D1 | DriveModel::D2 => (10, 5),
-        // The manual documents no inputs for abily.
-        DriveModel::Abily => (0, 5),
-    }
-}
-
-fn entries(mapping: &[Mapped]) -> ([PdoEntrySnapshot; MAX_PDO_ENTRIES], u8) {
+fn entries(mapping: &[ImageEntry]) -> ([PdoEntrySnapshot; MAX_PDO_ENTRIES], u8) {
     let mut entries = [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES];
     for (entry, m) in entries.iter_mut().zip(mapping) {
-        let def = m.obj.def();
         *entry = PdoEntrySnapshot {
-            index: def.index,
-            sub: def.sub,
-            bits: def.ty.bits(),
+            index: m.index,
+            sub: m.sub,
+            bits: m.ty.bits(),
             offset: m.offset as u8,
-            signed: matches!(def.ty, DataType::Int8 | DataType::Int16 | DataType::Int32) as u8,
+            signed: m.ty.is_signed() as u8,
         };
     }
     (entries, mapping.len().min(MAX_PDO_ENTRIES) as u8)
 }
 
-/// What does not change after start-up: slave count, mappings, channels.
+/// What does not change after start-up: slave count, the mappings as the master laid
+/// them out, channels.
 pub fn describe_slaves(network: &Network, snapshot: &mut Snapshot) {
     snapshot.slave_count = network.slaves().len() as u32;
-    for (slot, slave) in snapshot.slaves.iter_mut().zip(network.slaves()) {
-        let (rx, rx_count) = entries(slave.rx_mapping());
-        let (tx, tx_count) = entries(slave.tx_mapping());
-        let (digital_inputs, digital_outputs) = channels(slave.drive().model());
+    for (i, (slot, slave)) in snapshot.slaves.iter_mut().zip(network.slaves()).enumerate() {
+        let (rx, tx) = network.image_entries(i);
+        let ((rx, rx_count), (tx, tx_count)) = (entries(rx), entries(tx));
+        let (digital_inputs, digital_outputs) = slave.device().digital_channels();
         *slot =
             SlaveSnapshot { rx, rx_count, tx, tx_count, digital_inputs, digital_outputs, ..SlaveSnapshot::default() };
     }

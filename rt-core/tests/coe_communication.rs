@@ -300,3 +300,104 @@ fn fault_codes_and_event_bits() {
         }
     }
 }
+
+/// The SDO downloads that assign the second TxPDO beside the first, as bytes on the wire
+/// (CoE 2.4 steps 2-4 with 0x1A01; docs/decisions.md, "Second PDO").
+const ASSIGN_TOUCH_PROBE_PDO: [(u16, u8, &[u8]); 7] = [
+    (0x1C13, 0, &[0x00]),
+    (0x1A01, 1, &[0x10, 0x00, 0xB9, 0x60]),
+    (0x1A01, 2, &[0x20, 0x00, 0xBA, 0x60]),
+    (0x1A01, 0, &[0x02]),
+    (0x1C13, 1, &[0x00, 0x1A]),
+    (0x1C13, 2, &[0x01, 0x1A]),
+    (0x1C13, 0, &[0x02]),
+];
+
+/// Slave `slave` of `net` in PreOp with 0x1A00 and 0x1A01 (0x60B9, 0x60BA) assigned.
+fn assign_touch_probe_pdo(net: &mut rt_core::ecat::Network, slave: usize) {
+    net.request_state(slave, AlState::PreOp).unwrap();
+    for (index, sub, data) in ASSIGN_TOUCH_PROBE_PDO {
+        net.sdo_write(slave, index, sub, data).unwrap_or_else(|e| panic!("0x{index:04X}:{sub}: {e}"));
+    }
+}
+
+/// An axis 1.5 mm from zero at 10 000 counts/mm, with the drive's default mapping.
+fn at_15000_counts() -> AxisConfig {
+    let travel = rt_core::config::TravelConfig { start_position: 1.5, ..Default::default() };
+    AxisConfig { counts_per_unit: bench::CPU, travel, ..bench::drive_defaults() }
+}
+
+/// CoE 2.4 with a second TxPDO: 0x1C13 = {0x1A00, 0x1A01}; the master lays the inputs out
+/// from the assignment and both mappings, the touch probe after the default objects.
+#[test]
+fn a_second_txpdo_carries_the_touch_probe() {
+    let mut net = Bench::unstarted(at_15000_counts());
+    assign_touch_probe_pdo(&mut net, 0);
+    assert_eq!(net.sdo_read(0, 0x1C13, 2), Ok((0x1A01, 2)), "the assignment reads back");
+    net.sdo_write(0, 0x60B8, 0, &[0x01, 0x00]).unwrap();
+    net.start(PERIOD_NS).expect("start-up to Op");
+    assert_eq!(net.slaves()[0].pdo_lengths(), (6, 16), "10 bytes of 0x1A00, 6 of 0x1A01");
+    let status = net.input_field(0, 0x60B9, 0).expect("0x60B9 mapped");
+    assert!(net.input_field(0, 0x60BB, 0).is_none(), "0x60BB is not mapped");
+    net.exchange(bench::PERIOD_S);
+    let (inputs, _) = net.images_mut();
+    #[rustfmt::skip]
+    let expected: [u8; 16] = [
+        0x40, 0x02,             // 0x6041 statusword: Switch on disabled, remote
+        0x98, 0x3A, 0x00, 0x00, // 0x6064 position actual: 15000
+        0x00, 0x00, 0x00, 0x00, // 0x60F4 following error: 0
+        0x01, 0x00,             // 0x60B9 touch probe status: TP1 enabled
+        0x00, 0x00, 0x00, 0x00, // 0x60BA TP1 positive edge: none yet
+    ];
+    assert_eq!(inputs, expected);
+    assert_eq!(status.read(inputs), 1);
+}
+
+/// The rules of the assignment and of the second mapping (CoE 2.4; docs/decisions.md,
+/// "Second PDO"): one PDO twice, a mapping changed while assigned, a third PDO.
+#[test]
+fn assignment_rules_of_the_second_pdo() {
+    let mut net = pre_op();
+    assert_eq!(abort(net.sdo_write(0, 0x1C13, 0, &[0x03])), SdoAbort::ValueTooHigh, "two TxPDOs at most");
+    assert_eq!(abort(net.sdo_write(0, 0x1C13, 2, &[0x02, 0x1A])), SdoAbort::ValueTooHigh, "no 0x1A02");
+    assert_eq!(abort(net.sdo_write(0, 0x1C12, 2, &[0x00, 0x1A])), SdoAbort::ValueTooHigh, "a TxPDO as output");
+    assign_touch_probe_pdo(&mut net, 0);
+    let mapping = net.sdo_write(0, 0x1A01, 1, &[0x20, 0x00, 0xBB, 0x60]);
+    assert_eq!(abort(mapping), SdoAbort::DeviceState, "0x1A01 changed while assigned");
+
+    net.sdo_write(0, 0x1C13, 0, &[0x00]).unwrap();
+    net.sdo_write(0, 0x1C13, 2, &[0x00, 0x1A]).unwrap();
+    net.sdo_write(0, 0x1C13, 0, &[0x02]).unwrap();
+    net.sdo_write(0, 0x1C32, 1, &[0x00, 0x00]).unwrap();
+    let refused = net.request_state(0, AlState::SafeOp).map_err(|c| c.code());
+    assert_eq!(refused, Err(0x0024), "0x1A00 assigned twice: invalid input mapping");
+    assert_eq!(net.state(), AlState::PreOp);
+}
+
+/// The process image of two slaves: each one's part after the one before it in ring
+/// order, every offset from the mappings the master read back.
+#[test]
+fn the_process_image_of_two_slaves() {
+    let mut net = rt_core::ecat::Network::new(&[at_15000_counts(), bench::drive_defaults()]);
+    assign_touch_probe_pdo(&mut net, 0);
+    net.start(PERIOD_NS).expect("start-up to Op");
+    let (rx, tx) = net.image_entries(0);
+    let offsets = |entries: &[rt_core::ecat::network::ImageEntry]| {
+        entries.iter().map(|e| (e.index, e.sub, e.offset)).collect::<Vec<_>>()
+    };
+    assert_eq!(offsets(rx), [(0x6040, 0, 0), (0x607A, 0, 2)]);
+    assert_eq!(offsets(tx), [(0x6041, 0, 0), (0x6064, 0, 2), (0x60F4, 0, 6), (0x60B9, 0, 10), (0x60BA, 0, 12)]);
+    let controlword = net.output_field(1, 0x6040, 0).expect("slave 1's controlword");
+    let target = net.output_field(1, 0x607A, 0).expect("slave 1's target");
+    net.exchange(bench::PERIOD_S);
+    let (inputs, outputs) = net.images_mut();
+    controlword.write(outputs, 0x0006);
+    target.write(outputs, -2);
+    assert_eq!(outputs, [0, 0, 0, 0, 0, 0, 0x06, 0x00, 0xFE, 0xFF, 0xFF, 0xFF], "slave 1's outputs from byte 6");
+    #[rustfmt::skip]
+    let expected: [u8; 26] = [
+        0x40, 0x02, 0x98, 0x3A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x40, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, // slave 1 from byte 16
+    ];
+    assert_eq!(inputs, expected);
+}

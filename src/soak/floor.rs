@@ -7,11 +7,11 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
+use config::RtConfig;
 use hdrhistogram::Histogram;
 use ipc::Namespace;
 use ipc::clock::monotonic_ns;
 use ipc::floor::{Ping, Pong};
-use rt_core::config::RtConfig;
 use rt_core::realtime;
 
 use super::metrics;

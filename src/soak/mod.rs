@@ -20,8 +20,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
+use config::{AxisConfig, DC_CYCLES_US, MachineConfig, RtConfig, TaskConfig};
 use ipc::{Monitor, Namespace};
-use rt_core::config::{AxisConfig, DC_CYCLES_US, MachineConfig, RtConfig, TaskConfig};
 use rt_core::supervisor::ScriptLauncher;
 
 use metrics::{Merged, WorkerResult};

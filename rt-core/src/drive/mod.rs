@@ -14,10 +14,12 @@ pub mod plant;
 pub mod touch_probe;
 pub mod travel;
 
-use serde::Deserialize;
+pub use config::DriveModel;
 
 use crate::cia402::{State, statusword};
 use crate::config::{AxisConfig, DriveSettings};
+use crate::ecat::SdoAbort;
+use crate::ecat::device::Device;
 use crate::profile::{Kinematics, ramp_velocity};
 use fsa::Fsa;
 use limits::{FollowingError, HardwareLimits, clamp_to_software_limits};
@@ -30,28 +32,6 @@ use od::ObjectStore;
 use plant::{Demand, Plant, SERVO_PERIOD_S};
 use touch_probe::TouchProbe;
 use travel::{Edges, Travel};
-
-/// Drive families of the CoE manual, with their product codes (table 4-2).
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
-pub enum DriveModel {
-    #[serde(rename = "D1-N")]
-    D1N,
-    D1,
-    D2,
-    #[serde(rename = "abily")]
-    Abily,
-}
-
-impl DriveModel {
-    pub fn product_code(self) -> u32 {
-        match self {
-            DriveModel::D1N => 1,
-            DriveModel::D1 => 2,
-            DriveModel::D2 => 3,
-            DriveModel::Abily => 4,
-        }
-    }
-}
 
 /// The "save" signature of 0x1010:01 (CiA 301; the manual's fig. 4-1 is missing).
 pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
@@ -80,6 +60,39 @@ impl ActiveMode {
             ActiveMode::ProfileTorque(_) => ModeOfOperation::ProfileTorque,
             ActiveMode::Homing(_) => ModeOfOperation::Homing,
             ActiveMode::Cyclic(m) => *m,
+        }
+    }
+}
+
+/// The drive on the bus: the slave reaches it through its dictionary and these.
+impl Device for Drive {
+    fn od(&self) -> &ObjectStore {
+        &self.od
+    }
+
+    fn od_mut(&mut self) -> &mut ObjectStore {
+        &mut self.od
+    }
+
+    fn step(&mut self, period_s: f64) {
+        Drive::step(self, period_s);
+    }
+
+    fn sdo_download(&mut self, index: u16, _sub: u8, value: i64) -> Result<bool, SdoAbort> {
+        match index {
+            0x1010 if !self.store_parameters(value as u32) => Err(SdoAbort::DeviceState),
+            0x1010 => Ok(true),
+            _ => Ok(false),
+        }
+    }
+
+    /// Digital inputs and outputs a model has (CoE manual fig. 4-2, table 4-19).
+    fn digital_channels(&self) -> (u8, u8) {
+        match self.model {
+            // I1..I10, O1..O5.
+            DriveModel::D1N | DriveModel::D1 | DriveModel::D2 => (10, 5),
+            // The manual documents no inputs for abily.
+            DriveModel::Abily => (0, 5),
         }
     }
 }
@@ -123,7 +136,7 @@ impl Drive {
             start,
             (travel.negative_hard_stop, travel.positive_hard_stop),
         );
-        let mut od = ObjectStore::new(axis.drive);
+        let mut od = od::store(axis.drive);
         od.set(od::MOTOR_RATED_CURRENT, (axis.drive_settings.rated_current_a * 1000.0) as i64);
         let mut drive = Drive {
             model: axis.drive,

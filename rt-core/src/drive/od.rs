@@ -2,134 +2,40 @@
 //! 4-3 (PDO mapping), 4-4 (SyncManager), 4-6 (manufacturer) and 4-15 (device profile),
 //! with its type, access, PDO mappability, range, default and the models that have it
 //! (table 4-22). Choices where the tables contradict themselves are in docs/drive.md.
+//! This is the drive's data; the machinery (types, access, the store) is `crate::coe`.
 //!
-//! Objects are looked up by `(index, sub)` only when an SDO arrives or a PDO is mapped;
-//! the drive itself uses `ObjId` constants resolved at compile time.
+//! The drive uses `ObjId` constants resolved at compile time.
 
+use crate::coe::{ALL_VARIANTS, Access, ObjectDef};
+pub use crate::coe::{ObjId, ObjectStore, fits_width};
 use crate::drive::DriveModel;
-
-/// CoE data types.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DataType {
-    Int8,
-    Int16,
-    Int32,
-    UInt8,
-    UInt16,
-    UInt32,
-    Real32,
-}
-
-impl DataType {
-    pub const fn bits(self) -> u8 {
-        match self {
-            DataType::Int8 | DataType::UInt8 => 8,
-            DataType::Int16 | DataType::UInt16 => 16,
-            DataType::Int32 | DataType::UInt32 | DataType::Real32 => 32,
-        }
-    }
-
-    pub const fn bytes(self) -> usize {
-        self.bits() as usize / 8
-    }
-
-    /// Reads a little-endian value of this type into its stored form (REAL32 as its bits).
-    pub fn decode(self, bytes: &[u8]) -> i64 {
-        match self {
-            DataType::Int8 => bytes[0] as i8 as i64,
-            DataType::UInt8 => bytes[0] as i64,
-            DataType::Int16 => i16::from_le_bytes([bytes[0], bytes[1]]) as i64,
-            DataType::UInt16 => u16::from_le_bytes([bytes[0], bytes[1]]) as i64,
-            DataType::Int32 => i32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as i64,
-            DataType::UInt32 | DataType::Real32 => u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as i64,
-        }
-    }
-
-    /// Writes a stored value little-endian, truncated to the type's width.
-    pub fn encode(self, value: i64, bytes: &mut [u8]) {
-        let n = self.bytes();
-        bytes[..n].copy_from_slice(&value.to_le_bytes()[..n]);
-    }
-
-    /// The stored form of a raw bit pattern of this type's width (sign-extends signed types).
-    pub fn from_raw(self, raw: u64) -> i64 {
-        self.decode(&raw.to_le_bytes())
-    }
-
-    /// A stored value as a number, for range checks and for users.
-    pub fn to_f64(self, stored: i64) -> f64 {
-        match self {
-            DataType::Real32 => f32::from_bits(stored as u32) as f64,
-            _ => stored as f64,
-        }
-    }
-}
-
-/// Whether `value` fits `bytes` bytes as a signed or an unsigned integer: what a master
-/// may write to an object that wide without cutting it (its range is the drive's to check).
-pub fn fits_width(value: i64, bytes: usize) -> bool {
-    if bytes >= 8 {
-        return true;
-    }
-    let bits = 8 * bytes as u32;
-    (-(1i64 << (bits - 1))..=(1i64 << bits) - 1).contains(&value)
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Access {
-    ReadOnly,
-    ReadWrite,
-    /// No HIWIN object is write-only; the SDO layer still refuses to read one.
-    WriteOnly,
-}
 
 /// The drive models an object exists on (CoE manual table 4-22).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Models {
+enum Models {
     All,
     NotD1N,
     NotD1NNorAbily,
 }
 
 impl Models {
-    pub fn includes(self, model: DriveModel) -> bool {
+    /// The models as the store's variant bits.
+    const fn variants(self) -> u32 {
         match self {
-            Models::All => true,
-            Models::NotD1N => model != DriveModel::D1N,
-            Models::NotD1NNorAbily => !matches!(model, DriveModel::D1N | DriveModel::Abily),
+            Models::All => ALL_VARIANTS,
+            Models::NotD1N => !variant(DriveModel::D1N),
+            Models::NotD1NNorAbily => !(variant(DriveModel::D1N) | variant(DriveModel::Abily)),
         }
     }
 }
 
-/// One row of the manual's object tables. Ranges and defaults are numbers (REAL32 ones
-/// included); integers up to 2^32 are exact in an f64.
-#[derive(Clone, Copy, Debug)]
-pub struct ObjectDef {
-    pub index: u16,
-    pub sub: u8,
-    pub name: &'static str,
-    pub ty: DataType,
-    pub access: Access,
-    pub pdo_mappable: bool,
-    pub min: f64,
-    pub max: f64,
-    pub default: f64,
-    pub unit: &'static str,
-    pub models: Models,
+/// A model's bit in `ObjectDef::variants`.
+const fn variant(model: DriveModel) -> u32 {
+    1 << model as u32
 }
 
-impl ObjectDef {
-    /// The stored form of the default.
-    pub fn default_value(&self) -> i64 {
-        match self.ty {
-            DataType::Real32 => (self.default as f32).to_bits() as i64,
-            _ => self.default as i64,
-        }
-    }
-}
-
+use crate::coe::DataType::*;
 use Access::{ReadOnly as RO, ReadWrite as RW};
-use DataType::*;
 
 const U8: f64 = u8::MAX as f64;
 const U16: f64 = u16::MAX as f64;
@@ -145,7 +51,7 @@ macro_rules! rows {
         &[ $( ObjectDef {
             index: $index, sub: $sub, name: $name, ty: $ty, access: $acc, pdo_mappable: $pdo,
             max: $max as f64, min: $min as f64, default: $default as f64, unit: $unit,
-            models: rows!(@models $($models)?),
+            variants: rows!(@models $($models)?).variants(),
         }, )* ]
     };
     (@models) => { Models::All };
@@ -173,6 +79,15 @@ pub static OBJECTS: &[ObjectDef] = rows![
     (0x1600, 5, "RxPDO mapping entry 5", UInt32, RW, false, U32, 0, 0, ""),
     (0x1600, 6, "RxPDO mapping entry 6", UInt32, RW, false, U32, 0, 0, ""),
     (0x1600, 7, "RxPDO mapping entry 7", UInt32, RW, false, U32, 0, 0, ""),
+    // The second PDO per direction (docs/decisions.md, "Second PDO").
+    (0x1601, 0, "2nd receive PDO mapping: number of objects", UInt8, RW, false, 7, 0, 0, ""),
+    (0x1601, 1, "2nd RxPDO mapping entry 1", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1601, 2, "2nd RxPDO mapping entry 2", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1601, 3, "2nd RxPDO mapping entry 3", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1601, 4, "2nd RxPDO mapping entry 4", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1601, 5, "2nd RxPDO mapping entry 5", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1601, 6, "2nd RxPDO mapping entry 6", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1601, 7, "2nd RxPDO mapping entry 7", UInt32, RW, false, U32, 0, 0, ""),
     (0x1A00, 0, "1st transmit PDO mapping: number of objects", UInt8, RW, false, 7, 0, 3, ""),
     (0x1A00, 1, "TxPDO mapping entry 1", UInt32, RW, false, U32, 0, 0x6041_0010u32, ""),
     (0x1A00, 2, "TxPDO mapping entry 2", UInt32, RW, false, U32, 0, 0x6064_0020u32, ""),
@@ -181,6 +96,15 @@ pub static OBJECTS: &[ObjectDef] = rows![
     (0x1A00, 5, "TxPDO mapping entry 5", UInt32, RW, false, U32, 0, 0, ""),
     (0x1A00, 6, "TxPDO mapping entry 6", UInt32, RW, false, U32, 0, 0, ""),
     (0x1A00, 7, "TxPDO mapping entry 7", UInt32, RW, false, U32, 0, 0, ""),
+    // The second PDO per direction (docs/decisions.md, "Second PDO").
+    (0x1A01, 0, "2nd transmit PDO mapping: number of objects", UInt8, RW, false, 7, 0, 0, ""),
+    (0x1A01, 1, "2nd TxPDO mapping entry 1", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1A01, 2, "2nd TxPDO mapping entry 2", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1A01, 3, "2nd TxPDO mapping entry 3", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1A01, 4, "2nd TxPDO mapping entry 4", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1A01, 5, "2nd TxPDO mapping entry 5", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1A01, 6, "2nd TxPDO mapping entry 6", UInt32, RW, false, U32, 0, 0, ""),
+    (0x1A01, 7, "2nd TxPDO mapping entry 7", UInt32, RW, false, U32, 0, 0, ""),
     // Table 4-4: SyncManager communication objects.
     (0x1C00, 0, "SM comm type: number of used SMs", UInt8, RO, false, U8, 0, 4, ""),
     (0x1C00, 1, "Comm type SM0", UInt8, RO, false, U8, 0, 1, ""),
@@ -189,10 +113,12 @@ pub static OBJECTS: &[ObjectDef] = rows![
     (0x1C00, 4, "Comm type SM3", UInt8, RO, false, U8, 0, 4, ""),
     (0x1C10, 0, "SM0 PDO assignment", UInt8, RO, false, U8, 0, 0, ""),
     (0x1C11, 0, "SM1 PDO assignment", UInt8, RO, false, U8, 0, 0, ""),
-    (0x1C12, 0, "SM2 PDO assignment: number of assigned RxPDOs", UInt8, RW, false, 1, 0, 1, ""),
-    (0x1C12, 1, "PDO mapping index of assigned RxPDO", UInt16, RW, false, 0x1600, 0x1600, 0x1600, ""),
-    (0x1C13, 0, "SM3 PDO assignment: number of assigned TxPDOs", UInt8, RW, false, 1, 0, 1, ""),
-    (0x1C13, 1, "PDO mapping index of assigned TxPDO", UInt16, RW, false, 0x1A00, 0x1A00, 0x1A00, ""),
+    (0x1C12, 0, "SM2 PDO assignment: number of assigned RxPDOs", UInt8, RW, false, 2, 0, 1, ""),
+    (0x1C12, 1, "PDO mapping index of assigned RxPDO 1", UInt16, RW, false, 0x1601, 0x1600, 0x1600, ""),
+    (0x1C12, 2, "PDO mapping index of assigned RxPDO 2", UInt16, RW, false, 0x1601, 0x1600, 0x1601, ""),
+    (0x1C13, 0, "SM3 PDO assignment: number of assigned TxPDOs", UInt8, RW, false, 2, 0, 1, ""),
+    (0x1C13, 1, "PDO mapping index of assigned TxPDO 1", UInt16, RW, false, 0x1A01, 0x1A00, 0x1A00, ""),
+    (0x1C13, 2, "PDO mapping index of assigned TxPDO 2", UInt16, RW, false, 0x1A01, 0x1A00, 0x1A01, ""),
     (0x1C32, 0, "SM2 sync: number of sync parameters", UInt8, RO, false, U8, 0, 8, ""),
     (0x1C32, 1, "Synchronization type", UInt16, RW, false, 2, 0, 2, ""),
     (0x1C32, 2, "Cycle time", UInt32, RW, false, U32, 0, 125_000, "ns"),
@@ -292,50 +218,14 @@ pub static OBJECTS: &[ObjectDef] = rows![
     (0x6502, 0, "Supported drive modes", UInt32, RO, false, U32, 0, 0x03AD, ""),
 ];
 
-/// The position of an object in `OBJECTS`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ObjId(pub usize);
-
-impl ObjId {
-    pub fn def(self) -> &'static ObjectDef {
-        &OBJECTS[self.0]
-    }
-}
-
-/// Resolves an object at compile time; a missing object fails the build.
+/// Resolves an object of the drive at compile time; a missing object fails the build.
 pub const fn id(index: u16, sub: u8) -> ObjId {
-    let mut i = 0;
-    while i < OBJECTS.len() {
-        if OBJECTS[i].index == index && OBJECTS[i].sub == sub {
-            return ObjId(i);
-        }
-        i += 1;
-    }
-    panic!("object not in the dictionary");
+    crate::coe::id(OBJECTS, index, sub)
 }
 
-/// Looks an object up. `None` for objects the table does not list.
-pub fn find(index: u16, sub: u8) -> Option<ObjId> {
-    OBJECTS.iter().position(|o| o.index == index && o.sub == sub).map(ObjId)
-}
-
-/// True when the index exists at all (some sub-index of it is listed).
-pub fn index_exists(index: u16) -> bool {
-    OBJECTS.iter().any(|o| o.index == index)
-}
-
-pub const DEVICE_TYPE: ObjId = id(0x1000, 0);
 pub const ERROR_REGISTER: ObjId = id(0x1001, 0);
 pub const SAVE_ALL_PARAMETERS: ObjId = id(0x1010, 1);
 pub const PRODUCT_CODE: ObjId = id(0x1018, 2);
-pub const RX_MAPPING_COUNT: ObjId = id(0x1600, 0);
-pub const TX_MAPPING_COUNT: ObjId = id(0x1A00, 0);
-pub const RX_ASSIGNMENT_COUNT: ObjId = id(0x1C12, 0);
-pub const TX_ASSIGNMENT_COUNT: ObjId = id(0x1C13, 0);
-pub const SYNC_TYPE: ObjId = id(0x1C32, 1);
-pub const CYCLE_TIME: ObjId = id(0x1C32, 2);
-pub const SYNC_TYPE_INPUTS: ObjId = id(0x1C33, 1);
-pub const CYCLE_TIME_INPUTS: ObjId = id(0x1C33, 2);
 pub const INDEX_SIGNAL: ObjId = id(0x2020, 0);
 pub const LATCHED_INDEX_POSITION: ObjId = id(0x2021, 0);
 pub const MOTOR_ACTUAL_CURRENT: ObjId = id(0x2022, 0);
@@ -383,52 +273,77 @@ pub const PHYSICAL_OUTPUTS: ObjId = id(0x60FE, 1);
 pub const OUTPUT_MASK: ObjId = id(0x60FE, 2);
 pub const TARGET_VELOCITY: ObjId = id(0x60FF, 0);
 
-/// The values of one drive's objects. Objects of other models read as absent.
-#[derive(Clone, Debug)]
-pub struct ObjectStore {
-    model: DriveModel,
-    values: Vec<i64>,
-}
-
-impl ObjectStore {
-    /// Power-up values: the manual's defaults, with the model's product code.
-    pub fn new(model: DriveModel) -> Self {
-        let mut values: Vec<i64> = OBJECTS.iter().map(ObjectDef::default_value).collect();
-        values[PRODUCT_CODE.0] = model.product_code() as i64;
-        ObjectStore { model, values }
-    }
-
-    pub fn model(&self) -> DriveModel {
-        self.model
-    }
-
-    /// Whether this drive has the object (table 4-22).
-    pub fn has(&self, id: ObjId) -> bool {
-        id.def().models.includes(self.model)
-    }
-
-    pub fn get(&self, id: ObjId) -> i64 {
-        self.values[id.0]
-    }
-
-    /// A REAL32 object's value.
-    pub fn get_f32(&self, id: ObjId) -> f32 {
-        f32::from_bits(self.values[id.0] as u32)
-    }
-
-    /// Sets a value from the drive's own logic (no access or range check).
-    pub fn set(&mut self, id: ObjId, value: i64) {
-        self.values[id.0] = value;
-    }
-
-    pub fn set_f32(&mut self, id: ObjId, value: f32) {
-        self.values[id.0] = value.to_bits() as i64;
-    }
+/// A drive's dictionary at power-up: the manual's defaults, with the model's product code.
+pub fn store(model: DriveModel) -> ObjectStore {
+    let mut store = ObjectStore::new(OBJECTS, variant(model));
+    store.set(PRODUCT_CODE, model.product_code() as i64);
+    store
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::coe::DataType;
+    use crate::ecat::mailbox::{SdoAbort, check_download, upload};
+
+    fn d1() -> ObjectStore {
+        store(DriveModel::D1)
+    }
+
+    /// CiA 301 abort codes, one row per case (CoE manual ch. 4 objects).
+    #[test]
+    fn abort_codes() {
+        let rows: [(u16, u8, &[u8], SdoAbort, &str); 9] = [
+            (0x6011, 0, &[0, 0], SdoAbort::NoObject, "unknown object"),
+            (0x60BC, 0, &[0, 0, 0, 0], SdoAbort::NoObject, "0x60BC is not in the dictionary (no TP2)"),
+            (0x6099, 3, &[0, 0, 0, 0], SdoAbort::NoSubIndex, "unknown sub-index"),
+            (0x6041, 0, &[0, 0], SdoAbort::ReadOnly, "statusword is read-only"),
+            (0x6040, 0, &[0, 0, 0, 0], SdoAbort::LengthTooHigh, "4 bytes to a UINT16"),
+            (0x607A, 0, &[0, 0], SdoAbort::LengthTooLow, "2 bytes to an INT32"),
+            (0x6071, 0, &1001i16.to_le_bytes(), SdoAbort::ValueTooHigh, "target torque 1001 (max 1000)"),
+            (0x6071, 0, &(-1001i16).to_le_bytes(), SdoAbort::ValueTooLow, "target torque -1001"),
+            (0x2004, 1, &0i32.to_le_bytes(), SdoAbort::ValueTooLow, "gear numerator 0 (min 1)"),
+        ];
+        for (index, sub, data, abort, what) in rows {
+            assert_eq!(check_download(&d1(), index, sub, data).map(|_| ()), Err(abort), "{what}");
+        }
+        assert_eq!(upload(&d1(), 0x1234, 0), Err(SdoAbort::NoObject));
+    }
+
+    /// CoE manual table 4-22: objects of other models do not exist.
+    #[test]
+    fn model_support() {
+        let d1n = store(DriveModel::D1N);
+        assert_eq!(upload(&d1n, 0x6075, 0), Err(SdoAbort::NoObject));
+        assert_eq!(upload(&d1n, 0x2060, 0), Err(SdoAbort::NoObject));
+        assert_eq!(upload(&store(DriveModel::Abily), 0x2110, 0), Err(SdoAbort::NoObject));
+        assert!(upload(&store(DriveModel::D2), 0x2110, 0).is_ok());
+    }
+
+    #[test]
+    fn real32_range_is_checked_on_the_number() {
+        let gain = |v: f32| check_download(&d1(), 0x2050, 0, &v.to_bits().to_le_bytes()).map(|_| ());
+        assert_eq!(gain(20.0), Err(SdoAbort::ValueTooHigh), "common gain max 10");
+        assert_eq!(gain(0.001), Err(SdoAbort::ValueTooLow), "common gain min 0.01");
+        assert_eq!(gain(1.5), Ok(()));
+    }
+
+    /// The second PDO per direction: assignable in 0x1C12/0x1C13, empty until mapped.
+    #[test]
+    fn a_second_pdo_per_direction() {
+        let store = d1();
+        for (assignment, second) in [(0x1C12, 0x1601u16), (0x1C13, 0x1A01)] {
+            assert_eq!(upload(&store, assignment, 0), Ok((1, 1)), "only the first assigned by default");
+            assert_eq!(upload(&store, assignment, 2), Ok((second as i64, 2)));
+            assert_eq!(upload(&store, second, 0), Ok((0, 1)), "0x{second:04X} maps nothing by default");
+            assert_eq!(check_download(&store, assignment, 0, &[3]).map(|_| ()), Err(SdoAbort::ValueTooHigh));
+            let next = (second + 1).to_le_bytes();
+            assert_eq!(check_download(&store, assignment, 2, &next).map(|_| ()), Err(SdoAbort::ValueTooHigh));
+        }
+        assert_eq!(check_download(&store, 0x1C13, 1, &0x1601u16.to_le_bytes()).map(|_| ()), Err(SdoAbort::ValueTooLow));
+        assert!(check_download(&store, 0x1A01, 7, &0x60BA_0020u32.to_le_bytes()).is_ok());
+        assert_eq!(store.def(id(0x1A01, 1)).ty, DataType::UInt32);
+    }
 
     #[test]
     fn the_table_is_sorted_unique_and_its_defaults_in_range() {
@@ -450,7 +365,7 @@ mod tests {
     /// REAL32 values travel as their IEEE bits.
     #[test]
     fn real32_defaults_are_stored_as_bits() {
-        let store = ObjectStore::new(DriveModel::D1);
+        let store = d1();
         assert_eq!(store.get_f32(id(0x2050, 0)), 0.3);
         assert_eq!(store.get_f32(id(0x2051, 0)), 0.001);
     }

@@ -1,7 +1,8 @@
 //! CoE mailbox: SDO upload and download against a slave's object dictionary (CoE manual
-//! 2.2, "SDO request" only), with the standard abort codes (`api::SdoAbort`).
+//! 2.2, "SDO request"), the SDO information service's entry description (ETG.1000.6), with
+//! the standard abort codes (`api::SdoAbort`).
 
-use crate::drive::od::{Access, DataType, ObjId, ObjectDef, ObjectStore, find, index_exists};
+use crate::coe::{Access, DataType, ObjId, ObjectDef, ObjectStore};
 
 pub use api::SdoAbort;
 
@@ -18,11 +19,19 @@ pub enum SdoError {
     NoSlave(usize),
 }
 
-/// Finds an object the drive has; the abort a missing one gets.
+/// What the SDO information service tells of one object: how a master reads and maps it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EntryDescription {
+    pub ty: DataType,
+    pub access: Access,
+    pub pdo_mappable: bool,
+}
+
+/// Finds an object the device has; the abort a missing one gets.
 pub fn resolve(store: &ObjectStore, index: u16, sub: u8) -> Result<ObjId, SdoAbort> {
-    match find(index, sub).filter(|&id| store.has(id)) {
+    match store.find(index, sub) {
         Some(id) => Ok(id),
-        None if index_exists(index) && find(index, 0).is_some_and(|id| store.has(id)) => Err(SdoAbort::NoSubIndex),
+        None if store.find(index, 0).is_some() => Err(SdoAbort::NoSubIndex),
         None => Err(SdoAbort::NoObject),
     }
 }
@@ -30,8 +39,14 @@ pub fn resolve(store: &ObjectStore, index: u16, sub: u8) -> Result<ObjId, SdoAbo
 /// An upload: the stored value and its length in bytes.
 pub fn upload(store: &ObjectStore, index: u16, sub: u8) -> Result<(i64, usize), SdoAbort> {
     let id = resolve(store, index, sub)?;
-    check_readable(id.def())?;
-    Ok((store.get(id), id.def().ty.bytes()))
+    check_readable(store.def(id))?;
+    Ok((store.get(id), store.def(id).ty.bytes()))
+}
+
+/// An entry description (SDO information service).
+pub fn describe(store: &ObjectStore, index: u16, sub: u8) -> Result<EntryDescription, SdoAbort> {
+    let def = store.def(resolve(store, index, sub)?);
+    Ok(EntryDescription { ty: def.ty, access: def.access, pdo_mappable: def.pdo_mappable })
 }
 
 fn check_readable(def: &ObjectDef) -> Result<(), SdoAbort> {
@@ -42,7 +57,7 @@ fn check_readable(def: &ObjectDef) -> Result<(), SdoAbort> {
 /// and the value in stored form. Writing it is the caller's (state rules come first).
 pub fn check_download(store: &ObjectStore, index: u16, sub: u8, data: &[u8]) -> Result<(ObjId, i64), SdoAbort> {
     let id = resolve(store, index, sub)?;
-    let def = id.def();
+    let def = store.def(id);
     if def.access == Access::ReadOnly {
         return Err(SdoAbort::ReadOnly);
     }
@@ -69,56 +84,55 @@ pub fn check_download(store: &ObjectStore, index: u16, sub: u8, data: &[u8]) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::DriveModel;
-    use crate::drive::od::OBJECTS;
+    use crate::coe::test_object;
 
-    fn d1() -> ObjectStore {
-        ObjectStore::new(DriveModel::D1)
+    const fn row(index: u16, sub: u8, ty: DataType, access: Access) -> ObjectDef {
+        ObjectDef { access, min: -1000.0, max: 1000.0, ..test_object(index, sub, ty) }
     }
 
-    /// CiA 301 abort codes, one row per case (CoE manual ch. 4 objects).
+    static TABLE: &[ObjectDef] = &[
+        row(0x2000, 0, DataType::UInt8, Access::ReadOnly),
+        row(0x2000, 1, DataType::Int16, Access::ReadWrite),
+        row(0x2001, 0, DataType::Real32, Access::ReadWrite),
+        row(0x2002, 0, DataType::Int32, Access::WriteOnly),
+    ];
+
+    fn store() -> ObjectStore {
+        ObjectStore::new(TABLE, 1)
+    }
+
+    /// CiA 301 abort codes over any device's table, one row per case.
     #[test]
-    fn abort_codes() {
-        let rows: [(u16, u8, &[u8], SdoAbort, &str); 9] = [
-            (0x6011, 0, &[0, 0], SdoAbort::NoObject, "unknown object"),
-            (0x60BC, 0, &[0, 0, 0, 0], SdoAbort::NoObject, "0x60BC is not in the dictionary (no TP2)"),
-            (0x6099, 3, &[0, 0, 0, 0], SdoAbort::NoSubIndex, "unknown sub-index"),
-            (0x6041, 0, &[0, 0], SdoAbort::ReadOnly, "statusword is read-only"),
-            (0x6040, 0, &[0, 0, 0, 0], SdoAbort::LengthTooHigh, "4 bytes to a UINT16"),
-            (0x607A, 0, &[0, 0], SdoAbort::LengthTooLow, "2 bytes to an INT32"),
-            (0x6071, 0, &1001i16.to_le_bytes(), SdoAbort::ValueTooHigh, "target torque 1001 (max 1000)"),
-            (0x6071, 0, &(-1001i16).to_le_bytes(), SdoAbort::ValueTooLow, "target torque -1001"),
-            (0x2004, 1, &0i32.to_le_bytes(), SdoAbort::ValueTooLow, "gear numerator 0 (min 1)"),
+    fn abort_codes_on_a_table_of_any_device() {
+        let rows: [(u16, u8, &[u8], SdoAbort, &str); 6] = [
+            (0x2003, 0, &[0], SdoAbort::NoObject, "unknown object"),
+            (0x2000, 2, &[0, 0], SdoAbort::NoSubIndex, "unknown sub-index"),
+            (0x2000, 0, &[0], SdoAbort::ReadOnly, "read-only"),
+            (0x2000, 1, &[0, 0, 0], SdoAbort::LengthTooHigh, "3 bytes to an INT16"),
+            (0x2000, 1, &1001i16.to_le_bytes(), SdoAbort::ValueTooHigh, "1001 > 1000"),
+            (0x2001, 0, &f32::NAN.to_bits().to_le_bytes(), SdoAbort::ValueRange, "REAL32 NaN"),
         ];
         for (index, sub, data, abort, what) in rows {
-            assert_eq!(check_download(&d1(), index, sub, data).map(|_| ()), Err(abort), "{what}");
+            assert_eq!(check_download(&store(), index, sub, data).map(|_| ()), Err(abort), "{what}");
         }
-        assert_eq!(upload(&d1(), 0x1234, 0), Err(SdoAbort::NoObject));
+        assert_eq!(check_download(&store(), 0x2000, 1, &(-7i16).to_le_bytes()).map(|(_, v)| v), Ok(-7));
     }
 
-    /// CoE manual table 4-22: objects of other models do not exist.
-    #[test]
-    fn model_support() {
-        let d1n = ObjectStore::new(DriveModel::D1N);
-        assert_eq!(upload(&d1n, 0x6075, 0), Err(SdoAbort::NoObject));
-        assert_eq!(upload(&d1n, 0x2060, 0), Err(SdoAbort::NoObject));
-        assert_eq!(upload(&ObjectStore::new(DriveModel::Abily), 0x2110, 0), Err(SdoAbort::NoObject));
-        assert!(upload(&ObjectStore::new(DriveModel::D2), 0x2110, 0).is_ok());
-    }
-
-    #[test]
-    fn real32_range_is_checked_on_the_number() {
-        let gain = |v: f32| check_download(&d1(), 0x2050, 0, &v.to_bits().to_le_bytes()).map(|_| ());
-        assert_eq!(gain(20.0), Err(SdoAbort::ValueTooHigh), "common gain max 10");
-        assert_eq!(gain(0.001), Err(SdoAbort::ValueTooLow), "common gain min 0.01");
-        assert_eq!(gain(1.5), Ok(()));
-    }
-
-    /// No HIWIN object is write-only; the access rule is checked on a made-up one.
+    /// The access rule is checked on a write-only object.
     #[test]
     fn a_write_only_object_cannot_be_read() {
-        let write_only = ObjectDef { access: Access::WriteOnly, ..OBJECTS[0] };
-        assert_eq!(check_readable(&write_only), Err(SdoAbort::WriteOnly));
-        assert_eq!(check_readable(&OBJECTS[0]), Ok(()));
+        assert_eq!(upload(&store(), 0x2002, 0), Err(SdoAbort::WriteOnly));
+        assert_eq!(upload(&store(), 0x2000, 1), Ok((0, 2)));
+    }
+
+    /// The entry description a master lays its process image out with.
+    #[test]
+    fn an_entry_description_gives_type_and_access() {
+        let description = describe(&store(), 0x2000, 1).unwrap();
+        assert_eq!(
+            description,
+            EntryDescription { ty: DataType::Int16, access: Access::ReadWrite, pdo_mappable: false }
+        );
+        assert_eq!(describe(&store(), 0x2000, 5), Err(SdoAbort::NoSubIndex));
     }
 }

@@ -1,14 +1,17 @@
 //! The simulated EtherCAT segment: the slaves in ring order, the master's start-up, the
 //! process image exchanged once per cycle as one frame would, and the mailbox.
+//!
+//! The master knows no device: it configures the slaves and lays the process image out
+//! through their mailboxes only (the PDO assignments 0x1C12/0x1C13, the mappings they
+//! name, and each mapped object's entry description), as a real master does.
 
 use std::ops::Range;
 
-use crate::config::AxisConfig;
-use crate::drive::FaultInjectionError;
-use crate::drive::od::DataType;
+use crate::coe::DataType;
+use crate::ecat::device::Device;
 use crate::ecat::esm::{AlState, AlStatusCode};
 use crate::ecat::mailbox::SdoError;
-use crate::ecat::pdo::Mapped;
+use crate::ecat::pdo::{Direction, PdoEntry};
 use crate::ecat::slave::{ESC_DC_SYNC0, ESC_SYNC_ACTIVATION, Slave};
 
 /// Where one mapped object sits in the master's process image.
@@ -41,6 +44,15 @@ pub enum StartError {
     Sdo { slave: usize, index: u16, sub: u8, error: SdoError },
 }
 
+/// A slave as the controller puts it on the bus: its device, and the mapping entries
+/// (`0xIIIISSLL`) the master writes to its first RxPDO (0x1600) and TxPDO (0x1A00) in
+/// PreOp; `None` leaves the device's own.
+pub struct SlaveSetup {
+    pub device: Box<dyn Device>,
+    pub rx_pdo: Option<Vec<u32>>,
+    pub tx_pdo: Option<Vec<u32>>,
+}
+
 /// The custom PDO mapping of one slave, written by the master in PreOp.
 #[derive(Clone, Debug, Default)]
 struct Mapping {
@@ -48,26 +60,44 @@ struct Mapping {
     tx: Option<Vec<u32>>,
 }
 
+/// One object in the master's process image, as read from the slave's mapping objects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageEntry {
+    pub index: u16,
+    pub sub: u8,
+    pub ty: DataType,
+    /// Bytes from the start of the slave's part of the image.
+    pub offset: usize,
+}
+
+/// A slave's part of the process image: where it lies and what it holds.
+#[derive(Clone, Debug, Default)]
+struct SlaveImage {
+    outputs: Range<usize>,
+    inputs: Range<usize>,
+    rx: Vec<ImageEntry>,
+    tx: Vec<ImageEntry>,
+}
+
 pub struct Network {
     slaves: Vec<Slave>,
     mappings: Vec<Mapping>,
     outputs: Vec<u8>,
     inputs: Vec<u8>,
-    output_ranges: Vec<Range<usize>>,
-    input_ranges: Vec<Range<usize>>,
+    images: Vec<SlaveImage>,
     start_error: Option<StartError>,
 }
 
 impl Network {
-    /// One drive per axis, in ring order.
-    pub fn new(axes: &[AxisConfig]) -> Self {
+    /// The slaves in ring order.
+    pub fn with_slaves(slaves: Vec<SlaveSetup>) -> Self {
+        let mappings = slaves.iter().map(|s| Mapping { rx: s.rx_pdo.clone(), tx: s.tx_pdo.clone() }).collect();
         Network {
-            slaves: axes.iter().map(Slave::new).collect(),
-            mappings: axes.iter().map(|a| Mapping { rx: a.rx_pdo.clone(), tx: a.tx_pdo.clone() }).collect(),
+            slaves: slaves.into_iter().map(|s| Slave::new(s.device)).collect(),
+            mappings,
             outputs: Vec::new(),
             inputs: Vec::new(),
-            output_ranges: Vec::new(),
-            input_ranges: Vec::new(),
+            images: Vec::new(),
             start_error: None,
         }
     }
@@ -76,9 +106,15 @@ impl Network {
         &self.slaves
     }
 
+    /// The slaves themselves, for what the bus does not carry (the simulation's faults).
+    pub fn slaves_mut(&mut self) -> &mut [Slave] {
+        &mut self.slaves
+    }
+
     /// The master's start-up (CoE manual 2.3): scan, every slave to PreOp, PDO mapping
-    /// and the DC cycle configured over the mailbox, SafeOp (mapping and sync checked,
-    /// process image laid out), Op. A failure leaves the network where it stopped.
+    /// and the DC cycle configured over the mailbox, SafeOp (mapping and sync checked),
+    /// process image laid out from the mapping objects, Op. A failure leaves the network
+    /// where it stopped.
     pub fn start(&mut self, cycle_ns: u64) -> Result<(), StartError> {
         let result = self.bring_up(cycle_ns);
         self.start_error = result.err();
@@ -96,7 +132,7 @@ impl Network {
             self.configure(slave, cycle_ns)?;
         }
         self.request_all(AlState::SafeOp)?;
-        self.lay_out_image();
+        self.lay_out_image()?;
         self.request_all(AlState::Op)
     }
 
@@ -130,19 +166,45 @@ impl Network {
         Ok(())
     }
 
-    fn lay_out_image(&mut self) {
+    /// Each slave's part of the image, one after the other in ring order.
+    fn lay_out_image(&mut self) -> Result<(), StartError> {
         let (mut out_len, mut in_len) = (0, 0);
-        self.output_ranges.clear();
-        self.input_ranges.clear();
-        for s in &self.slaves {
-            let (rx, tx) = s.pdo_lengths();
-            self.output_ranges.push(out_len..out_len + rx);
-            self.input_ranges.push(in_len..in_len + tx);
-            out_len += rx;
-            in_len += tx;
+        self.images.clear();
+        for slave in 0..self.slaves.len() {
+            let (rx, rx_len) = self.read_mapping(slave, Direction::Outputs)?;
+            let (tx, tx_len) = self.read_mapping(slave, Direction::Inputs)?;
+            self.images.push(SlaveImage {
+                outputs: out_len..out_len + rx_len,
+                inputs: in_len..in_len + tx_len,
+                rx,
+                tx,
+            });
+            out_len += rx_len;
+            in_len += tx_len;
         }
         self.outputs = vec![0; out_len];
         self.inputs = vec![0; in_len];
+        Ok(())
+    }
+
+    /// What one SyncManager of a slave carries, read through its mailbox: the PDOs its
+    /// assignment names, their entries in order, each entry's type from its description.
+    fn read_mapping(&self, slave: usize, direction: Direction) -> Result<(Vec<ImageEntry>, usize), StartError> {
+        let s = &self.slaves[slave];
+        let failed = |index, sub| move |error| StartError::Sdo { slave, index, sub, error };
+        let read = |index: u16, sub: u8| s.sdo_read(index, sub).map(|(v, _)| v).map_err(failed(index, sub));
+        let assignment = direction.assignment();
+        let (mut entries, mut len) = (Vec::new(), 0);
+        for k in 1..=read(assignment, 0)? as u8 {
+            let pdo = read(assignment, k)? as u16;
+            for e in 1..=read(pdo, 0)? as u8 {
+                let entry = PdoEntry::from_u32(read(pdo, e)? as u32);
+                let ty = s.sdo_describe(entry.index, entry.sub).map_err(failed(entry.index, entry.sub))?.ty;
+                entries.push(ImageEntry { index: entry.index, sub: entry.sub, ty, offset: len });
+                len += ty.bytes();
+            }
+        }
+        Ok((entries, len))
     }
 
     /// The master state `GetECATSt` reports: the lowest state of any slave.
@@ -153,9 +215,10 @@ impl Network {
     /// One frame: every slave takes its outputs, runs one cycle and returns its inputs.
     pub fn exchange(&mut self, period_s: f64) {
         for (i, slave) in self.slaves.iter_mut().enumerate() {
-            let outputs = &self.outputs[self.output_ranges.get(i).cloned().unwrap_or(0..0)];
-            let inputs = match self.input_ranges.get(i) {
-                Some(r) => &mut self.inputs[r.clone()],
+            let image = self.images.get(i);
+            let outputs = &self.outputs[image.map_or(0..0, |m| m.outputs.clone())];
+            let inputs = match image {
+                Some(m) => &mut self.inputs[m.inputs.clone()],
                 None => &mut [][..],
             };
             slave.cycle(outputs, inputs, period_s);
@@ -164,8 +227,15 @@ impl Network {
 
     /// One slave's part of the images: (outputs, inputs).
     pub fn slave_images(&self, slave: usize) -> (&[u8], &[u8]) {
-        let range = |ranges: &[Range<usize>]| ranges.get(slave).cloned().unwrap_or(0..0);
-        (&self.outputs[range(&self.output_ranges)], &self.inputs[range(&self.input_ranges)])
+        match self.images.get(slave) {
+            Some(m) => (&self.outputs[m.outputs.clone()], &self.inputs[m.inputs.clone()]),
+            None => (&[], &[]),
+        }
+    }
+
+    /// What one slave's part of the image holds: (outputs, inputs), in order.
+    pub fn image_entries(&self, slave: usize) -> (&[ImageEntry], &[ImageEntry]) {
+        self.images.get(slave).map_or((&[], &[]), |m| (&m.rx, &m.tx))
     }
 
     /// The master's view of the last frame: inputs to read, outputs to write.
@@ -175,19 +245,14 @@ impl Network {
 
     /// Where object `index:sub` of `slave` sits in the outputs (RxPDO), if mapped.
     pub fn output_field(&self, slave: usize, index: u16, sub: u8) -> Option<Field> {
-        let base = self.output_ranges.get(slave)?.start;
-        Self::find(self.slaves[slave].rx_mapping(), base, index, sub)
+        let image = self.images.get(slave)?;
+        find(&image.rx, image.outputs.start, index, sub)
     }
 
     /// Where object `index:sub` of `slave` sits in the inputs (TxPDO), if mapped.
     pub fn input_field(&self, slave: usize, index: u16, sub: u8) -> Option<Field> {
-        let base = self.input_ranges.get(slave)?.start;
-        Self::find(self.slaves[slave].tx_mapping(), base, index, sub)
-    }
-
-    fn find(mapping: &[Mapped], base: usize, index: u16, sub: u8) -> Option<Field> {
-        let wanted = crate::drive::od::find(index, sub)?;
-        mapping.iter().find(|m| m.obj == wanted).map(|m| Field { offset: base + m.offset, ty: m.ty })
+        let image = self.images.get(slave)?;
+        find(&image.tx, image.inputs.start, index, sub)
     }
 
     fn slave(&self, slave: usize) -> Result<&Slave, SdoError> {
@@ -209,12 +274,70 @@ impl Network {
     pub fn request_state(&mut self, slave: usize, target: AlState) -> Result<(), AlStatusCode> {
         self.slaves[slave].request_state(target)
     }
+}
 
-    /// Simulation only: a drive fault of CoE manual table 4-16.
-    pub fn inject_fault(&mut self, slave: usize, code: u16) -> Result<(), FaultInjectionError> {
-        match self.slaves.get_mut(slave) {
-            Some(s) => s.inject_fault(code),
-            None => Err(FaultInjectionError::UnknownCode(code)),
+fn find(entries: &[ImageEntry], base: usize, index: u16, sub: u8) -> Option<Field> {
+    entries.iter().find(|e| e.index == index && e.sub == sub).map(|e| Field { offset: base + e.offset, ty: e.ty })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coe::{Access, DataType, ObjectDef, ObjectStore, id, test_object};
+
+    const fn row(index: u16, sub: u8, ty: DataType, access: Access, pdo: bool, max: f64, default: f64) -> ObjectDef {
+        ObjectDef { access, pdo_mappable: pdo, min: 0.0, max, default, ..test_object(index, sub, ty) }
+    }
+
+    /// A device the bus has never seen: 8 inputs counting cycles, free run, one TxPDO.
+    static COUNTER: &[ObjectDef] = &[
+        row(0x1A00, 0, DataType::UInt8, Access::ReadWrite, false, 7.0, 1.0),
+        row(0x1A00, 1, DataType::UInt32, Access::ReadWrite, false, u32::MAX as f64, 0x6000_0108u32 as f64),
+        row(0x1C12, 0, DataType::UInt8, Access::ReadWrite, false, 0.0, 0.0),
+        row(0x1C13, 0, DataType::UInt8, Access::ReadWrite, false, 1.0, 1.0),
+        row(0x1C13, 1, DataType::UInt16, Access::ReadWrite, false, 0x1A00 as f64, 0x1A00 as f64),
+        row(0x1C32, 1, DataType::UInt16, Access::ReadWrite, false, 2.0, 0.0),
+        row(0x1C32, 2, DataType::UInt32, Access::ReadWrite, false, u32::MAX as f64, 0.0),
+        row(0x6000, 1, DataType::UInt8, Access::ReadOnly, true, 255.0, 0.0),
+    ];
+
+    struct Counter(ObjectStore);
+
+    impl Device for Counter {
+        fn od(&self) -> &ObjectStore {
+            &self.0
         }
+
+        fn od_mut(&mut self) -> &mut ObjectStore {
+            &mut self.0
+        }
+
+        fn step(&mut self, _period_s: f64) {
+            let inputs = id(COUNTER, 0x6000, 1);
+            self.0.set(inputs, (self.0.get(inputs) + 1) & 0xFF);
+        }
+
+        fn digital_channels(&self) -> (u8, u8) {
+            (8, 0)
+        }
+    }
+
+    /// The master brings any device to Op and lays its part of the image out from its
+    /// mapping objects, beside a device of another kind.
+    #[test]
+    fn a_device_of_any_kind_is_laid_out_from_its_mapping_objects() {
+        let counter =
+            || SlaveSetup { device: Box::new(Counter(ObjectStore::new(COUNTER, 1))), rx_pdo: None, tx_pdo: None };
+        let mut net = Network::with_slaves(vec![counter(), counter()]);
+        net.start(1_000_000).expect("start-up to Op");
+        assert_eq!(net.state(), AlState::Op);
+        let entry = ImageEntry { index: 0x6000, sub: 1, ty: DataType::UInt8, offset: 0 };
+        assert_eq!(net.image_entries(1), (&[][..], &[entry][..]));
+        net.exchange(1e-3);
+        net.exchange(1e-3);
+        assert_eq!(net.images_mut().0, [2, 2], "each counter's byte, one after the other");
+        assert_eq!(net.input_field(1, 0x6000, 1).map(|f| f.read(&[7, 9])), Some(9));
+        assert_eq!(net.slaves()[0].device().digital_channels(), (8, 0));
+        assert!(net.slaves()[0].device_as::<Counter>().is_some());
     }
 }

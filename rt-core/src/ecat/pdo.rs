@@ -1,7 +1,7 @@
-//! PDO mapping (CoE manual 2.4, tables 2-4 and 4-3): the objects a PDO carries, in order,
+//! PDO mapping (CoE manual 2.4, table 4-3): which objects a PDO carries, in order,
 //! and where each sits in the slave's process data.
 
-use crate::drive::od::{DataType, ObjId, ObjectStore};
+use crate::coe::{Access, DataType, ObjId, ObjectStore};
 
 /// At most 7 entries and 20 bytes per PDO (CoE manual 2.4).
 pub const MAX_ENTRIES: usize = 7;
@@ -25,7 +25,7 @@ impl PdoEntry {
     }
 }
 
-/// A mapped object and its byte offset in the slave's PDO.
+/// A mapped object and its byte offset in the slave's process data.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Mapped {
     pub obj: ObjId,
@@ -42,18 +42,40 @@ pub enum MappingError {
     /// A read-only object in the RxPDO: the master could not write it.
     NotWritable(PdoEntry),
     LengthMismatch(PdoEntry),
+    /// An assignment names no mapping object of its direction, or one twice.
+    NotAPdo(u16),
 }
 
 /// Which way a PDO carries its objects.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Direction {
-    /// RxPDO 0x1600: master to slave.
+    /// RxPDOs 0x1600.., assigned in 0x1C12: master to slave.
     Outputs,
-    /// TxPDO 0x1A00: slave to master.
+    /// TxPDOs 0x1A00.., assigned in 0x1C13: slave to master.
     Inputs,
 }
 
-/// Resolves mapping entries against a drive's dictionary and lays them out.
+impl Direction {
+    /// The SyncManager's PDO assignment object (CoE manual table 4-4).
+    pub const fn assignment(self) -> u16 {
+        match self {
+            Direction::Outputs => 0x1C12,
+            Direction::Inputs => 0x1C13,
+        }
+    }
+
+    /// The direction of a PDO mapping object (CiA 301: RxPDO mappings 0x1600-0x17FF,
+    /// TxPDO mappings 0x1A00-0x1BFF).
+    pub const fn of_mapping(index: u16) -> Option<Direction> {
+        match index {
+            0x1600..=0x17FF => Some(Direction::Outputs),
+            0x1A00..=0x1BFF => Some(Direction::Inputs),
+            _ => None,
+        }
+    }
+}
+
+/// Resolves the entries of one PDO against a device's dictionary and lays them out.
 pub fn layout(
     store: &ObjectStore,
     direction: Direction,
@@ -65,14 +87,12 @@ pub fn layout(
     let mut mapped = Vec::with_capacity(entries.len());
     let mut offset = 0;
     for &entry in entries {
-        let obj = crate::drive::od::find(entry.index, entry.sub)
-            .filter(|&id| store.has(id))
-            .ok_or(MappingError::UnknownObject(entry))?;
-        let def = obj.def();
+        let obj = store.find(entry.index, entry.sub).ok_or(MappingError::UnknownObject(entry))?;
+        let def = store.def(obj);
         if !def.pdo_mappable {
             return Err(MappingError::NotMappable(entry));
         }
-        if direction == Direction::Outputs && def.access == crate::drive::od::Access::ReadOnly {
+        if direction == Direction::Outputs && def.access == Access::ReadOnly {
             return Err(MappingError::NotWritable(entry));
         }
         if def.ty.bits() != entry.bits {
@@ -87,12 +107,12 @@ pub fn layout(
     Ok((mapped, offset))
 }
 
-/// The entries a mapping object (0x1600 or 0x1A00) holds: sub 0 is the count.
+/// The entries a mapping object (0x1600, 0x1A00, ...) holds: sub 0 is the count.
 pub fn entries(store: &ObjectStore, mapping_index: u16) -> ([PdoEntry; MAX_ENTRIES], usize) {
-    let count = crate::drive::od::find(mapping_index, 0).map_or(0, |id| store.get(id) as usize).min(MAX_ENTRIES);
+    let count = store.find(mapping_index, 0).map_or(0, |id| store.get(id) as usize).min(MAX_ENTRIES);
     let mut entries = [PdoEntry::from_u32(0); MAX_ENTRIES];
     for (i, entry) in entries.iter_mut().enumerate().take(count) {
-        if let Some(id) = crate::drive::od::find(mapping_index, i as u8 + 1) {
+        if let Some(id) = store.find(mapping_index, i as u8 + 1) {
             *entry = PdoEntry::from_u32(store.get(id) as u32);
         }
     }

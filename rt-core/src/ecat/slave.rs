@@ -1,11 +1,11 @@
-//! One simulated slave: its EtherCAT state machine, its mailbox, its PDO mapping and its
-//! drive application.
+//! One simulated slave: its EtherCAT state machine, its mailbox, its PDO mapping and the
+//! device it holds. It knows the device only through its object dictionary and the
+//! `Device` trait.
 
-use crate::config::{AxisConfig, DC_CYCLES_US};
-use crate::drive::od::{self, ObjectStore};
-use crate::drive::{Drive, FaultInjectionError};
+use crate::coe::ObjectStore;
+use crate::ecat::device::Device;
 use crate::ecat::esm::{AlState, AlStatusCode, Esm};
-use crate::ecat::mailbox::{self, SdoAbort, SdoError};
+use crate::ecat::mailbox::{self, EntryDescription, SdoAbort, SdoError};
 use crate::ecat::pdo::{self, Direction, Mapped};
 
 /// ESC register 0x0980 (sync/latch activation): free run or DC SYNC0 (CoE manual 2.5).
@@ -13,13 +13,16 @@ pub const ESC_SYNC_ACTIVATION: u16 = 0x0980;
 pub const ESC_FREE_RUN: u16 = 0x0000;
 pub const ESC_DC_SYNC0: u16 = 0x0300;
 
+/// The SyncManager 2 and 3 sync parameters (CoE manual table 4-4).
+const SM2_SYNC: u16 = 0x1C32;
+const SM3_SYNC: u16 = 0x1C33;
 /// 0x1C32:01 synchronization types (CoE manual table 4-4).
 const SYNC_FREE_RUN: i64 = 0;
 const SYNC_DC: i64 = 2;
 
 pub struct Slave {
     esm: Esm,
-    drive: Drive,
+    device: Box<dyn Device>,
     rx: Vec<Mapped>,
     tx: Vec<Mapped>,
     rx_len: usize,
@@ -28,10 +31,10 @@ pub struct Slave {
 }
 
 impl Slave {
-    pub fn new(axis: &AxisConfig) -> Self {
+    pub fn new(device: Box<dyn Device>) -> Self {
         Slave {
             esm: Esm::default(),
-            drive: Drive::new(axis),
+            device,
             rx: Vec::new(),
             tx: Vec::new(),
             rx_len: 0,
@@ -44,25 +47,22 @@ impl Slave {
         &self.esm
     }
 
-    pub fn drive(&self) -> &Drive {
-        &self.drive
+    pub fn device(&self) -> &dyn Device {
+        &*self.device
     }
 
-    pub fn inject_fault(&mut self, code: u16) -> Result<(), FaultInjectionError> {
-        self.drive.inject_fault(code)
+    /// The device as its own type, if it is one.
+    pub fn device_as<T: Device>(&self) -> Option<&T> {
+        (&*self.device as &dyn std::any::Any).downcast_ref()
     }
 
-    /// Bytes of outputs (RxPDO) and inputs (TxPDO) once in SafeOp.
+    pub fn device_mut_as<T: Device>(&mut self) -> Option<&mut T> {
+        (&mut *self.device as &mut dyn std::any::Any).downcast_mut()
+    }
+
+    /// Bytes of outputs (RxPDOs) and inputs (TxPDOs) once in SafeOp.
     pub fn pdo_lengths(&self) -> (usize, usize) {
         (self.rx_len, self.tx_len)
-    }
-
-    pub fn rx_mapping(&self) -> &[Mapped] {
-        &self.rx
-    }
-
-    pub fn tx_mapping(&self) -> &[Mapped] {
-        &self.tx
     }
 
     /// The master writes an ESC register (only 0x0980 matters to the simulation).
@@ -80,12 +80,13 @@ impl Slave {
     /// AL Control: the master requests a state. On the way from PreOp to SafeOp the PDO
     /// mapping and the sync settings are checked (CoE manual 2.3, PS transition).
     pub fn request_state(&mut self, target: AlState) -> Result<(), AlStatusCode> {
-        let store = self.drive.od();
+        let device = &*self.device;
         let sync_activation = self.sync_activation;
         let mut layout = None;
         self.esm.request(target, |from, to| {
             if from == AlState::PreOp && to == AlState::SafeOp {
-                check_sync(store, sync_activation)?;
+                check_sync(device, sync_activation)?;
+                let store = device.od();
                 let rx = assigned(store, Direction::Outputs).map_err(|_| AlStatusCode::InvalidOutputMapping)?;
                 let tx = assigned(store, Direction::Inputs).map_err(|_| AlStatusCode::InvalidInputMapping)?;
                 layout = Some((rx, tx));
@@ -100,87 +101,110 @@ impl Slave {
 
     /// SDO upload: the value and its length in bytes.
     pub fn sdo_read(&self, index: u16, sub: u8) -> Result<(i64, usize), SdoError> {
-        if self.esm.state() == AlState::Init {
-            return Err(SdoError::NoMailbox);
-        }
-        Ok(mailbox::upload(self.drive.od(), index, sub)?)
+        self.mailbox()?;
+        Ok(mailbox::upload(self.device.od(), index, sub)?)
     }
 
-    /// SDO download, with the communication objects' state rules (CoE manual 2.4, 2.5).
+    /// SDO information, entry description: type, access and mappability of an object.
+    pub fn sdo_describe(&self, index: u16, sub: u8) -> Result<EntryDescription, SdoError> {
+        self.mailbox()?;
+        Ok(mailbox::describe(self.device.od(), index, sub)?)
+    }
+
+    /// No mailbox in Init (CoE manual 2.3, table 2-3).
+    fn mailbox(&self) -> Result<(), SdoError> {
+        if self.esm.state() == AlState::Init { Err(SdoError::NoMailbox) } else { Ok(()) }
+    }
+
+    /// SDO download, with the communication objects' state rules (CoE manual 2.4, 2.5);
+    /// then the device may act on it.
     pub fn sdo_write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoError> {
-        let state = self.esm.state();
-        if state == AlState::Init {
-            return Err(SdoError::NoMailbox);
+        self.mailbox()?;
+        let (id, value) = mailbox::check_download(self.device.od(), index, sub, data)?;
+        let in_pre_op = self.esm.state() == AlState::PreOp;
+        // Mapping: in PreOp, with its SyncManager assignment switched off.
+        if let Some(direction) = Direction::of_mapping(index)
+            && (!in_pre_op || assignment_count(self.device.od(), direction) != 0)
+        {
+            return Err(SdoAbort::DeviceState.into());
         }
-        let (id, value) = mailbox::check_download(self.drive.od(), index, sub, data)?;
-        let store = self.drive.od_mut();
-        let in_pre_op = state == AlState::PreOp;
         match index {
-            // Mapping: in PreOp, with its SyncManager assignment switched off.
-            0x1600 if !in_pre_op || store.get(od::RX_ASSIGNMENT_COUNT) != 0 => return Err(SdoAbort::DeviceState.into()),
-            0x1A00 if !in_pre_op || store.get(od::TX_ASSIGNMENT_COUNT) != 0 => return Err(SdoAbort::DeviceState.into()),
-            0x1C12 | 0x1C13 | 0x1C32 if !in_pre_op => return Err(SdoAbort::DeviceState.into()),
-            0x1C32 if sub == 1 && value != SYNC_FREE_RUN && value != SYNC_DC => return Err(SdoAbort::ValueRange.into()),
-            0x1C32 if sub == 2 && !DC_CYCLES_US.iter().any(|&us| us as i64 * 1000 == value) => {
+            0x1C12 | 0x1C13 | SM2_SYNC if !in_pre_op => return Err(SdoAbort::DeviceState.into()),
+            SM2_SYNC if sub == 1 && value != SYNC_FREE_RUN && value != SYNC_DC => {
                 return Err(SdoAbort::ValueRange.into());
             }
-            0x1010 => {
-                if !self.drive.store_parameters(value as u32) {
-                    return Err(SdoAbort::DeviceState.into());
-                }
-                return Ok(());
-            }
+            SM2_SYNC if sub == 2 && !self.device.accepts_cycle_time(value) => return Err(SdoAbort::ValueRange.into()),
             _ => {}
         }
+        if self.device.sdo_download(index, sub, value)? {
+            return Ok(());
+        }
+        let store = self.device.od_mut();
         store.set(id, value);
         // SM3 follows SM2's sync settings (0x1C33:01/02 are read-only).
-        if index == 0x1C32 && sub == 1 {
-            store.set(od::SYNC_TYPE_INPUTS, value);
-        }
-        if index == 0x1C32 && sub == 2 {
-            store.set(od::CYCLE_TIME_INPUTS, value);
+        if index == SM2_SYNC
+            && (sub == 1 || sub == 2)
+            && let Some(inputs) = store.find(SM3_SYNC, sub)
+        {
+            store.set(inputs, value);
         }
         Ok(())
     }
 
     /// One bus cycle: outputs are applied in Op only, inputs are produced from SafeOp up,
-    /// the drive runs in every state.
+    /// the device runs in every state.
     pub fn cycle(&mut self, outputs: &[u8], inputs: &mut [u8], period_s: f64) {
         let state = self.esm.state();
         if state == AlState::Op {
+            let od = self.device.od_mut();
             for m in &self.rx {
-                self.drive.od_mut().set(m.obj, m.ty.decode(&outputs[m.offset..]));
+                od.set(m.obj, m.ty.decode(&outputs[m.offset..]));
             }
         }
-        self.drive.step(period_s);
+        self.device.step(period_s);
         if state >= AlState::SafeOp {
+            let od = self.device.od();
             for m in &self.tx {
-                m.ty.encode(self.drive.od().get(m.obj), &mut inputs[m.offset..]);
+                m.ty.encode(od.get(m.obj), &mut inputs[m.offset..]);
             }
         }
     }
 }
 
-/// The objects a SyncManager carries: its PDO's entries when assigned (sub 0 = 1), none otherwise.
-fn assigned(store: &ObjectStore, direction: Direction) -> Result<(Vec<Mapped>, usize), pdo::MappingError> {
-    let (assignment, mapping) = match direction {
-        Direction::Outputs => (od::RX_ASSIGNMENT_COUNT, 0x1600),
-        Direction::Inputs => (od::TX_ASSIGNMENT_COUNT, 0x1A00),
-    };
-    if store.get(assignment) == 0 {
-        return Ok((Vec::new(), 0));
-    }
-    let (entries, count) = pdo::entries(store, mapping);
-    pdo::layout(store, direction, &entries[..count])
+/// Sub 0 of a SyncManager's PDO assignment: how many PDOs it carries.
+fn assignment_count(store: &ObjectStore, direction: Direction) -> i64 {
+    store.find(direction.assignment(), 0).map_or(0, |id| store.get(id))
 }
 
-/// DC mode needs the SYNC0 activation and a DC cycle; free run needs no activation.
-fn check_sync(store: &ObjectStore, activation: u16) -> Result<(), AlStatusCode> {
-    match store.get(od::SYNC_TYPE) {
-        SYNC_DC if activation != ESC_DC_SYNC0 => Err(AlStatusCode::InvalidDcSyncConfiguration),
-        SYNC_DC if !DC_CYCLES_US.iter().any(|&us| us as i64 * 1000 == store.get(od::CYCLE_TIME)) => {
-            Err(AlStatusCode::InvalidSyncCycleTime)
+/// The objects a SyncManager carries: the entries of its assigned PDOs, one after the
+/// other in the order of assignment; none when nothing is assigned.
+fn assigned(store: &ObjectStore, direction: Direction) -> Result<(Vec<Mapped>, usize), pdo::MappingError> {
+    let mut mapped = Vec::new();
+    let mut len = 0;
+    let mut pdos = Vec::new();
+    for k in 1..=assignment_count(store, direction) {
+        let pdo = store.find(direction.assignment(), k as u8).map_or(0, |id| store.get(id) as u16);
+        let known = Direction::of_mapping(pdo) == Some(direction) && store.find(pdo, 0).is_some();
+        if !known || pdos.contains(&pdo) {
+            return Err(pdo::MappingError::NotAPdo(pdo));
         }
+        pdos.push(pdo);
+        let (entries, count) = pdo::entries(store, pdo);
+        let (objects, bytes) = pdo::layout(store, direction, &entries[..count])?;
+        mapped.extend(objects.into_iter().map(|m| Mapped { offset: m.offset + len, ..m }));
+        len += bytes;
+    }
+    Ok((mapped, len))
+}
+
+/// DC mode needs the SYNC0 activation and a cycle the device runs; free run needs no
+/// activation. A device without 0x1C32 runs free.
+fn check_sync(device: &dyn Device, activation: u16) -> Result<(), AlStatusCode> {
+    let store = device.od();
+    let value = |sub| store.find(SM2_SYNC, sub).map(|id| store.get(id));
+    match value(1).unwrap_or(SYNC_FREE_RUN) {
+        SYNC_DC if activation != ESC_DC_SYNC0 => Err(AlStatusCode::InvalidDcSyncConfiguration),
+        SYNC_DC if !value(2).is_some_and(|ns| device.accepts_cycle_time(ns)) => Err(AlStatusCode::InvalidSyncCycleTime),
         SYNC_FREE_RUN if activation != ESC_FREE_RUN => Err(AlStatusCode::InvalidDcSyncConfiguration),
         _ => Ok(()),
     }

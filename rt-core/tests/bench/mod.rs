@@ -6,7 +6,6 @@
 
 use rt_core::config::{AxisConfig, TravelConfig};
 use rt_core::drive::Drive;
-use rt_core::drive::od;
 use rt_core::ecat::{Field, Network};
 
 pub const PERIOD_NS: u64 = 1_000_000;
@@ -52,7 +51,7 @@ impl Bench {
     }
 
     pub fn drive(&self) -> &Drive {
-        self.net.slaves()[0].drive()
+        self.net.slaves()[0].device_as::<Drive>().expect("slave 0 is a drive")
     }
 
     pub fn cycle(&mut self) {
@@ -105,7 +104,7 @@ impl Bench {
     }
 
     pub fn try_write(&mut self, index: u16, sub: u8, value: i64) -> Result<(), rt_core::ecat::SdoError> {
-        let bytes = od::find(index, sub).map_or(4, |id| id.def().ty.bytes());
+        let bytes = self.net.slaves()[0].sdo_describe(index, sub).map_or(4, |d| d.ty.bytes());
         self.net.sdo_write(0, index, sub, &value.to_le_bytes()[..bytes])
     }
 

@@ -1,20 +1,43 @@
-//! The machine configuration (TOML): cycle, RT thread, axes and their drives, tasks.
+//! The machine configuration (TOML): cycle, RT thread, axes and their drives, tasks, the
+//! DRL and Modbus sections of `luamotion serve`.
 //!
 //! Unknown keys and wrong types are refused by serde with the key's name and line;
 //! `validate` checks ranges and names the key it refuses. Nothing starts on an error.
+//! The controller (`rt-core`) builds its drives from these types; this crate knows
+//! nothing of the controller, so the drive can import its model from here.
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::drive::DriveModel;
-
 /// DC cycle times the drives accept (CoE manual table 2-1), in µs.
 pub const DC_CYCLES_US: [u32; 5] = [250, 500, 1000, 2000, 4000];
 /// HMPL task ids 0..63.
 pub const MAX_TASKS: usize = ipc::messages::MAX_TASKS;
 pub const MAX_AXES: usize = ipc::messages::MAX_AXES;
+
+/// Drive families of the HIWIN CoE manual, with their product codes (CoE table 4-2).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+pub enum DriveModel {
+    #[serde(rename = "D1-N")]
+    D1N,
+    D1,
+    D2,
+    #[serde(rename = "abily")]
+    Abily,
+}
+
+impl DriveModel {
+    pub fn product_code(self) -> u32 {
+        match self {
+            DriveModel::D1N => 1,
+            DriveModel::D1 => 2,
+            DriveModel::D2 => 3,
+            DriveModel::Abily => 4,
+        }
+    }
+}
 
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
@@ -46,6 +69,8 @@ pub struct MachineConfig {
     pub cycle_us: u32,
     pub rt: RtConfig,
     pub axes: Vec<AxisConfig>,
+    /// Devices on the bus that drive no axis, after the axes' drives in file order.
+    pub slaves: Vec<SlaveConfig>,
     pub tasks: Vec<TaskConfig>,
     /// DRL projects and their program control (DXMC manual A.3).
     pub drl: DrlConfig,
@@ -121,6 +146,20 @@ impl Default for ModbusConfig {
         ModbusConfig { bind: "127.0.0.1".into(), port: 502, station: 1, max_connections: 32, idle_timeout_ms: 60_000 }
     }
 }
+
+/// `[[slaves]]`: a device on the bus beside the axes' drives.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlaveConfig {
+    pub device: SlaveDevice,
+}
+
+/// The kinds of device a `[[slaves]]` entry may name. None is built yet, so every kind is
+/// refused with the name it gave (docs/decisions.md, "`[[slaves]]`"); I/O and analog
+/// terminals come next.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SlaveDevice {}
 
 /// How the RT thread asks the OS for real-time service. Each is tried and, where the OS
 /// refuses, logged and skipped.
@@ -235,7 +274,7 @@ impl TravelConfig {
     }
 }
 
-/// The motor and load behind a drive (see `drive::plant`).
+/// The motor and load behind a drive (see rt-core's `drive::plant`).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PlantConfig {
@@ -323,6 +362,7 @@ impl Default for MachineConfig {
                     ..AxisConfig::default()
                 })
                 .collect(),
+            slaves: Vec::new(),
             tasks: Vec::new(),
             drl: DrlConfig::default(),
             modbus: ModbusConfig::default(),
@@ -527,5 +567,63 @@ impl AxisConfig {
         positive(&format!("{key}.drive_settings.end_stop_current_pct"), d.end_stop_current_pct)?;
         positive(&format!("{key}.drive_settings.end_stop_time_ms"), d.end_stop_time_ms)?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> MachineConfig {
+        toml::from_str(text).unwrap()
+    }
+
+    /// The drive model is read by its CoE manual name (table 4-2) and carries its product code.
+    #[test]
+    fn drive_models_by_their_manual_names() {
+        for (name, model, code) in [
+            ("D1-N", DriveModel::D1N, 1),
+            ("D1", DriveModel::D1, 2),
+            ("D2", DriveModel::D2, 3),
+            ("abily", DriveModel::Abily, 4),
+        ] {
+            let config = parse(&format!("[[axes]]\nname = \"x\"\ndrive = \"{name}\"\n"));
+            assert_eq!(config.axes[0].drive, model, "{name}");
+            assert_eq!(model.product_code(), code, "{name}");
+        }
+        assert!(toml::from_str::<MachineConfig>("[[axes]]\ndrive = \"D3\"\n").is_err(), "no D3 in table 4-2");
+    }
+
+    /// A value out of range is refused with the key that holds it.
+    #[test]
+    fn an_invalid_value_names_its_key() {
+        let config = parse("cycle_us = 300\n[[axes]]\nname = \"x\"\n");
+        match config.validate() {
+            Err(ConfigError::Invalid { key, message }) => {
+                assert_eq!(key, "cycle_us");
+                assert!(message.contains("CoE manual table 2-1"), "{message}");
+            }
+            other => panic!("expected an invalid cycle, got {other:?}"),
+        }
+        let config = parse("[[axes]]\nname = \"x\"\nvel = 5000.0\n");
+        assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
+    }
+
+    /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.
+    #[test]
+    fn slaves_beside_the_axes() {
+        assert!(MachineConfig::default().slaves.is_empty());
+        assert!(parse("[[axes]]\nname = \"x\"\n").slaves.is_empty(), "a file without [[slaves]]");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("machine.toml");
+        std::fs::write(&path, "[[axes]]\nname = \"x\"\n\n[[slaves]]\ndevice = \"stepper\"\n").unwrap();
+        match MachineConfig::load(&path) {
+            Err(ConfigError::Parse { path: at, message }) => {
+                assert_eq!(at, path);
+                assert!(message.contains("unknown variant `stepper`"), "{message}");
+                assert!(message.contains("line 5"), "the line of the entry: {message}");
+            }
+            other => panic!("expected the kind refused, got {other:?}"),
+        }
     }
 }

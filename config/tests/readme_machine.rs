@@ -1,6 +1,6 @@
 //! The machine file shown in the README is one the controller accepts.
 
-use rt_core::MachineConfig;
+use config::MachineConfig;
 
 #[test]
 fn the_readme_machine_file_loads() {
