@@ -60,6 +60,8 @@ pub struct Axis {
     drive_err: u16,
     homed: bool,
     home_result: Option<Result<(), AxisError>>,
+    /// The power sequence's timeout (`Settings::enable_timeout_ms`, fixed), in cycles.
+    enable_timeout_cycles: u64,
     /// A Stop (not a Halt) is decelerating: other motion is refused (0x83II008C).
     stopping: bool,
     enabled_pending: bool,
@@ -81,6 +83,7 @@ pub struct Axis {
 impl Axis {
     pub fn new(id: u8, config: &AxisConfig, network: &Network, period_s: f64) -> Self {
         let settings = Settings::new(config);
+        let enable_timeout_cycles = cycles(settings.enable_timeout_ms, period_s);
         let max_samples = (MAX_SMOOTH_TIME_MS / 1000.0 / period_s).round() as usize + 1;
         let mut axis = Axis {
             id,
@@ -104,6 +107,7 @@ impl Axis {
             drive_err: 0,
             homed: false,
             home_result: None,
+            enable_timeout_cycles,
             stopping: false,
             enabled_pending: false,
             in_window_cycles: 0,
@@ -181,7 +185,7 @@ impl Axis {
     }
 
     /// Records a rejection or a fault as the axis' last error (HMPL 18.3) and returns it.
-    pub fn fail(&mut self, error: AxisError) -> AxisError {
+    pub(in crate::motion) fn fail(&mut self, error: AxisError) -> AxisError {
         self.last_err = Some(error);
         error
     }
@@ -195,7 +199,7 @@ impl Axis {
     }
 
     fn cycles(&self, ms: f64) -> u64 {
-        (ms / 1000.0 / self.period_s).ceil() as u64
+        cycles(ms, self.period_s)
     }
 
     // --- power (HMPL 5.2.1 to 5.2.3) ---
@@ -645,14 +649,14 @@ impl Axis {
         let (inputs, _) = network.images_mut();
         self.feedback = self.link.read(inputs);
         self.drive_position = self.feedback.position;
-        let timeout = self.cycles(self.settings.enable_timeout_ms);
+        let timeout = self.enable_timeout_cycles;
         let at_rest = self.vel_fb.abs() < STANDSTILL * self.settings.max_vel;
         let event = self.link.sequence(self.feedback.statusword, cycle, timeout, at_rest);
         self.on_power_event(event, network);
     }
 
     /// The kernel's gantry transform replaces the drive position with a pair's.
-    pub fn set_drive_position(&mut self, position: f64) {
+    pub(in crate::motion) fn set_drive_position(&mut self, position: f64) {
         self.drive_position = position;
     }
 
@@ -823,6 +827,11 @@ impl Axis {
     pub fn op_mode(&self) -> i64 {
         if self.source.is_torque() { MODE_CST } else { self.cyclic_mode }
     }
+}
+
+/// `ms` in whole cycles of `period_s`, rounded up.
+fn cycles(ms: f64, period_s: f64) -> u64 {
+    (ms / 1000.0 / period_s).ceil() as u64
 }
 
 /// The three notifications a user may switch off (HMPL 5.3.33 to 5.3.35).
