@@ -14,6 +14,7 @@ use rt_core::MachineConfig;
 use rt_core::config::{AxisConfig, TravelConfig};
 use rt_core::ecat::Network;
 use rt_core::motion::Kernel;
+use rt_core::motion::filter::FilterChain;
 use rt_core::motion::generator::{Generator, Move, Profile};
 use rt_core::profile::{Limits, Trapezoid};
 
@@ -34,13 +35,14 @@ fn planning(c: &mut Criterion) {
         b.iter(|| black_box(Trapezoid::plan(black_box(120.0), black_box(400.0), black_box(-50.0), LIMITS)))
     });
     group.bench_function("move_abs_through_generator_smoothed", |b| {
-        let mut generator = Generator::new(PERIOD_S, Profile { vel: 500.0, acc: 5_000.0, dec: 3_000.0 }, 501);
-        generator.set_smooth_samples(100);
+        let mut generator = Generator::new(PERIOD_S, Profile { vel: 500.0, acc: 5_000.0, dec: 3_000.0 });
+        let mut filters = FilterChain::for_axis(501);
+        filters.set_smoothing(100, 0.0);
         let mut target = 0.0;
         b.iter(|| {
             target = if target > 500.0 { 1.0 } else { target + 37.5 };
             generator.command(Move::Absolute(black_box(target)), false).unwrap();
-            black_box(generator.step())
+            black_box(filters.push(generator.step()))
         })
     });
     group.finish();

@@ -257,7 +257,7 @@ fn run_command(m: &mut Machine, caller: u8, command: Command, r: &Request, reply
         Command::SetSWRL => axis(m, r, |ax| ax.set_swrl(x)),
         Command::SetSWLL => axis(m, r, |ax| ax.set_swll(x)),
         Command::SetSMTime => axis(m, r, |ax| ax.set_sm_time(x)),
-        Command::SetPos => axis(m, r, |ax| ax.set_pos(x)),
+        Command::SetPos => motion(m, |m| now(m.kernel.set_pos(a, x))),
         Command::IgnoreHWL => axis(m, r, |ax| ax.set_ignore(Ignore::HardwareLimits, r.int(1) != 0)),
         Command::IgnoreSWL => axis(m, r, |ax| ax.set_ignore(Ignore::SoftwareLimits, r.int(1) != 0)),
         Command::IgnorePE => axis(m, r, |ax| ax.set_ignore(Ignore::PositionError, r.int(1) != 0)),

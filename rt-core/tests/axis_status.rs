@@ -42,7 +42,7 @@ impl Rig {
 
     /// (motion_status, fault_status) of axis `a`.
     fn status(&self, a: usize) -> (u32, u32) {
-        let s = self.kernel.axes()[a].snapshot();
+        let s = self.kernel.axis_snapshot(a);
         (s.motion_status, s.fault_status)
     }
 }
@@ -53,7 +53,7 @@ fn status_words_as_the_tables_give_them() {
     assert_eq!(rig.status(0), (0x0000, 0x00), "a fresh axis: nothing set");
 
     rig.kernel.enable(0).unwrap();
-    rig.until("in position", |k| k.axes()[0].snapshot().motion_status & 0x4 != 0);
+    rig.until("in position", |k| k.axis_snapshot(0).motion_status & 0x4 != 0);
     assert_eq!(rig.status(0), (0x0005, 0x00), "Enabled | InPos");
 
     rig.kernel.axis_mut(0).unwrap().move_abs(50.0).unwrap();
@@ -71,7 +71,7 @@ fn status_words_as_the_tables_give_them() {
 
     // Gear: the slave is Sync and Gear (bits 3 and 8); the master shows neither.
     rig.kernel.enable(1).unwrap();
-    rig.until("axis 1 in position", |k| k.axes()[1].snapshot().motion_status & 0x4 != 0);
+    rig.until("axis 1 in position", |k| k.axis_snapshot(1).motion_status & 0x4 != 0);
     rig.kernel.enable_gear(0, 1).unwrap();
     rig.cycles(1);
     assert_eq!(rig.status(1), (0x010D, 0x00), "Enabled | InPos | Sync | Gear");
@@ -96,10 +96,10 @@ fn status_words_as_the_tables_give_them() {
 
     // Gantry: axes 2 and 3 after Reset, while disabled.
     rig.kernel.axis_mut(2).unwrap().reset().unwrap();
-    rig.until("fault gone", |k| k.axes()[2].snapshot().fault_status == 0);
+    rig.until("fault gone", |k| k.axis_snapshot(2).fault_status == 0);
     rig.kernel.enable_gantry_pair(2, 3).unwrap();
     rig.kernel.enable(3).unwrap();
-    rig.until("pair in position", |k| k.axes()[2].snapshot().motion_status & 0x4 != 0);
+    rig.until("pair in position", |k| k.axis_snapshot(2).motion_status & 0x4 != 0);
     assert_eq!(rig.status(2), (0x0025, 0x00), "Enabled | InPos | Gantry");
     assert_eq!(rig.status(3).0 & 0x0020, 0x0020, "both axes Gantry");
 }

@@ -4,10 +4,63 @@
 //! acceleration never exceed the limits in force (plus 1e-9 relative), nothing is NaN,
 //! and every move that ends, ends exactly on its target.
 
+use rt_core::motion::filter::FilterChain;
 use rt_core::motion::generator::{Generator, Move, Profile};
+use rt_core::profile::Kinematics;
 
 const PERIOD: f64 = 1e-3;
 const MOVES: usize = 10_000;
+
+/// The profile generator and the axis' filter chain after it (smoothing), as an axis
+/// runs them: what an axis commands.
+struct Smoothed {
+    generator: Generator,
+    filters: FilterChain,
+    output: Kinematics,
+}
+
+impl Smoothed {
+    fn new(period_s: f64, profile: Profile, max_smooth_samples: usize) -> Self {
+        let generator = Generator::new(period_s, profile);
+        Smoothed { generator, filters: FilterChain::for_axis(max_smooth_samples), output: Kinematics::default() }
+    }
+
+    fn set_smooth_samples(&mut self, samples: usize) {
+        self.filters.set_smoothing(samples, self.generator.raw().pos);
+    }
+
+    fn reset(&mut self, pos: f64) {
+        self.generator.reset(pos);
+        self.filters.reset(pos);
+        self.output = self.generator.raw();
+    }
+
+    fn step(&mut self) -> Kinematics {
+        self.output = self.filters.push(self.generator.step());
+        self.output
+    }
+
+    fn is_moving(&self) -> bool {
+        self.generator.is_running() || !self.filters.settled()
+    }
+
+    fn output(&self) -> Kinematics {
+        self.output
+    }
+}
+
+impl std::ops::Deref for Smoothed {
+    type Target = Generator;
+    fn deref(&self) -> &Generator {
+        &self.generator
+    }
+}
+
+impl std::ops::DerefMut for Smoothed {
+    fn deref_mut(&mut self) -> &mut Generator {
+        &mut self.generator
+    }
+}
 
 /// xorshift64*: deterministic, so a failure names its seed.
 struct Rng(u64);
@@ -67,7 +120,7 @@ fn ten_thousand_random_moves_respect_their_limits() {
         let window = (rng.uniform(0.0, 500.0) / 1000.0 / PERIOD).round() as usize;
         let mut profile = random_profile(&mut rng);
         let mut scale = 1.0;
-        let mut g = Generator::new(PERIOD, profile, 501);
+        let mut g = Smoothed::new(PERIOD, profile, 501);
         g.set_smooth_samples(window.max(1));
         g.reset(rng.uniform(-100.0, 100.0));
         let mut bound = Bound::default();

@@ -54,7 +54,7 @@ impl Rig {
     }
 
     fn axis(&self, a: usize) -> AxisSnapshot {
-        self.machine.kernel.axes()[a].snapshot()
+        self.machine.kernel.axis_snapshot(a)
     }
 
     /// Every number the axis shows is finite, and the drive's command fits its counts.

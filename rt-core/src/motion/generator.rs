@@ -1,10 +1,10 @@
 //! The axis profile generator (HMPL 5.1, fig. 5.1.1 and 5.1.2): T-curve moves, velocity
 //! moves and PVT tables, re-planned on the fly (new target, velocity, scale), queued in
-//! buffer mode 1 (HMPL 5.3.42), halted and resumed, and smoothed into an S-curve.
-//! Everything is fixed-size: the RT thread plans without allocating.
+//! buffer mode 1 (HMPL 5.3.42), halted and resumed. Its output is the T-curve; the
+//! axis' filter chain (`filter.rs`) smooths it into an S-curve. Everything is fixed-size:
+//! the RT thread plans without allocating.
 
 use crate::motion::pvt::Pvt;
-use crate::motion::smoothing::Smoother;
 use crate::profile::{Kinematics, Limits, Trapezoid, ramp_velocity};
 
 /// Commands the axis queue holds in buffer mode 1 (`eERR_AXIS_CMD_QUEUE_FULL` beyond).
@@ -54,7 +54,7 @@ pub struct Generator {
     profile: Profile,
     /// Velocity override 0..1 (HMPL 5.3.37 in percent).
     scale: f64,
-    /// The unsmoothed (T-curve) state.
+    /// The T-curve's state, where the next cycle plans from.
     raw: Kinematics,
     running: Option<Running>,
     elapsed: f64,
@@ -64,14 +64,10 @@ pub struct Generator {
     queue: [Option<Move>; QUEUE_CAPACITY],
     queue_head: usize,
     queue_len: usize,
-    smoother: Smoother,
-    /// Samples in the smoothing window (1: none).
-    smooth_samples: usize,
-    output: Kinematics,
 }
 
 impl Generator {
-    pub fn new(period_s: f64, profile: Profile, max_smooth_samples: usize) -> Self {
+    pub fn new(period_s: f64, profile: Profile) -> Self {
         Generator {
             period_s,
             profile,
@@ -84,18 +80,10 @@ impl Generator {
             queue: [None; QUEUE_CAPACITY],
             queue_head: 0,
             queue_len: 0,
-            smoother: Smoother::new(max_smooth_samples),
-            smooth_samples: 1,
-            output: Kinematics::default(),
         }
     }
 
-    /// The smoothed output: the reference position, velocity and acceleration.
-    pub fn output(&self) -> Kinematics {
-        self.output
-    }
-
-    /// The unsmoothed (T-curve) state, where the next cycle plans from.
+    /// The T-curve's state, where the next cycle plans from.
     pub fn raw(&self) -> Kinematics {
         self.raw
     }
@@ -108,12 +96,11 @@ impl Generator {
         self.paused = None;
         self.clear_queue();
         self.raw = k;
-        self.smoother.reset(k.pos, self.smooth_samples);
     }
 
-    /// Still emitting new positions: a plan runs or the smoothing has not settled.
-    pub fn is_moving(&self) -> bool {
-        self.running.is_some() || !self.smoother.settled()
+    /// A plan runs (the filter chain after it may still be settling).
+    pub fn is_running(&self) -> bool {
+        self.running.is_some()
     }
 
     /// A stop (Stop, Halt, a limit) is decelerating the axis.
@@ -142,16 +129,9 @@ impl Generator {
         self.queue_len
     }
 
-    /// At rest at `pos`: nothing running, nothing queued, the smoothing filled with `pos`.
+    /// At rest at `pos`: nothing running, nothing queued.
     pub fn reset(&mut self, pos: f64) {
         self.take_over(Kinematics { pos, vel: 0.0, acc: 0.0 });
-        self.output = self.raw;
-    }
-
-    /// The smooth time, in samples; the axis changes it only while not moving (HMPL 5.3.16).
-    pub fn set_smooth_samples(&mut self, samples: usize) {
-        self.smooth_samples = samples.clamp(1, self.smoother.capacity());
-        self.smoother.reset(self.raw.pos, self.smooth_samples);
     }
 
     fn limits(&self) -> Limits {
@@ -312,7 +292,7 @@ impl Generator {
         m
     }
 
-    /// One cycle; returns the smoothed reference.
+    /// One cycle; returns the T-curve's next sample.
     pub fn step(&mut self) -> Kinematics {
         let dt = self.period_s;
         self.elapsed += dt;
@@ -343,7 +323,6 @@ impl Generator {
                 self.start(next);
             }
         }
-        self.output = self.smoother.push(self.raw);
-        self.output
+        self.raw
     }
 }

@@ -12,9 +12,10 @@ use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_HOMING};
 const ATTAINED: u16 = 0x1400;
 const ERROR: u16 = 0x2000;
 
+/// A homing run, from the cycle it starts to the cycle its result is known; the axis'
+/// reference source while it lasts (`motion/source.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Homing {
-    Idle,
     /// Waiting for 0x6061 to show homing mode.
     Entering {
         since: u64,
@@ -29,26 +30,23 @@ pub enum Homing {
 }
 
 impl Homing {
-    pub fn start(link: &mut DriveLink, cycle: u64) -> Self {
-        link.set_extra_bits(0);
-        link.set_mode(MODE_HOMING);
+    /// A run starting in `cycle`; `enter` asks the drive for homing mode.
+    pub fn new(cycle: u64) -> Self {
         Homing::Entering { since: cycle }
     }
 
-    pub fn in_progress(&self) -> bool {
-        *self != Homing::Idle
+    pub fn enter(link: &mut DriveLink) {
+        link.set_extra_bits(0);
+        link.set_mode(MODE_HOMING);
     }
 
-    /// Ends the run early (the axis was disabled or faulted): back to csp.
-    pub fn abort(&mut self, link: &mut DriveLink) {
-        if self.in_progress() {
-            link.set_extra_bits(0);
-            link.set_mode(MODE_CSP);
-            *self = Homing::Idle;
-        }
+    /// Ends a run early (the axis was disabled or faulted): back to csp.
+    pub fn abort(link: &mut DriveLink) {
+        link.set_extra_bits(0);
+        link.set_mode(MODE_CSP);
     }
 
-    /// One cycle; the result when the run is over.
+    /// One cycle; the result when the run is over (the axis then ends it).
     pub fn step(
         &mut self,
         link: &mut DriveLink,
@@ -58,7 +56,6 @@ impl Homing {
     ) -> Option<Result<(), AxisError>> {
         let status = fb.statusword & 0x3400;
         match *self {
-            Homing::Idle => None,
             Homing::Entering { since } => {
                 if fb.mode_display == Some(MODE_HOMING) {
                     link.set_extra_bits(NEW_SET_POINT);
@@ -78,20 +75,12 @@ impl Homing {
                 }
                 None
             }
-            Homing::Leaving { result } => {
-                if fb.mode_display.is_none_or(|m| m == MODE_CSP) {
-                    *self = Homing::Idle;
-                    Some(result)
-                } else {
-                    None
-                }
-            }
+            Homing::Leaving { result } => fb.mode_display.is_none_or(|m| m == MODE_CSP).then_some(result),
         }
     }
 
     fn leave(&mut self, link: &mut DriveLink, result: Result<(), AxisError>) {
-        link.set_extra_bits(0);
-        link.set_mode(MODE_CSP);
+        Self::abort(link);
         *self = Homing::Leaving { result };
     }
 }

@@ -1,10 +1,12 @@
 //! The motion kernel: axes (HMPL ch. 5), gear (ch. 6) and gantry (ch. 7), computed once
 //! per cycle from the drives' inputs and the commands of the cycle, never from the wall
-//! clock. Each cycle: read the drives, turn gantry drives into linear and yaw, move the
-//! axes (masters before their gear slaves), watch limits, write the drives.
+//! clock. Each axis has one reference source (`source.rs`); the couplings between axes
+//! (gear slaves per master, gantry pairs) are the kernel's state, changed only by its
+//! commands. The cycle's stages are in `Kernel::step`.
 
 pub mod axis;
 pub mod drive_link;
+pub mod filter;
 pub mod gantry;
 pub mod gear;
 pub mod generator;
@@ -13,20 +15,23 @@ pub mod power;
 pub mod pvt;
 pub mod settings;
 pub mod smoothing;
+pub mod source;
 
-use api::{ErrorCode, SystemError};
-use ipc::messages::Snapshot;
+use api::{AxisError, ErrorCode, SystemError};
+use ipc::messages::{AxisSnapshot, Snapshot, motion_status};
 
 use crate::config::{FaultReaction, MachineConfig};
 use crate::ecat::Network;
 use axis::Axis;
-use gantry::Pair;
+use gantry::Gantries;
 
 pub use ipc::messages::MAX_GROUPS;
 
 pub struct Kernel {
     axes: Vec<Axis>,
-    pairs: Vec<Option<Pair>>,
+    gantry: Gantries,
+    /// How many gear slaves each axis has: a master has at least one (HMPL 6.2).
+    gear_slaves: Vec<usize>,
     /// Drive commands of the cycle (after the gantry transform); kept to avoid allocating.
     commands: Vec<f64>,
     /// HMPL 18.5: each group's last error.
@@ -44,7 +49,8 @@ impl Kernel {
         let n = axes.len();
         Kernel {
             axes,
-            pairs: vec![None; n / 2],
+            gantry: Gantries::new(n),
+            gear_slaves: vec![0; n],
             commands: vec![0.0; n],
             group_last_err: [0; MAX_GROUPS],
             system_last_err: 0,
@@ -68,11 +74,16 @@ impl Kernel {
             .ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))
     }
 
+    /// Records a refusal as axis `id`'s last error (HMPL 18.3) and returns its code.
+    fn refuse(&mut self, id: u8, error: AxisError) -> ErrorCode {
+        self.axes[id as usize].fail(error);
+        ErrorCode::axis(id, error)
+    }
+
     /// HMPL 5.2.1, 7.1: enabling one axis of a gantry pair enables both.
     pub fn enable(&mut self, id: i64) -> Result<(), ErrorCode> {
         let id = self.axis_id(id)?;
-        let partner = gantry::partner(&self.pairs, &self.axes[id as usize]);
-        for a in std::iter::once(id).chain(partner) {
+        for a in std::iter::once(id).chain(self.gantry.partner(id)) {
             let axis = &mut self.axes[a as usize];
             axis.enable().map_err(|e| ErrorCode::axis(a, e))?;
         }
@@ -81,41 +92,19 @@ impl Kernel {
 
     pub fn disable(&mut self, id: i64) -> Result<(), ErrorCode> {
         let id = self.axis_id(id)?;
-        let partner = gantry::partner(&self.pairs, &self.axes[id as usize]);
-        for a in std::iter::once(id).chain(partner) {
+        for a in std::iter::once(id).chain(self.gantry.partner(id)) {
             let _ = self.axes[a as usize].disable();
         }
         Ok(())
     }
 
-    pub fn enable_gear(&mut self, master: i64, slave: i64) -> Result<(), ErrorCode> {
-        let (m, s) = (self.axis_id(master)?, self.axis_id(slave)?);
-        gear::enable(&mut self.axes, m, s)
-    }
-
-    pub fn disable_gear(&mut self, slave: i64) -> Result<(), ErrorCode> {
-        let s = self.axis_id(slave)?;
-        gear::disable(&mut self.axes, s)
-    }
-
-    pub fn gear_in(&mut self, master: i64, slave: i64, ratio: f64) -> Result<(), ErrorCode> {
-        let (m, s) = (self.axis_id(master)?, self.axis_id(slave)?);
-        gear::gear_in(&mut self.axes, m, s, ratio)
-    }
-
-    pub fn gear_out(&mut self, slave: i64) -> Result<(), ErrorCode> {
-        let s = self.axis_id(slave)?;
-        gear::gear_out(&mut self.axes, s)
-    }
-
-    pub fn enable_gantry_pair(&mut self, rhs: i64, lhs: i64) -> Result<(), ErrorCode> {
-        let (r, l) = (self.axis_id(rhs)?, self.axis_id(lhs)?);
-        gantry::enable(&mut self.axes, &mut self.pairs, r, l)
-    }
-
-    pub fn disable_gantry_pair(&mut self, axis: i64) -> Result<(), ErrorCode> {
-        let a = self.axis_id(axis)?;
-        gantry::disable(&mut self.axes, &mut self.pairs, a)
+    /// HMPL 5.3.19: refused on a gantry axis (`0x83II00DC`), whose position is a pair's.
+    pub fn set_pos(&mut self, id: i64, pos: f64) -> Result<(), ErrorCode> {
+        let id = self.axis_id(id)?;
+        if self.gantry.pair_of(id).is_some() {
+            return Err(self.refuse(id, AxisError::CmdInvalidGantryMode));
+        }
+        self.axes[id as usize].set_pos(pos).map_err(|e| ErrorCode::axis(id, e))
     }
 
     pub fn record_system_error(&mut self, code: u32) {
@@ -129,32 +118,50 @@ impl Kernel {
         Ok(())
     }
 
-    /// One cycle of every axis against the frame just exchanged.
+    /// One cycle against the frame just exchanged. Each stage runs for every axis before
+    /// the next begins, so a stage sees what the earlier ones made of every axis:
+    ///
+    /// 1. sense: read each drive, step its power sequence;
+    /// 2. couplings in: a gantry drive in ErrorStop disables its partner; the pairs' drive
+    ///    positions become linear and yaw (HMPL 7.1);
+    /// 3. references: each axis' source gives its reference (`Axis::plan`): the profile
+    ///    generator through the filter chain, or the feedback while homing, in torque mode
+    ///    or disabled; an engaged gear slave waits for stage 4;
+    /// 4. couplings out: engaged gear slaves follow their masters' references of stage 3
+    ///    (HMPL 6.1; masters are never slaves). A group will plan before stage 3, and its
+    ///    axes take their references from it there;
+    /// 5. limits and status: limits, position error, in position (`Axis::monitor`);
+    /// 6. drive commands: output + offset, through the gantry transform, to the drives.
     pub fn step(&mut self, cycle: u64, network: &mut Network) {
         for axis in &mut self.axes {
             axis.sense(network, cycle);
         }
-        // A gantry drive that drops out takes its partner along.
+        self.couple_feedback();
+        for axis in &mut self.axes {
+            axis.plan();
+        }
+        self.follow_gears();
+        for axis in &mut self.axes {
+            axis.monitor();
+        }
+        self.gantry.to_drives(&self.axes, &mut self.commands);
+        for (axis, &command) in self.axes.iter_mut().zip(&self.commands) {
+            axis.actuate(network, command);
+        }
+    }
+
+    /// Stage 2: a gantry drive that drops out takes its partner along (docs/decisions.md,
+    /// "Gantry"); then the pairs' feedback becomes linear and yaw.
+    fn couple_feedback(&mut self) {
         for i in 0..self.axes.len() {
             if self.axes[i].is_error_stop()
-                && let Some(p) = gantry::partner(&self.pairs, &self.axes[i])
+                && let Some(p) = self.gantry.partner(i as u8)
                 && self.axes[p as usize].is_enabled()
             {
                 let _ = self.axes[p as usize].disable();
             }
         }
-        gantry::to_axes(&mut self.axes, &self.pairs);
-        for axis in &mut self.axes {
-            axis.plan();
-        }
-        gear::follow(&mut self.axes);
-        for axis in &mut self.axes {
-            axis.monitor();
-        }
-        gantry::to_drives(&self.axes, &self.pairs, &mut self.commands);
-        for (axis, &command) in self.axes.iter_mut().zip(&self.commands) {
-            axis.actuate(network, command);
-        }
+        self.gantry.to_axes(&mut self.axes);
     }
 
     /// Disables every axis (controller shutdown, DisableAll).
@@ -197,8 +204,7 @@ impl Kernel {
                 FaultReaction::None => {}
                 FaultReaction::Decelerate => self.axes[id].kill_stop(),
                 FaultReaction::QuickStop => {
-                    let partner = gantry::partner(&self.pairs, &self.axes[id]);
-                    for a in std::iter::once(id as u8).chain(partner) {
+                    for a in std::iter::once(id as u8).chain(self.gantry.partner(id as u8)) {
                         self.axes[a as usize].quick_stop();
                     }
                 }
@@ -209,10 +215,22 @@ impl Kernel {
         }
     }
 
+    /// Axis `id` as the status functions see it (HMPL tables 5.1.1.1 to 5.1.1.6), its
+    /// couplings included.
+    pub fn axis_snapshot(&self, id: usize) -> AxisSnapshot {
+        let mut s = self.axes[id].snapshot();
+        if let Some(pair) = self.gantry.pair_of(id as u8) {
+            s.motion_status |= motion_status::GANTRY;
+            s.gantry_pair_id = pair as i32;
+        }
+        s.gear_master = self.gear_slaves[id].min(1) as u32;
+        s
+    }
+
     pub fn fill(&self, snapshot: &mut Snapshot) {
         snapshot.axis_count = self.axes.len() as u32;
-        for (slot, axis) in snapshot.axes.iter_mut().zip(&self.axes) {
-            *slot = axis.snapshot();
+        for (id, slot) in snapshot.axes.iter_mut().enumerate().take(self.axes.len()) {
+            *slot = self.axis_snapshot(id);
         }
         snapshot.group_last_err = self.group_last_err;
         snapshot.system_last_err = self.system_last_err;

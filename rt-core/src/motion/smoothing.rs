@@ -1,7 +1,8 @@
-//! The smoothing of HMPL 5.1 (fig. 5.1.2): a moving average over the smooth time Ts
-//! turns the T-curve into an S-curve with jerk = acc / Ts, adding Ts to each acceleration
-//! phase. The average of a profile's samples never exceeds the profile's own velocity and
-//! acceleration, so the limits hold after smoothing too.
+//! The smoothing of HMPL 5.1 (fig. 5.1.2), the first stage of an axis' filter chain
+//! (`filter.rs`): a moving average over the smooth time Ts turns the T-curve into an
+//! S-curve with jerk = acc / Ts, adding Ts to each acceleration phase. The average of a
+//! profile's samples never exceeds the profile's own velocity and acceleration, so the
+//! limits hold after smoothing too.
 
 use crate::profile::Kinematics;
 
@@ -30,11 +31,7 @@ impl Smoother {
         }
     }
 
-    pub fn capacity(&self) -> usize {
-        self.samples.len()
-    }
-
-    /// Fills the window with a standstill at `pos`, over `len` samples.
+    /// Fills the window with a standstill at `pos`, over `len` samples (at most the room).
     pub fn reset(&mut self, pos: f64, len: usize) {
         self.len = len.clamp(1, self.samples.len());
         let rest = Kinematics { pos, vel: 0.0, acc: 0.0 };
@@ -42,6 +39,11 @@ impl Smoother {
         self.next = 0;
         self.recompute();
         self.unchanged = self.len;
+    }
+
+    /// A standstill at `pos`, keeping the window's length.
+    pub fn rest_at(&mut self, pos: f64) {
+        self.reset(pos, self.len);
     }
 
     /// Every value in the window is the same: the output has come to rest on it.

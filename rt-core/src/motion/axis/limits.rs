@@ -14,7 +14,7 @@ impl Axis {
     /// The ends of the drive's 32-bit counts are limits no switch turns off: a velocity
     /// move, a rollover axis or a PVT curve stops before the counts overflow.
     pub(super) fn guard_software_limits(&mut self) {
-        if !self.generator.is_moving() || self.generator.is_stopping() {
+        if !self.profile_moving() || self.generator.is_stopping() {
             return;
         }
         let raw = self.generator.raw();

@@ -1,9 +1,11 @@
 //! One HMPL axis (ch. 5, 18, 20): its settings, power, profile generator, limits and
 //! status, following the manual's pipeline (fig. 5.1.1): command -> profile generator ->
-//! reference position + compensation -> position output + offset -> counts to the drive.
-//! Gear and gantry couplings are the kernel's (`motion/mod.rs`); the axis takes their
-//! results through `follow` and `set_drive_position`. Limits live in `limits.rs`, what
-//! the axis shows in `status.rs`.
+//! filter chain (HMPL 15.1) -> reference position + compensation -> position output +
+//! offset -> counts to the drive. Which source gives the reference is the axis' one
+//! `ReferenceSource` (`motion/source.rs`), changed only through its transitions. Gear and
+//! gantry couplings are the kernel's (`motion/mod.rs`); the axis takes their results
+//! through `follow` and `set_drive_position`. Limits live in `limits.rs`, what the axis
+//! shows in `status.rs`.
 
 mod limits;
 mod ranges;
@@ -17,39 +19,30 @@ use crate::config::AxisConfig;
 use crate::drive::od::fits_width;
 use crate::ecat::Network;
 use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
+use crate::motion::filter::FilterChain;
 use crate::motion::generator::{Generator, Move};
 use crate::motion::homing::Homing;
 use crate::motion::power::PowerEvent;
 use crate::motion::pvt::{Pvt, PvtError, PvtPoint};
 use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
+use crate::motion::source::{Engagement, ReferenceSource};
 use crate::profile::Kinematics;
 
 /// Below this fraction of the axis' velocity limit the motor counts as standing.
 const STANDSTILL: f64 = 1e-3;
 
-/// An engaged gear: slave = slave origin + ratio x (master - master origin) (HMPL 6.1).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Engagement {
-    pub ratio: f64,
-    pub master_origin: f64,
-    pub slave_origin: f64,
-}
-
-/// A gear slave's link to its master (HMPL 6.2 to 6.5).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GearLink {
-    pub master: u8,
-    pub engaged: Option<Engagement>,
-}
-
 pub struct Axis {
     id: u8,
     link: DriveLink,
     settings: Settings,
+    /// What gives the reference this cycle.
+    source: ReferenceSource,
     generator: Generator,
+    /// Between the generator and the reference: smoothing first.
+    filters: FilterChain,
     period_s: f64,
     cycle: u64,
-    /// The reference (profile generator output, or the gear's), axis coordinates.
+    /// The reference (the source's, after the filter chain), axis coordinates.
     reference: Kinematics,
     /// HMPL 5.3.19: `SetPos` moves the origin; drive position = axis position + offset.
     pos_offset: f64,
@@ -58,23 +51,17 @@ pub struct Axis {
     drive_position: f64,
     pos_fb: f64,
     vel_fb: f64,
-    op_mode: i64,
-    /// MoveTrq's command, per mille of rated torque (cst).
-    torque: f64,
+    /// csp or csv: how a position reference reaches the drive (cst is the torque source).
+    cyclic_mode: i64,
     error_stop: bool,
     /// fault_status bits other than ErrorStop.
     faults: u32,
     last_err: Option<AxisError>,
     drive_err: u16,
-    homing: Homing,
     homed: bool,
     home_result: Option<Result<(), AxisError>>,
-    pub gear: Option<GearLink>,
-    pub gear_master: bool,
-    /// Gantry pair id and whether this is the right-hand (linear) axis.
-    pub gantry: Option<(u8, bool)>,
-    /// Smoothing is off while a gear slave comes to rest after GearOut.
-    smoothing_suspended: bool,
+    /// The power sequence's timeout (`Settings::enable_timeout_ms`, fixed), in cycles.
+    enable_timeout_cycles: u64,
     /// A Stop (not a Halt) is decelerating: other motion is refused (0x83II008C).
     stopping: bool,
     enabled_pending: bool,
@@ -96,11 +83,14 @@ pub struct Axis {
 impl Axis {
     pub fn new(id: u8, config: &AxisConfig, network: &Network, period_s: f64) -> Self {
         let settings = Settings::new(config);
+        let enable_timeout_cycles = cycles(settings.enable_timeout_ms, period_s);
         let max_samples = (MAX_SMOOTH_TIME_MS / 1000.0 / period_s).round() as usize + 1;
         let mut axis = Axis {
             id,
             link: DriveLink::new(id as usize, config, network),
-            generator: Generator::new(period_s, settings.profile(), max_samples),
+            source: ReferenceSource::Profile,
+            generator: Generator::new(period_s, settings.profile()),
+            filters: FilterChain::for_axis(max_samples),
             settings,
             period_s,
             cycle: 0,
@@ -110,19 +100,14 @@ impl Axis {
             drive_position: 0.0,
             pos_fb: 0.0,
             vel_fb: 0.0,
-            op_mode: MODE_CSP,
-            torque: 0.0,
+            cyclic_mode: MODE_CSP,
             error_stop: false,
             faults: 0,
             last_err: None,
             drive_err: 0,
-            homing: Homing::Idle,
             homed: false,
             home_result: None,
-            gear: None,
-            gear_master: false,
-            gantry: None,
-            smoothing_suspended: false,
+            enable_timeout_cycles,
             stopping: false,
             enabled_pending: false,
             in_window_cycles: 0,
@@ -135,7 +120,7 @@ impl Axis {
             emergency_stopped: false,
             run_speed: 1.0,
         };
-        axis.generator.reset(0.0);
+        axis.rest_profile_at(0.0);
         axis
     }
 
@@ -160,7 +145,22 @@ impl Axis {
     }
 
     pub fn is_moving(&self) -> bool {
-        if self.is_engaged() { self.reference.vel != 0.0 } else { self.generator.is_moving() }
+        if self.source.engagement().is_some() { self.reference.vel != 0.0 } else { self.profile_moving() }
+    }
+
+    /// The profile generator plans, or the filter chain after it has not settled.
+    fn profile_moving(&self) -> bool {
+        self.generator.is_running() || !self.filters.settled()
+    }
+
+    /// The profile generator and its filter chain at rest at `pos`, nothing planned.
+    fn rest_profile_at(&mut self, pos: f64) {
+        self.generator.reset(pos);
+        self.filters.reset(pos);
+    }
+
+    pub fn source(&self) -> &ReferenceSource {
+        &self.source
     }
 
     pub fn is_error_stop(&self) -> bool {
@@ -168,7 +168,7 @@ impl Axis {
     }
 
     pub fn is_gear_slave(&self) -> bool {
-        self.gear.is_some()
+        self.source.gear_master().is_some()
     }
 
     pub fn reference(&self) -> Kinematics {
@@ -185,7 +185,7 @@ impl Axis {
     }
 
     /// Records a rejection or a fault as the axis' last error (HMPL 18.3) and returns it.
-    pub fn fail(&mut self, error: AxisError) -> AxisError {
+    pub(in crate::motion) fn fail(&mut self, error: AxisError) -> AxisError {
         self.last_err = Some(error);
         error
     }
@@ -199,7 +199,7 @@ impl Axis {
     }
 
     fn cycles(&self, ms: f64) -> u64 {
-        (ms / 1000.0 / self.period_s).ceil() as u64
+        cycles(ms, self.period_s)
     }
 
     // --- power (HMPL 5.2.1 to 5.2.3) ---
@@ -259,7 +259,7 @@ impl Axis {
 
     /// The drive's quick stop (CiA 402); the axis ends disabled.
     pub fn quick_stop(&mut self) {
-        self.generator.reset(self.reference.pos);
+        self.rest_profile_at(self.reference.pos);
         self.abort_homing();
         self.stopping = false;
         self.link.quick_stop(self.cycle);
@@ -267,7 +267,7 @@ impl Axis {
 
     /// Disables and clears the path planning (HMPL 5.2.2).
     pub fn disable(&mut self) -> Result<(), AxisError> {
-        self.generator.reset(self.reference.pos);
+        self.rest_profile_at(self.reference.pos);
         self.abort_homing();
         self.stopping = false;
         self.link.disable(self.cycle);
@@ -296,14 +296,10 @@ impl Axis {
             Some(AxisError::CmdInvalidErrorState)
         } else if !self.link.is_enabled() {
             Some(AxisError::CmdInvalidDisabled)
-        } else if self.gear.is_some() {
-            Some(AxisError::CmdInvalidInSync)
-        } else if self.homing.in_progress() {
-            Some(AxisError::CmdInvalidState)
+        } else if let Some(e) = self.source.refuses_motion() {
+            Some(e)
         } else if self.stopping {
             Some(AxisError::CmdInvalidStopping)
-        } else if self.op_mode == MODE_CST {
-            Some(AxisError::CmdInvalidControlMode)
         } else {
             None
         };
@@ -379,15 +375,15 @@ impl Axis {
         if !self.link.is_enabled() {
             return Err(self.fail(AxisError::CmdInvalidDisabled));
         }
-        if self.op_mode != MODE_CST {
+        if !self.source.is_torque() {
             return Err(self.fail(AxisError::CmdInvalidControlMode));
         }
         let per_mille = self.link.per_mille_per_nm;
         if !(per_mille.is_finite() && per_mille > 0.0) {
             return Err(self.fail(AxisError::CmdInvalidForceconstTrqmode));
         }
-        self.torque = (torque * per_mille).clamp(-1000.0, 1000.0);
-        Ok(())
+        let result = self.source.command_torque((torque * per_mille).clamp(-1000.0, 1000.0));
+        self.check(result)
     }
 
     /// HMPL 5.2.9: decelerate and clear the path planning.
@@ -404,8 +400,8 @@ impl Axis {
     }
 
     fn stop_with(&mut self, dec: f64) {
-        self.torque = 0.0;
-        if self.generator.is_moving() {
+        self.source.stop_torque();
+        if self.profile_moving() {
             self.generator.stop_with(dec);
             self.stopping = true;
         }
@@ -488,7 +484,7 @@ impl Axis {
             return Err(self.fail(AxisError::CmdInvalidMoving));
         }
         self.settings.sm_time_ms = ms;
-        self.generator.set_smooth_samples(self.smooth_samples());
+        self.filters.set_smoothing(self.smooth_samples(), self.generator.raw().pos);
         Ok(())
     }
 
@@ -497,11 +493,10 @@ impl Axis {
     }
 
     /// HMPL 5.3.19: the present position becomes `pos` by moving the origin (`pos_offset`).
-    pub fn set_pos(&mut self, pos: f64) -> Result<(), AxisError> {
-        let refused = if self.gear.is_some() {
+    /// The kernel refuses it on a gantry axis first (`Kernel::set_pos`).
+    pub(in crate::motion) fn set_pos(&mut self, pos: f64) -> Result<(), AxisError> {
+        let refused = if self.is_gear_slave() {
             Some(AxisError::CmdInvalidInSync)
-        } else if self.gantry.is_some() {
-            Some(AxisError::CmdInvalidGantryMode)
         } else if self.error_stop {
             Some(AxisError::CmdInvalidErrorState)
         } else if self.is_moving() {
@@ -516,7 +511,7 @@ impl Axis {
         self.pos_offset += shift;
         self.pos_fb -= shift;
         self.reference.pos = pos;
-        self.generator.reset(pos);
+        self.rest_profile_at(pos);
         Ok(())
     }
 
@@ -555,8 +550,11 @@ impl Axis {
         }
         let mapped = self.link.can_run(mode);
         self.check(mapped)?;
-        self.op_mode = mode;
-        self.torque = 0.0;
+        let switched = self.source.set_torque_mode(mode == MODE_CST);
+        self.check(switched)?;
+        if mode != MODE_CST {
+            self.cyclic_mode = mode;
+        }
         self.link.set_mode(mode);
         Ok(())
     }
@@ -618,22 +616,24 @@ impl Axis {
                 return Err(self.fail(AxisError::DriveHomeFailed));
             }
         }
+        let started = self.source.start_homing(Homing::new(self.cycle));
+        self.check(started)?;
+        Homing::enter(&mut self.link);
         self.homed = false;
         self.home_result = None;
-        self.homing = Homing::start(&mut self.link, self.cycle);
         Ok(())
     }
 
     /// Ends a homing run early (disabled, stopped, a fault): `MoveHome` returns 0x83II042E.
     fn abort_homing(&mut self) {
-        if self.homing.in_progress() {
-            self.homing.abort(&mut self.link);
+        if self.source.is_homing() {
+            Homing::abort(&mut self.link);
             self.finish_homing(Err(AxisError::DriveHomeFailed));
         }
     }
 
     pub fn is_homing(&self) -> bool {
-        self.homing.in_progress()
+        self.source.is_homing()
     }
 
     /// The result of the last homing run, once, when it is over.
@@ -649,14 +649,14 @@ impl Axis {
         let (inputs, _) = network.images_mut();
         self.feedback = self.link.read(inputs);
         self.drive_position = self.feedback.position;
-        let timeout = self.cycles(self.settings.enable_timeout_ms);
+        let timeout = self.enable_timeout_cycles;
         let at_rest = self.vel_fb.abs() < STANDSTILL * self.settings.max_vel;
         let event = self.link.sequence(self.feedback.statusword, cycle, timeout, at_rest);
         self.on_power_event(event, network);
     }
 
     /// The kernel's gantry transform replaces the drive position with a pair's.
-    pub fn set_drive_position(&mut self, position: f64) {
+    pub(in crate::motion) fn set_drive_position(&mut self, position: f64) {
         self.drive_position = position;
     }
 
@@ -686,38 +686,52 @@ impl Axis {
         }
     }
 
-    /// 2. Advances the motion: homing, the profile generator, or a standstill.
+    /// 2. The reference from the axis' source.
+    ///
+    /// The profile generator's through the filter chain, or the feedback (disabled,
+    /// homing, torque); an engaged gear slave's comes from the kernel (`follow`).
     pub fn plan(&mut self) {
         let fb = self.drive_position - self.pos_offset;
         self.vel_fb = (fb - self.pos_fb) / self.period_s;
         self.pos_fb = fb;
         if std::mem::take(&mut self.enabled_pending) {
-            self.generator.reset(self.pos_fb);
+            self.rest_profile_at(self.pos_fb);
         }
-        if self.homing.in_progress() {
+        if self.source.is_homing() {
             let timeout = self.cycles(self.settings.home.timeout_ms as f64);
-            if let Some(result) = self.homing.step(&mut self.link, &self.feedback, self.cycle, timeout) {
+            if let ReferenceSource::Homing(run) = &mut self.source
+                && let Some(result) = run.step(&mut self.link, &self.feedback, self.cycle, timeout)
+            {
                 self.finish_homing(result);
             }
         }
-        if !self.link.is_enabled() || self.homing.in_progress() || self.op_mode == MODE_CST {
-            self.generator.reset(self.pos_fb);
-            self.reference = Kinematics { pos: self.pos_fb, vel: 0.0, acc: 0.0 };
-        } else if !self.is_engaged() {
+        match self.source {
+            _ if !self.link.is_enabled() => self.follow_feedback(),
+            ReferenceSource::Homing(_) | ReferenceSource::Torque { .. } => self.follow_feedback(),
+            ReferenceSource::Gear { engaged: Some(_), .. } => {}
             // A disengaged gear slave comes to rest through its generator.
-            self.guard_software_limits();
-            self.reference = self.generator.step();
+            ReferenceSource::Profile | ReferenceSource::Gear { engaged: None, .. } => {
+                self.guard_software_limits();
+                self.reference = self.filters.push(self.generator.step());
+            }
         }
-        if self.stopping && !self.generator.is_moving() {
+        if self.stopping && !self.profile_moving() {
             self.stopping = false;
         }
-        if self.smoothing_suspended && !self.generator.is_moving() {
-            self.smoothing_suspended = false;
-            self.generator.set_smooth_samples(self.smooth_samples());
+        if self.filters.is_smoothing_suspended() && !self.profile_moving() {
+            self.filters.resume_smoothing(self.smooth_samples(), self.generator.raw().pos);
         }
     }
 
+    /// The reference stands where the motor is; the generator waits there.
+    fn follow_feedback(&mut self) {
+        self.rest_profile_at(self.pos_fb);
+        self.reference = Kinematics { pos: self.pos_fb, vel: 0.0, acc: 0.0 };
+    }
+
+    /// Ends a homing run: the profile generator gives the reference again.
     fn finish_homing(&mut self, result: Result<(), AxisError>) {
+        self.source.end_homing();
         match result {
             Ok(()) => {
                 // The home defines the coordinates: the drive reads the home offset there.
@@ -731,18 +745,48 @@ impl Axis {
         self.home_result = Some(result);
     }
 
+    // --- gear (HMPL ch. 6): the kernel's gear commands move the source ---
+
+    /// `EnableGear`: the kernel has checked the pair of axes.
+    pub(in crate::motion) fn link_gear(&mut self, master: u8) -> Result<(), AxisError> {
+        let result = self.source.link_gear(master);
+        self.check(result)
+    }
+
+    /// `DisableGear`: the master it was linked to; an engaged slave comes to rest first.
+    pub(in crate::motion) fn unlink_gear(&mut self) -> Result<u8, AxisError> {
+        let result = self.source.unlink_gear();
+        let (master, engaged) = self.check(result)?;
+        if engaged.is_some() {
+            self.come_to_rest(self.settings.dec);
+        }
+        Ok(master)
+    }
+
+    /// `GearIn`: the kernel has checked both axes are enabled.
+    pub(in crate::motion) fn engage(&mut self, master: u8, engagement: Engagement) -> Result<(), AxisError> {
+        let result = self.source.engage(master, engagement);
+        self.check(result)
+    }
+
+    /// `GearOut`: the slave comes to rest from where the gear left it.
+    pub(in crate::motion) fn gear_out(&mut self) -> Result<(), AxisError> {
+        let result = self.source.disengage();
+        self.check(result)?;
+        self.come_to_rest(self.settings.dec);
+        Ok(())
+    }
+
     /// A gear slave's reference from its master's (HMPL 6.1). A slave the master would take
     /// past a limit (its software limits, or the ends of its drive's counts) is disengaged
     /// and stopped with its kill deceleration, as a move would be.
-    pub fn follow(&mut self, master: Kinematics) {
-        if let Some(GearLink { engaged: Some(e), .. }) = self.gear {
-            let next = Kinematics {
-                pos: e.slave_origin + e.ratio * (master.pos - e.master_origin),
-                vel: e.ratio * master.vel,
-                acc: e.ratio * master.acc,
-            };
+    pub(in crate::motion) fn follow(&mut self, master: Kinematics) {
+        if let Some(e) = self.source.engagement() {
+            let next = e.follow(master);
             if let Some((bit, error)) = self.passes_limit(next) {
-                self.disengage_with(self.settings.kill_dec);
+                // Engaged, so the source takes it.
+                let _ = self.source.disengage();
+                self.come_to_rest(self.settings.kill_dec);
                 self.error_stop = true;
                 self.faults |= bit;
                 self.fail(error);
@@ -752,23 +796,11 @@ impl Axis {
         }
     }
 
-    /// GearOut: the slave comes to rest from where the gear left it, without smoothing.
-    pub fn disengage(&mut self) {
-        self.disengage_with(self.settings.dec);
-    }
-
-    fn disengage_with(&mut self, dec: f64) {
-        if let Some(link) = &mut self.gear {
-            link.engaged = None;
-        }
-        self.generator.set_smooth_samples(1);
+    /// The generator takes over the motion the gear left, unsmoothed until at rest.
+    fn come_to_rest(&mut self, dec: f64) {
         self.generator.take_over(self.reference);
+        self.filters.suspend_smoothing(self.reference.pos);
         self.generator.stop_with(dec);
-        self.smoothing_suspended = true;
-    }
-
-    fn is_engaged(&self) -> bool {
-        matches!(self.gear, Some(GearLink { engaged: Some(_), .. }))
     }
 
     /// HMPL 5.1.1: position output = reference + compensation (none configured: 0).
@@ -783,10 +815,23 @@ impl Axis {
 
     /// 4. Writes the drive: `position` is the drive command (after any gantry transform).
     pub fn actuate(&mut self, network: &mut Network, position: f64) {
-        let velocity = if self.op_mode == MODE_CSV { self.reference.vel } else { 0.0 };
-        let torque = if self.op_mode == MODE_CST && self.link.is_enabled() { self.torque } else { 0.0 };
+        let velocity = if self.op_mode() == MODE_CSV { self.reference.vel } else { 0.0 };
+        let torque = match self.source {
+            ReferenceSource::Torque { per_mille } if self.link.is_enabled() => per_mille,
+            _ => 0.0,
+        };
         self.link.write(network, Output { position, velocity, torque });
     }
+
+    /// HMPL 5.3.41: the mode the axis runs in (8 csp, 9 csv, 10 cst).
+    pub fn op_mode(&self) -> i64 {
+        if self.source.is_torque() { MODE_CST } else { self.cyclic_mode }
+    }
+}
+
+/// `ms` in whole cycles of `period_s`, rounded up.
+fn cycles(ms: f64, period_s: f64) -> u64 {
+    (ms / 1000.0 / period_s).ceil() as u64
 }
 
 /// The three notifications a user may switch off (HMPL 5.3.33 to 5.3.35).

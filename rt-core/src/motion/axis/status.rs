@@ -35,8 +35,9 @@ impl Axis {
         if self.settings.rollover > 0.0 { pos.rem_euclid(self.settings.rollover) } else { pos }
     }
 
-    /// The axis as the scope and the status functions see it (HMPL tables 5.1.1.1 to 5.1.1.6).
-    pub fn snapshot(&self) -> AxisSnapshot {
+    /// The axis as the scope and the status functions see it (HMPL tables 5.1.1.1 to
+    /// 5.1.1.6), but for its couplings, which the kernel adds (`Kernel::axis_snapshot`).
+    pub(in crate::motion) fn snapshot(&self) -> AxisSnapshot {
         let mut motion = 0;
         if self.link.drive_enabled() {
             motion |= motion_status::ENABLED;
@@ -50,16 +51,13 @@ impl Axis {
         if self.reference.acc * self.reference.vel > 0.0 {
             motion |= motion_status::ACCELERATING;
         }
-        if self.gear.is_some() {
+        if self.is_gear_slave() {
             motion |= motion_status::SYNCHRONOUS | motion_status::GEAR;
-        }
-        if self.gantry.is_some() {
-            motion |= motion_status::GANTRY;
         }
         if self.homed {
             motion |= motion_status::HOMED;
         }
-        if self.homing.in_progress() {
+        if self.source.is_homing() {
             motion |= motion_status::HOMING;
         }
         if self.feedback.digital_inputs.is_some_and(|i| i & 0b100 != 0) {
@@ -84,10 +82,10 @@ impl Axis {
             cmd_num: self.generator.cmd_num() as u32,
             buffer_mode: s.buffer_mode as u32,
             rollover_turns,
-            gantry_pair_id: self.gantry.map_or(-1, |(id, _)| id as i32),
-            gear_master: self.gear_master as u32,
-            in_gear: self.gear.is_some_and(|g| g.engaged.is_some()) as u32,
-            op_mode: self.op_mode as u32,
+            gantry_pair_id: -1,
+            gear_master: 0,
+            in_gear: self.source.engagement().is_some() as u32,
+            op_mode: self.op_mode() as u32,
             ref_pos: self.wrap(self.reference.pos),
             ref_vel: self.reference.vel,
             ref_acc: self.reference.acc,
@@ -112,7 +110,7 @@ impl Axis {
             vel_scale: s.vel_scale,
             pos_window: s.pos_window,
             pos_window_time: s.pos_window_time_ms,
-            gear_ratio: self.gear.and_then(|g| g.engaged).map_or(0.0, |e| e.ratio),
+            gear_ratio: self.source.engagement().map_or(0.0, |e| e.ratio),
         }
     }
 }
