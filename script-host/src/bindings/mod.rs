@@ -15,10 +15,10 @@ use std::rc::Rc;
 
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::{ArgType, Command, Func, FunctionSpec, Query, SdoAbort, ValueType};
+use calls::query::{self, Words};
 use ipc::events::EventSender;
 use ipc::messages::Request;
 use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
-use ipc::query::{self, Words};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};

@@ -4,7 +4,7 @@
 
 use api::{ErrorCode, Query, SystemError};
 
-use crate::messages::{AxisSnapshot, GPIO_PINS, PdoEntrySnapshot, Snapshot, TaskState, fault_status, motion_status};
+use ipc::messages::{AxisSnapshot, GPIO_PINS, PdoEntrySnapshot, Snapshot, TaskState, fault_status, motion_status};
 
 /// A query's answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
