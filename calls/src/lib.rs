@@ -7,3 +7,4 @@
 
 pub mod query;
 pub mod user_area;
+pub mod wire;

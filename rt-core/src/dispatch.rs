@@ -1,9 +1,11 @@
-//! Carries out the commands scripts send: one match over `api::Command`, so that the
-//! compiler holds every command of the registry to an implementation.
+//! Carries out the commands scripts send: one match over the typed `api::CommandCall`
+//! (decoded by `calls::wire`), so that the compiler holds every command of the registry
+//! to an implementation.
 
 use api::alarms::{Alarm, Event as AlarmEvent};
-use api::registry::ArgType;
-use api::{AxisError, Command, ErrorCode, FunctionSpec, SdoAbort, SystemError};
+use api::call::{Doubles, Sink};
+use api::{ArgSpec, AxisError, CommandCall, ErrorCode, Quantity, Role, SdoAbort, SystemError};
+use calls::wire::{self, DecodeError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
@@ -57,12 +59,12 @@ enum Done {
 /// Applies one request of task `caller` to the machine and fills its reply: the function's
 /// return values, and `rc` 0 or the reason it failed.
 pub fn execute(machine: &mut Machine, caller: u8, request: &Request, reply: &mut Reply) -> Disposition {
-    let result = match Command::from_id(request.func) {
-        None => Err(SystemError::HmplNotSupported.into()),
-        Some(_) if !machine.tasks.accepts_commands(caller) => Err(SystemError::TaskNotRunning.into()),
-        Some(command) if !arguments_fit(command.spec(), request) => Err(SystemError::HmplInvalidArg.into()),
-        Some(command) => match check_ranges(machine, command.spec(), request) {
-            Ok(()) => run(machine, caller, command, request, reply),
+    let result = match wire::decode(request) {
+        Err(DecodeError::UnknownFunction(_)) => Err(SystemError::HmplNotSupported.into()),
+        Err(_) | Ok(_) if !machine.tasks.accepts_commands(caller) => Err(SystemError::TaskNotRunning.into()),
+        Err(_) => Err(SystemError::HmplInvalidArg.into()),
+        Ok(call) => match check_ranges(machine, &call) {
+            Ok(()) => run(machine, caller, &call, reply),
             Err(failure) => Err(failure),
         },
     };
@@ -76,17 +78,17 @@ pub fn execute(machine: &mut Machine, caller: u8, request: &Request, reply: &mut
 
 /// Completes a deferred call once its operation is over; false while it still runs.
 pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bool {
-    let result = match Command::from_id(request.func) {
-        Some(Command::MoveHome) => {
-            let Ok(axis) = machine.kernel.axis_mut(request.int(0)) else { return true };
+    let result = match wire::decode(request) {
+        Ok(CommandCall::MoveHome { axis_id }) => {
+            let Ok(axis) = machine.kernel.axis_mut(axis_id) else { return true };
             let id = axis.id();
             match axis.take_home_result() {
                 None => return false,
                 Some(result) => result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))),
             }
         }
-        Some(Command::StartTask | Command::StartTaskFunc) => {
-            let Ok(task) = u8::try_from(request.int(0)) else { return true };
+        Ok(CommandCall::StartTask { task_id } | CommandCall::StartTaskFunc { task_id, .. }) => {
+            let Ok(task) = u8::try_from(task_id) else { return true };
             match machine.tasks.take_start_result(task) {
                 None => return false,
                 Some(result) => result.map_err(Failure::from),
@@ -124,76 +126,75 @@ fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>)
     }
 }
 
-fn arguments_fit(spec: &FunctionSpec, request: &Request) -> bool {
-    request.argc as usize == spec.args.len() && request.blob_len as usize <= request.blob.len()
-}
-
 /// Every argument the registry gives a quantity is checked against its range before the
 /// command runs, on the axis named by the axis argument before it. One path for every
 /// command: no setter can forget it, and NaN, infinities and numbers no drive could carry
 /// never reach the kernel (issue 11).
-fn check_ranges(m: &mut Machine, spec: &FunctionSpec, r: &Request) -> Result<(), Failure> {
-    for (i, quantity, axis_arg) in spec.quantities() {
-        let Some(axis_arg) = axis_arg else {
-            // The axis argument itself.
-            m.kernel.axis_mut(r.int(i))?;
-            continue;
-        };
-        let axis = m.kernel.axis_mut(r.int(axis_arg))?;
-        let id = axis.id();
-        let refused = |e: AxisError| Failure::from(ErrorCode::axis(id, e));
-        match spec.args[i].ty {
-            ArgType::Double => axis.admit(quantity, r.double(i)).map_err(refused)?,
-            ArgType::Doubles => {
-                for value in doubles(spec, r, i)? {
-                    axis.admit(quantity, value).map_err(refused)?;
-                }
-            }
-            _ => {}
-        }
-    }
-    Ok(())
+fn check_ranges(m: &mut Machine, call: &CommandCall) -> Result<(), Failure> {
+    call.write(&mut RangeCheck { m, args: call.func().spec().args.iter(), axis: None })
 }
 
-/// The numbers of `double*` argument `i`: the blob holds the arrays, strings and bytes one
-/// after the other, their lengths are in the argument words.
-fn doubles<'r>(spec: &FunctionSpec, r: &'r Request, i: usize) -> Result<impl Iterator<Item = f64> + 'r, Failure> {
-    let bytes = |j: usize| {
-        let len = usize::try_from(r.int(j)).unwrap_or(usize::MAX);
-        match spec.args[j].ty {
-            ArgType::Doubles => len.saturating_mul(8),
-            ArgType::Bytes | ArgType::Str => len,
-            _ => 0,
+/// Walks a call's arguments in order: an `Axis` argument must name an axis, and every
+/// number with a quantity after it must fit that axis.
+struct RangeCheck<'m> {
+    m: &'m mut Machine,
+    args: std::slice::Iter<'static, ArgSpec>,
+    axis: Option<i64>,
+}
+
+impl RangeCheck<'_> {
+    fn admit(&mut self, values: impl Iterator<Item = f64>) -> Result<(), Failure> {
+        let (Some(quantity), Some(axis)) = (self.args.next().and_then(|a| a.quantity), self.axis) else {
+            return Ok(());
+        };
+        let axis = self.m.kernel.axis_mut(axis)?;
+        let id = axis.id();
+        for value in values {
+            axis.admit(quantity, value).map_err(|e| Failure::from(ErrorCode::axis(id, e)))?;
         }
-    };
-    let start = (0..i).fold(0usize, |sum, j| sum.saturating_add(bytes(j)));
-    let array = r.blob().get(start..start.saturating_add(bytes(i))).ok_or(SystemError::HmplInvalidArg)?;
-    Ok(array.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes"))))
+        Ok(())
+    }
+}
+
+impl Sink for RangeCheck<'_> {
+    type Error = Failure;
+
+    fn int(&mut self, value: i64) -> Result<(), Failure> {
+        if self.args.next().and_then(|a| a.quantity) == Some(Quantity::Axis) {
+            self.m.kernel.axis_mut(value)?;
+            self.axis = Some(value);
+        }
+        Ok(())
+    }
+
+    fn double(&mut self, value: f64) -> Result<(), Failure> {
+        self.admit(std::iter::once(value))
+    }
+
+    fn bool(&mut self, _: bool) -> Result<(), Failure> {
+        self.args.next();
+        Ok(())
+    }
+
+    fn str(&mut self, _: &[u8]) -> Result<(), Failure> {
+        self.args.next();
+        Ok(())
+    }
+
+    fn bytes(&mut self, _: &[u8]) -> Result<(), Failure> {
+        self.args.next();
+        Ok(())
+    }
+
+    fn doubles(&mut self, values: &Doubles) -> Result<(), Failure> {
+        self.admit(values.iter())
+    }
 }
 
 type Outcome = Result<Done, Failure>;
 
 fn now(result: Result<(), impl Into<Failure>>) -> Outcome {
     result.map(|()| Done::Now).map_err(Into::into)
-}
-
-/// The axis a motion command sets going: one task at a time may command it in a cycle,
-/// and an E-stop refuses it until the axis is enabled again.
-fn moved_axis(command: Command, r: &Request) -> Option<i64> {
-    match command {
-        Command::MoveAbs
-        | Command::MoveRel
-        | Command::MoveVel
-        | Command::MoveTrq
-        | Command::MovePVT
-        | Command::Stop
-        | Command::Halt
-        | Command::Resume
-        | Command::MoveHome
-        | Command::GearOut => Some(r.int(0)),
-        Command::GearIn => Some(r.int(1)),
-        _ => None,
-    }
 }
 
 /// Checks that `caller` may command axis `a` in this cycle.
@@ -213,12 +214,13 @@ fn may_command(m: &mut Machine, caller: u8, a: i64) -> Result<u8, Failure> {
     Ok(id)
 }
 
-fn run(m: &mut Machine, caller: u8, command: Command, r: &Request, reply: &mut Reply) -> Outcome {
-    let moved = match moved_axis(command, r) {
+fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
+    // The axis a motion command sets going (declared `as Moves` in the registry).
+    let moved = match call.arg_with(Role::Moves) {
         Some(a) if m.network.state() == AlState::Op => Some(may_command(m, caller, a)?),
         _ => None,
     };
-    let outcome = run_command(m, caller, command, r, reply);
+    let outcome = run_command(m, caller, call, reply);
     if let (Some(axis), Ok(_)) = (moved, &outcome) {
         let cycle = m.cycle;
         let run_speed = m.run_speed(caller);
@@ -229,161 +231,168 @@ fn run(m: &mut Machine, caller: u8, command: Command, r: &Request, reply: &mut R
     outcome
 }
 
-fn run_command(m: &mut Machine, caller: u8, command: Command, r: &Request, reply: &mut Reply) -> Outcome {
-    let (a, x) = (r.int(0), r.double(1));
-    match command {
+fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
+    use CommandCall as C;
+    match *call {
         // HMPL 5.2: motion.
-        Command::Enable => motion(m, |m| now(m.kernel.enable(a))),
-        Command::Disable => motion(m, |m| now(m.kernel.disable(a))),
-        Command::Reset => axis(m, r, |ax| ax.reset()),
-        Command::MoveAbs => axis(m, r, |ax| ax.move_abs(x)),
-        Command::MoveRel => axis(m, r, |ax| ax.move_rel(x)),
-        Command::MoveVel => axis(m, r, |ax| ax.move_vel(x)),
-        Command::MoveTrq => axis(m, r, |ax| ax.move_trq(x)),
-        Command::MovePVT => {
-            let (points, count) = pvt_points(r)?;
-            axis(m, r, |ax| ax.move_pvt(&points[..count]))
+        C::Enable { axis_id } => motion(m, |m| now(m.kernel.enable(axis_id))),
+        C::Disable { axis_id } => motion(m, |m| now(m.kernel.disable(axis_id))),
+        C::Reset { axis_id } => axis(m, axis_id, |ax| ax.reset()),
+        C::MoveAbs { axis_id, pos } => axis(m, axis_id, |ax| ax.move_abs(pos)),
+        C::MoveRel { axis_id, rel_dist } => axis(m, axis_id, |ax| ax.move_rel(rel_dist)),
+        C::MoveVel { axis_id, vel } => axis(m, axis_id, |ax| ax.move_vel(vel)),
+        C::MoveTrq { axis_id, torque_cmd } => axis(m, axis_id, |ax| ax.move_trq(torque_cmd)),
+        C::MovePVT { axis_id, ref time, ref pos, ref vel, num_pt } => {
+            let (points, count) = pvt_points([time, pos, vel], num_pt)?;
+            axis(m, axis_id, |ax| ax.move_pvt(&points[..count]))
         }
-        Command::Stop => axis(m, r, |ax| ax.stop()),
-        Command::Halt => axis(m, r, |ax| ax.halt()),
-        Command::Resume => axis(m, r, |ax| ax.resume()),
+        C::Stop { axis_id } => axis(m, axis_id, |ax| ax.stop()),
+        C::Halt { axis_id } => axis(m, axis_id, |ax| ax.halt()),
+        C::Resume { axis_id } => axis(m, axis_id, |ax| ax.resume()),
         // HMPL 5.3: settings.
-        Command::SetVel => axis(m, r, |ax| ax.set_vel(x)),
-        Command::SetAcc => axis(m, r, |ax| ax.set_acc(x)),
-        Command::SetAccTime => axis(m, r, |ax| ax.set_acc_time(x)),
-        Command::SetDec => axis(m, r, |ax| ax.set_dec(x)),
-        Command::SetDecTime => axis(m, r, |ax| ax.set_dec_time(x)),
-        Command::SetKillDec => axis(m, r, |ax| ax.set_kill_dec(x)),
-        Command::SetSWRL => axis(m, r, |ax| ax.set_swrl(x)),
-        Command::SetSWLL => axis(m, r, |ax| ax.set_swll(x)),
-        Command::SetSMTime => axis(m, r, |ax| ax.set_sm_time(x)),
-        Command::SetPos => axis(m, r, |ax| ax.set_pos(x)),
-        Command::IgnoreHWL => axis(m, r, |ax| ax.set_ignore(Ignore::HardwareLimits, r.int(1) != 0)),
-        Command::IgnoreSWL => axis(m, r, |ax| ax.set_ignore(Ignore::SoftwareLimits, r.int(1) != 0)),
-        Command::IgnorePE => axis(m, r, |ax| ax.set_ignore(Ignore::PositionError, r.int(1) != 0)),
-        Command::SetVelScale => axis(m, r, |ax| ax.set_vel_scale(x)),
-        Command::SetRollover => axis(m, r, |ax| ax.set_rollover(x)),
-        Command::SetOpMode => axis(m, r, |ax| ax.set_op_mode(r.int(1))),
-        Command::SetBufferMode => axis(m, r, |ax| ax.set_buffer_mode(r.int(1))),
-        Command::SetPosWindow => axis(m, r, |ax| ax.set_pos_window(x)),
-        Command::SetPosWindowTime => axis(m, r, |ax| ax.set_pos_window_time(x)),
+        C::SetVel { axis_id, vel } => axis(m, axis_id, |ax| ax.set_vel(vel)),
+        C::SetAcc { axis_id, acc } => axis(m, axis_id, |ax| ax.set_acc(acc)),
+        C::SetAccTime { axis_id, acc_time } => axis(m, axis_id, |ax| ax.set_acc_time(acc_time)),
+        C::SetDec { axis_id, dec } => axis(m, axis_id, |ax| ax.set_dec(dec)),
+        C::SetDecTime { axis_id, dec_time } => axis(m, axis_id, |ax| ax.set_dec_time(dec_time)),
+        C::SetKillDec { axis_id, kill_dec } => axis(m, axis_id, |ax| ax.set_kill_dec(kill_dec)),
+        C::SetSWRL { axis_id, right_limit_pos } => axis(m, axis_id, |ax| ax.set_swrl(right_limit_pos)),
+        C::SetSWLL { axis_id, left_limit_pos } => axis(m, axis_id, |ax| ax.set_swll(left_limit_pos)),
+        C::SetSMTime { axis_id, smooth_time } => axis(m, axis_id, |ax| ax.set_sm_time(smooth_time)),
+        C::SetPos { axis_id, pos } => axis(m, axis_id, |ax| ax.set_pos(pos)),
+        C::IgnoreHWL { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::HardwareLimits, cmd != 0)),
+        C::IgnoreSWL { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::SoftwareLimits, cmd != 0)),
+        C::IgnorePE { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::PositionError, cmd != 0)),
+        C::SetVelScale { axis_id, vel_scale } => axis(m, axis_id, |ax| ax.set_vel_scale(vel_scale)),
+        C::SetRollover { axis_id, rollover_val } => axis(m, axis_id, |ax| ax.set_rollover(rollover_val)),
+        C::SetOpMode { axis_id, op_mode } => axis(m, axis_id, |ax| ax.set_op_mode(op_mode)),
+        C::SetBufferMode { axis_id, buf_mode } => axis(m, axis_id, |ax| ax.set_buffer_mode(buf_mode)),
+        C::SetPosWindow { axis_id, pos_window } => axis(m, axis_id, |ax| ax.set_pos_window(pos_window)),
+        C::SetPosWindowTime { axis_id, pos_window_time } => {
+            axis(m, axis_id, |ax| ax.set_pos_window_time(pos_window_time))
+        }
         // HMPL ch. 6 and 7: gear and gantry.
-        Command::EnableGear => motion(m, |m| now(m.kernel.enable_gear(a, r.int(1)))),
-        Command::DisableGear => motion(m, |m| now(m.kernel.disable_gear(a))),
-        Command::GearIn => motion(m, |m| now(m.kernel.gear_in(a, r.int(1), r.double(2)))),
-        Command::GearOut => motion(m, |m| now(m.kernel.gear_out(a))),
-        Command::EnableGantryPair => motion(m, |m| now(m.kernel.enable_gantry_pair(a, r.int(1)))),
-        Command::DisableGantryPair => motion(m, |m| now(m.kernel.disable_gantry_pair(a))),
+        C::EnableGear { axis_master_id, axis_slave_id } => {
+            motion(m, |m| now(m.kernel.enable_gear(axis_master_id, axis_slave_id)))
+        }
+        C::DisableGear { axis_slave_id } => motion(m, |m| now(m.kernel.disable_gear(axis_slave_id))),
+        C::GearIn { axis_master_id, axis_slave_id, gear_ratio } => {
+            motion(m, |m| now(m.kernel.gear_in(axis_master_id, axis_slave_id, gear_ratio)))
+        }
+        C::GearOut { axis_slave_id } => motion(m, |m| now(m.kernel.gear_out(axis_slave_id))),
+        C::EnableGantryPair { rhs_axis_id, lhs_axis_id } => {
+            motion(m, |m| now(m.kernel.enable_gantry_pair(rhs_axis_id, lhs_axis_id)))
+        }
+        C::DisableGantryPair { axis_id } => motion(m, |m| now(m.kernel.disable_gantry_pair(axis_id))),
         // HMPL ch. 20: homing.
-        Command::MoveHome => motion(m, |m| {
+        C::MoveHome { axis_id } => motion(m, |m| {
             let Machine { kernel, network, .. } = m;
-            let ax = kernel.axis_mut(a)?;
+            let ax = kernel.axis_mut(axis_id)?;
             let id = ax.id();
             ax.start_homing(network).map_err(|e| ErrorCode::axis(id, e))?;
             Ok(Done::Later)
         }),
-        Command::SetHomeMethod => axis(m, r, |ax| ax.set_home(|h| h.set_method(r.int(1)))),
-        Command::SetHomeSwitchVel => home_number(m, r, |h| &mut h.switch_vel),
-        Command::SetHomeZeroVel => home_number(m, r, |h| &mut h.zero_vel),
-        Command::SetHomeAcc => home_number(m, r, |h| &mut h.acc),
-        Command::SetHomeOffset => home_number(m, r, |h| &mut h.offset),
-        Command::SetHomeTimeout => axis(m, r, |ax| ax.set_home(|h| h.set_timeout(r.int(1)))),
-        Command::SetHomedStatus => axis(m, r, |ax| {
-            ax.set_homed(r.int(1) != 0);
+        C::SetHomeMethod { axis_id, method } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_method(method))),
+        C::SetHomeSwitchVel { axis_id, fast_vel } => home_number(m, axis_id, fast_vel, |h| &mut h.switch_vel),
+        C::SetHomeZeroVel { axis_id, slow_vel } => home_number(m, axis_id, slow_vel, |h| &mut h.zero_vel),
+        C::SetHomeAcc { axis_id, acc } => home_number(m, axis_id, acc, |h| &mut h.acc),
+        C::SetHomeOffset { axis_id, offset } => home_number(m, axis_id, offset, |h| &mut h.offset),
+        C::SetHomeTimeout { axis_id, timeout } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_timeout(timeout))),
+        C::SetHomedStatus { axis_id, is_homed } => axis(m, axis_id, |ax| {
+            ax.set_homed(is_homed != 0);
             Ok(())
         }),
         // HMPL ch. 18: errors.
-        Command::ClearAxisLastErr => axis(m, r, |ax| {
+        C::ClearAxisLastErr { axis_id } => axis(m, axis_id, |ax| {
             ax.clear_last_err();
             Ok(())
         }),
-        Command::ClearGrpLastErr => now(m.kernel.clear_group_last_err(a)),
+        C::ClearGrpLastErr { group_id } => now(m.kernel.clear_group_last_err(group_id)),
         // HMPL ch. 17: drive variables.
-        Command::ReadSDO => {
-            let (value, _) = sdo_read(m, r)?;
+        C::ReadSDO { slv_id, obj_index, obj_subindex, obj_length } => {
+            let (value, _) = sdo_read(m, slv_id, obj_index, obj_subindex, obj_length)?;
             reply.push_int(value);
             Ok(Done::Now)
         }
-        Command::ReadSDOEx => {
-            let (value, len) = sdo_read(m, r)?;
+        C::ReadSDOEx { slv_id, obj_index, obj_subindex, obj_length } => {
+            let (value, len) = sdo_read(m, slv_id, obj_index, obj_subindex, obj_length)?;
             reply.push_int(0);
             reply.set_blob(&value.to_le_bytes()[..len]);
             Ok(Done::Now)
         }
-        Command::WriteSDO => {
-            let len = length(r.int(3))?;
-            let value = fitting(r.int(4), len)?.to_le_bytes();
-            now(m.network.sdo_write(slave(r)?, object(r.int(1))?, sub(r.int(2))?, &value[..len]))
+        C::WriteSDO { slv_id, obj_index, obj_subindex, obj_length, obj_value } => {
+            let len = length(obj_length)?;
+            let value = fitting(obj_value, len)?.to_le_bytes();
+            now(m.network.sdo_write(slave(slv_id)?, object(obj_index)?, sub(obj_subindex)?, &value[..len]))
         }
-        Command::WriteSDOEx => {
-            let len = length(r.int(3))?;
-            let data = r.blob();
-            if data.len() != len {
+        C::WriteSDOEx { slv_id, obj_index, obj_subindex, obj_length, ref obj_value } => {
+            let len = length(obj_length)?;
+            if obj_value.len() != len {
                 return Err(Failure::MinusOne(SdoAbort::LengthMismatch.code()));
             }
-            now(m.network.sdo_write(slave(r)?, object(r.int(1))?, sub(r.int(2))?, data))
+            now(m.network.sdo_write(slave(slv_id)?, object(obj_index)?, sub(obj_subindex)?, obj_value))
         }
-        Command::WritePDO => {
-            let field = output_field(m, r)?;
-            let value = fitting(r.int(3), field.data_type().bytes())?;
+        C::WritePDO { slv_id, obj_index, obj_subindex, obj_value } => {
+            let field = output_field(m, slv_id, obj_index, obj_subindex)?;
+            let value = fitting(obj_value, field.data_type().bytes())?;
             let (_, outputs) = m.network.images_mut();
             field.write(outputs, value);
             Ok(Done::Now)
         }
-        Command::ForceWritePDO => {
-            let field = output_field(m, r)?;
-            let value = fitting(r.int(3), field.data_type().bytes())?;
+        C::ForceWritePDO { slv_id, obj_index, obj_subindex, obj_value } => {
+            let field = output_field(m, slv_id, obj_index, obj_subindex)?;
+            let value = fitting(obj_value, field.data_type().bytes())?;
             if m.forces.force(field, value) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
         }
-        Command::ReleasePDO => {
-            let field = output_field(m, r)?;
+        C::ReleasePDO { slv_id, obj_index, obj_subindex } => {
+            let field = output_field(m, slv_id, obj_index, obj_subindex)?;
             if m.forces.release(field) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
         }
-        Command::SimDriveFault => {
-            let code = u16::try_from(r.int(1)).map_err(|_| Failure::MinusOne(0))?;
-            m.network.inject_fault(slave(r)?, code).map_err(|_| Failure::MinusOne(0))?;
+        C::SimDriveFault { slv_id, error_code } => {
+            let code = u16::try_from(error_code).map_err(|_| Failure::MinusOne(0))?;
+            m.network.inject_fault(slave(slv_id)?, code).map_err(|_| Failure::MinusOne(0))?;
             Ok(Done::Now)
         }
         // HMPL ch. 9: controller I/O.
-        Command::SimSetGPI => pin(m.io.set_level(a, r.int(1))),
-        Command::SetGPO => pin(m.io.set_gpo(a, r.int(1))),
-        Command::ToggleGPO => pin(m.io.toggle_gpo(a)),
-        Command::SetAllGPO => pin(m.io.set_all_gpo(a)),
-        Command::SetGPIInvert => pin(m.io.set_gpi_invert(a, r.int(1))),
-        Command::SetGPOInvert => pin(m.io.set_gpo_invert(a, r.int(1))),
-        Command::BindEMO => pin(m.io.bind_emo(a)),
+        C::SimSetGPI { gpi_idx, on_off } => pin(m.io.set_level(gpi_idx, on_off)),
+        C::SetGPO { gpo_idx, on_off } => pin(m.io.set_gpo(gpo_idx, on_off)),
+        C::ToggleGPO { gpo_idx } => pin(m.io.toggle_gpo(gpo_idx)),
+        C::SetAllGPO { all_gpo_state } => pin(m.io.set_all_gpo(all_gpo_state)),
+        C::SetGPIInvert { gpi_idx, invert } => pin(m.io.set_gpi_invert(gpi_idx, invert)),
+        C::SetGPOInvert { gpo_idx, invert } => pin(m.io.set_gpo_invert(gpo_idx, invert)),
+        C::BindEMO { gpi_idx } => pin(m.io.bind_emo(gpi_idx)),
         // HMPL ch. 2: system.
-        Command::DisableAll => {
+        C::DisableAll {} => {
             m.kernel.disable_all();
             Ok(Done::Now)
         }
-        Command::StopAll => motion(m, |m| {
+        C::StopAll {} => motion(m, |m| {
             m.kernel.stop_all();
             Ok(Done::Now)
         }),
-        Command::EStop => {
+        C::EStop {} => {
             m.emergency_stop();
             Ok(Done::Later)
         }
         // HMPL ch. 16: tasks.
-        Command::StartTask => {
+        C::StartTask { task_id } => {
             let cycle = m.cycle;
-            m.tasks.start(a, Entry::TOP_LEVEL, cycle)?;
+            m.tasks.start(task_id, Entry::TOP_LEVEL, cycle)?;
             Ok(Done::Later)
         }
-        Command::StartTaskFunc => {
-            let entry = Entry::function(r.blob()).ok_or(SystemError::FuncNotInTask)?;
+        C::StartTaskFunc { task_id, ref func_name } => {
+            let entry = Entry::function(func_name).ok_or(SystemError::FuncNotInTask)?;
             let cycle = m.cycle;
-            m.tasks.start(a, entry, cycle)?;
+            m.tasks.start(task_id, entry, cycle)?;
             Ok(Done::Later)
         }
-        Command::StopTask => {
+        C::StopTask { task_id } => {
             let cycle = m.cycle;
             let Machine { tasks, kernel, .. } = m;
-            let stopped = tasks.stop(a, cycle, &mut |t, reaction| kernel.react(t, reaction))?;
+            let stopped = tasks.stop(task_id, cycle, &mut |t, reaction| kernel.react(t, reaction))?;
             Ok(if stopped == caller { Done::Later } else { Done::Now })
         }
-        Command::StopAllTask => {
+        C::StopAllTask {} => {
             let cycle = m.cycle;
             let Machine { tasks, kernel, .. } = m;
             tasks.stop_all(cycle, &mut |t, reaction| kernel.react(t, reaction));
@@ -405,43 +414,38 @@ fn motion(m: &mut Machine, f: impl FnOnce(&mut Machine) -> Outcome) -> Outcome {
     f(m)
 }
 
-/// Runs an axis command on the axis named by argument 0.
-fn axis(m: &mut Machine, r: &Request, f: impl FnOnce(&mut Axis) -> Result<(), AxisError>) -> Outcome {
+/// Runs an axis command on axis `a`.
+fn axis(m: &mut Machine, a: i64, f: impl FnOnce(&mut Axis) -> Result<(), AxisError>) -> Outcome {
     motion(m, |m| {
-        let ax = m.kernel.axis_mut(r.int(0))?;
+        let ax = m.kernel.axis_mut(a)?;
         let id = ax.id();
         now(f(ax).map_err(|e| ErrorCode::axis(id, e)))
     })
 }
 
 /// HMPL 20.4 to 20.7: a homing number, its range checked before (`check_ranges`).
-fn home_number(m: &mut Machine, r: &Request, field: fn(&mut HomeSettings) -> &mut f64) -> Outcome {
-    axis(m, r, |ax| {
+fn home_number(m: &mut Machine, a: i64, value: f64, field: fn(&mut HomeSettings) -> &mut f64) -> Outcome {
+    axis(m, a, |ax| {
         ax.set_home(|h| {
-            *field(h) = r.double(1);
+            *field(h) = value;
             Ok(())
         })
     })
 }
 
-/// MovePVT's three arrays follow each other in the blob; argument words 1..3 hold their
-/// lengths, word 4 the number of points.
-fn pvt_points(r: &Request) -> Result<([PvtPoint; MAX_POINTS + 1], usize), Failure> {
-    let count = usize::try_from(r.int(4)).map_err(|_| SystemError::HmplArgOutOfRange)?;
-    let lens = [r.int(1), r.int(2), r.int(3)].map(|l| usize::try_from(l).unwrap_or(0));
-    if lens.iter().any(|&l| l < count) {
+/// MovePVT's points from its time, position and velocity tables (at least `num_pt`
+/// numbers each).
+fn pvt_points(tables: [&Doubles; 3], num_pt: i64) -> Result<([PvtPoint; MAX_POINTS + 1], usize), Failure> {
+    let count = usize::try_from(num_pt).map_err(|_| SystemError::HmplArgOutOfRange)?;
+    if tables.iter().any(|t| t.len() < count) {
         return Err(SystemError::HmplArgOutOfRange.into());
     }
     let mut points = [PvtPoint::default(); MAX_POINTS + 1];
     // One more than allowed lets the axis refuse a table that is too long.
     let count = count.min(MAX_POINTS + 1);
-    let blob = r.blob();
-    let number = |array: usize, i: usize| {
-        let offset = (lens[..array].iter().sum::<usize>() + i) * 8;
-        blob.get(offset..offset + 8).map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
-    };
+    let [time, pos, vel] = tables;
     for (i, point) in points.iter_mut().enumerate().take(count) {
-        match (number(0, i), number(1, i), number(2, i)) {
+        match (time.get(i), pos.get(i), vel.get(i)) {
             (Some(ms), Some(pos), Some(vel)) => *point = PvtPoint { t: ms / 1000.0, pos, vel },
             _ => return Err(SystemError::HmplInvalidArg.into()),
         }
@@ -453,8 +457,8 @@ fn out_of_range() -> Failure {
     Failure::MinusOne(ErrorCode::System(SystemError::HmplArgOutOfRange).code())
 }
 
-fn slave(r: &Request) -> Result<usize, Failure> {
-    usize::try_from(r.int(0)).map_err(|_| out_of_range())
+fn slave(id: i64) -> Result<usize, Failure> {
+    usize::try_from(id).map_err(|_| out_of_range())
 }
 
 fn object(index: i64) -> Result<u16, Failure> {
@@ -476,9 +480,9 @@ fn fitting(value: i64, len: usize) -> Result<i64, Failure> {
 }
 
 /// An SDO read whose length must be the object's.
-fn sdo_read(m: &Machine, r: &Request) -> Result<(i64, usize), Failure> {
-    let len = length(r.int(3))?;
-    let (value, size) = m.network.sdo_read(slave(r)?, object(r.int(1))?, sub(r.int(2))?)?;
+fn sdo_read(m: &Machine, slave_id: i64, index: i64, subindex: i64, length_arg: i64) -> Result<(i64, usize), Failure> {
+    let len = length(length_arg)?;
+    let (value, size) = m.network.sdo_read(slave(slave_id)?, object(index)?, sub(subindex)?)?;
     if size != len {
         return Err(Failure::MinusOne(SdoAbort::LengthMismatch.code()));
     }
@@ -486,11 +490,11 @@ fn sdo_read(m: &Machine, r: &Request) -> Result<(i64, usize), Failure> {
 }
 
 /// An object mapped in the RxPDO of a slave in Op.
-fn output_field(m: &Machine, r: &Request) -> Result<Field, Failure> {
+fn output_field(m: &Machine, slave_id: i64, index: i64, subindex: i64) -> Result<Field, Failure> {
     if m.network.state() != AlState::Op {
         return Err(Failure::MinusOne(ErrorCode::System(SystemError::HmplNotInOpMode).code()));
     }
     m.network
-        .output_field(slave(r)?, object(r.int(1))?, sub(r.int(2))?)
+        .output_field(slave(slave_id)?, object(index)?, sub(subindex)?)
         .ok_or(Failure::MinusOne(SdoAbort::NotMappable.code()))
 }
