@@ -1,22 +1,27 @@
 //! Carries out the commands scripts send: one match over the typed `api::CommandCall`
 //! (decoded by `calls::wire`), so that the compiler holds every command of the registry
-//! to an implementation.
+//! to an implementation. The match is here; what a command does is in the module of its
+//! manual chapter: `axis` (HMPL ch. 5, 18, 20), `couplings` (ch. 6, 7), `drive_objects`
+//! (ch. 17), `io` (ch. 9), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
+
+mod axis;
+mod couplings;
+mod drive_objects;
+mod io;
+mod tasks;
 
 use api::alarms::{Alarm, Event as AlarmEvent};
 use api::call::{Doubles, Sink};
-use api::{ArgSpec, AxisError, CommandCall, ErrorCode, Quantity, Role, SdoAbort, SystemError};
+use api::{ArgSpec, CommandCall, ErrorCode, Quantity, Role, SdoAbort, SystemError};
 use calls::wire::{self, DecodeError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
-use crate::drive::od::fits_width;
-use crate::ecat::{AlState, Field, SdoError};
-use crate::io::NoSuchPin;
+use crate::ecat::{AlState, SdoError};
 use crate::machine::Machine;
-use crate::motion::axis::{Axis, Ignore};
-use crate::motion::pvt::{MAX_POINTS, PvtPoint};
-use crate::motion::settings::HomeSettings;
+use crate::motion::axis::Ignore;
 use crate::tasks::Entry;
+use axis::{axis, home_number, motion};
 
 /// How a command failed, in the return convention of its chapter.
 enum Failure {
@@ -243,8 +248,7 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::MoveVel { axis_id, vel } => axis(m, axis_id, |ax| ax.move_vel(vel)),
         C::MoveTrq { axis_id, torque_cmd } => axis(m, axis_id, |ax| ax.move_trq(torque_cmd)),
         C::MovePVT { axis_id, ref time, ref pos, ref vel, num_pt } => {
-            let (points, count) = pvt_points([time, pos, vel], num_pt)?;
-            axis(m, axis_id, |ax| ax.move_pvt(&points[..count]))
+            axis::move_pvt(m, axis_id, [time, pos, vel], num_pt)
         }
         C::Stop { axis_id } => axis(m, axis_id, |ax| ax.stop()),
         C::Halt { axis_id } => axis(m, axis_id, |ax| ax.halt()),
@@ -273,25 +277,19 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         }
         // HMPL ch. 6 and 7: gear and gantry.
         C::EnableGear { axis_master_id, axis_slave_id } => {
-            motion(m, |m| now(m.kernel.enable_gear(axis_master_id, axis_slave_id)))
+            couplings::coupling(m, |k| k.enable_gear(axis_master_id, axis_slave_id))
         }
-        C::DisableGear { axis_slave_id } => motion(m, |m| now(m.kernel.disable_gear(axis_slave_id))),
+        C::DisableGear { axis_slave_id } => couplings::coupling(m, |k| k.disable_gear(axis_slave_id)),
         C::GearIn { axis_master_id, axis_slave_id, gear_ratio } => {
-            motion(m, |m| now(m.kernel.gear_in(axis_master_id, axis_slave_id, gear_ratio)))
+            couplings::coupling(m, |k| k.gear_in(axis_master_id, axis_slave_id, gear_ratio))
         }
-        C::GearOut { axis_slave_id } => motion(m, |m| now(m.kernel.gear_out(axis_slave_id))),
+        C::GearOut { axis_slave_id } => couplings::coupling(m, |k| k.gear_out(axis_slave_id)),
         C::EnableGantryPair { rhs_axis_id, lhs_axis_id } => {
-            motion(m, |m| now(m.kernel.enable_gantry_pair(rhs_axis_id, lhs_axis_id)))
+            couplings::coupling(m, |k| k.enable_gantry_pair(rhs_axis_id, lhs_axis_id))
         }
-        C::DisableGantryPair { axis_id } => motion(m, |m| now(m.kernel.disable_gantry_pair(axis_id))),
+        C::DisableGantryPair { axis_id } => couplings::coupling(m, |k| k.disable_gantry_pair(axis_id)),
         // HMPL ch. 20: homing.
-        C::MoveHome { axis_id } => motion(m, |m| {
-            let Machine { kernel, network, .. } = m;
-            let ax = kernel.axis_mut(axis_id)?;
-            let id = ax.id();
-            ax.start_homing(network).map_err(|e| ErrorCode::axis(id, e))?;
-            Ok(Done::Later)
-        }),
+        C::MoveHome { axis_id } => axis::move_home(m, axis_id),
         C::SetHomeMethod { axis_id, method } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_method(method))),
         C::SetHomeSwitchVel { axis_id, fast_vel } => home_number(m, axis_id, fast_vel, |h| &mut h.switch_vel),
         C::SetHomeZeroVel { axis_id, slow_vel } => home_number(m, axis_id, slow_vel, |h| &mut h.zero_vel),
@@ -310,57 +308,35 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::ClearGrpLastErr { group_id } => now(m.kernel.clear_group_last_err(group_id)),
         // HMPL ch. 17: drive variables.
         C::ReadSDO { slv_id, obj_index, obj_subindex, obj_length } => {
-            let (value, _) = sdo_read(m, slv_id, obj_index, obj_subindex, obj_length)?;
-            reply.push_int(value);
-            Ok(Done::Now)
+            drive_objects::read_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
         }
         C::ReadSDOEx { slv_id, obj_index, obj_subindex, obj_length } => {
-            let (value, len) = sdo_read(m, slv_id, obj_index, obj_subindex, obj_length)?;
-            reply.push_int(0);
-            reply.set_blob(&value.to_le_bytes()[..len]);
-            Ok(Done::Now)
+            drive_objects::read_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
         }
         C::WriteSDO { slv_id, obj_index, obj_subindex, obj_length, obj_value } => {
-            let len = length(obj_length)?;
-            let value = fitting(obj_value, len)?.to_le_bytes();
-            now(m.network.sdo_write(slave(slv_id)?, object(obj_index)?, sub(obj_subindex)?, &value[..len]))
+            drive_objects::write_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
         }
         C::WriteSDOEx { slv_id, obj_index, obj_subindex, obj_length, ref obj_value } => {
-            let len = length(obj_length)?;
-            if obj_value.len() != len {
-                return Err(Failure::MinusOne(SdoAbort::LengthMismatch.code()));
-            }
-            now(m.network.sdo_write(slave(slv_id)?, object(obj_index)?, sub(obj_subindex)?, obj_value))
+            drive_objects::write_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
         }
         C::WritePDO { slv_id, obj_index, obj_subindex, obj_value } => {
-            let field = output_field(m, slv_id, obj_index, obj_subindex)?;
-            let value = fitting(obj_value, field.data_type().bytes())?;
-            let (_, outputs) = m.network.images_mut();
-            field.write(outputs, value);
-            Ok(Done::Now)
+            drive_objects::write_pdo(m, [slv_id, obj_index, obj_subindex], obj_value)
         }
         C::ForceWritePDO { slv_id, obj_index, obj_subindex, obj_value } => {
-            let field = output_field(m, slv_id, obj_index, obj_subindex)?;
-            let value = fitting(obj_value, field.data_type().bytes())?;
-            if m.forces.force(field, value) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
+            drive_objects::force_write_pdo(m, [slv_id, obj_index, obj_subindex], obj_value)
         }
         C::ReleasePDO { slv_id, obj_index, obj_subindex } => {
-            let field = output_field(m, slv_id, obj_index, obj_subindex)?;
-            if m.forces.release(field) { Ok(Done::Now) } else { Err(Failure::MinusOne(0)) }
+            drive_objects::release_pdo(m, [slv_id, obj_index, obj_subindex])
         }
-        C::SimDriveFault { slv_id, error_code } => {
-            let code = u16::try_from(error_code).map_err(|_| Failure::MinusOne(0))?;
-            m.network.inject_fault(slave(slv_id)?, code).map_err(|_| Failure::MinusOne(0))?;
-            Ok(Done::Now)
-        }
+        C::SimDriveFault { slv_id, error_code } => drive_objects::sim_drive_fault(m, slv_id, error_code),
         // HMPL ch. 9: controller I/O.
-        C::SimSetGPI { gpi_idx, on_off } => pin(m.io.set_level(gpi_idx, on_off)),
-        C::SetGPO { gpo_idx, on_off } => pin(m.io.set_gpo(gpo_idx, on_off)),
-        C::ToggleGPO { gpo_idx } => pin(m.io.toggle_gpo(gpo_idx)),
-        C::SetAllGPO { all_gpo_state } => pin(m.io.set_all_gpo(all_gpo_state)),
-        C::SetGPIInvert { gpi_idx, invert } => pin(m.io.set_gpi_invert(gpi_idx, invert)),
-        C::SetGPOInvert { gpo_idx, invert } => pin(m.io.set_gpo_invert(gpo_idx, invert)),
-        C::BindEMO { gpi_idx } => pin(m.io.bind_emo(gpi_idx)),
+        C::SimSetGPI { gpi_idx, on_off } => io::pin(m.io.set_level(gpi_idx, on_off)),
+        C::SetGPO { gpo_idx, on_off } => io::pin(m.io.set_gpo(gpo_idx, on_off)),
+        C::ToggleGPO { gpo_idx } => io::pin(m.io.toggle_gpo(gpo_idx)),
+        C::SetAllGPO { all_gpo_state } => io::pin(m.io.set_all_gpo(all_gpo_state)),
+        C::SetGPIInvert { gpi_idx, invert } => io::pin(m.io.set_gpi_invert(gpi_idx, invert)),
+        C::SetGPOInvert { gpo_idx, invert } => io::pin(m.io.set_gpo_invert(gpo_idx, invert)),
+        C::BindEMO { gpi_idx } => io::pin(m.io.bind_emo(gpi_idx)),
         // HMPL ch. 2: system.
         C::DisableAll {} => {
             m.kernel.disable_all();
@@ -375,126 +351,9 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             Ok(Done::Later)
         }
         // HMPL ch. 16: tasks.
-        C::StartTask { task_id } => {
-            let cycle = m.cycle;
-            m.tasks.start(task_id, Entry::TOP_LEVEL, cycle)?;
-            Ok(Done::Later)
-        }
-        C::StartTaskFunc { task_id, ref func_name } => {
-            let entry = Entry::function(func_name).ok_or(SystemError::FuncNotInTask)?;
-            let cycle = m.cycle;
-            m.tasks.start(task_id, entry, cycle)?;
-            Ok(Done::Later)
-        }
-        C::StopTask { task_id } => {
-            let cycle = m.cycle;
-            let Machine { tasks, kernel, .. } = m;
-            let stopped = tasks.stop(task_id, cycle, &mut |t, reaction| kernel.react(t, reaction))?;
-            Ok(if stopped == caller { Done::Later } else { Done::Now })
-        }
-        C::StopAllTask {} => {
-            let cycle = m.cycle;
-            let Machine { tasks, kernel, .. } = m;
-            tasks.stop_all(cycle, &mut |t, reaction| kernel.react(t, reaction));
-            Ok(Done::Later)
-        }
+        C::StartTask { task_id } => tasks::start(m, task_id, Entry::TOP_LEVEL),
+        C::StartTaskFunc { task_id, ref func_name } => tasks::start_func(m, task_id, func_name),
+        C::StopTask { task_id } => tasks::stop(m, caller, task_id),
+        C::StopAllTask {} => tasks::stop_all(m),
     }
-}
-
-/// Ch. 9: 0, or -1 for a pin that does not exist.
-fn pin(result: Result<(), NoSuchPin>) -> Outcome {
-    result.map(|()| Done::Now).map_err(|_| out_of_range())
-}
-
-/// A motion command needs EtherCAT in Op (HMPL 2.2; `eERR_HMPL_NOT_IN_OP_MODE`).
-fn motion(m: &mut Machine, f: impl FnOnce(&mut Machine) -> Outcome) -> Outcome {
-    if m.network.state() != AlState::Op {
-        return Err(SystemError::HmplNotInOpMode.into());
-    }
-    f(m)
-}
-
-/// Runs an axis command on axis `a`.
-fn axis(m: &mut Machine, a: i64, f: impl FnOnce(&mut Axis) -> Result<(), AxisError>) -> Outcome {
-    motion(m, |m| {
-        let ax = m.kernel.axis_mut(a)?;
-        let id = ax.id();
-        now(f(ax).map_err(|e| ErrorCode::axis(id, e)))
-    })
-}
-
-/// HMPL 20.4 to 20.7: a homing number, its range checked before (`check_ranges`).
-fn home_number(m: &mut Machine, a: i64, value: f64, field: fn(&mut HomeSettings) -> &mut f64) -> Outcome {
-    axis(m, a, |ax| {
-        ax.set_home(|h| {
-            *field(h) = value;
-            Ok(())
-        })
-    })
-}
-
-/// MovePVT's points from its time, position and velocity tables (at least `num_pt`
-/// numbers each).
-fn pvt_points(tables: [&Doubles; 3], num_pt: i64) -> Result<([PvtPoint; MAX_POINTS + 1], usize), Failure> {
-    let count = usize::try_from(num_pt).map_err(|_| SystemError::HmplArgOutOfRange)?;
-    if tables.iter().any(|t| t.len() < count) {
-        return Err(SystemError::HmplArgOutOfRange.into());
-    }
-    let mut points = [PvtPoint::default(); MAX_POINTS + 1];
-    // One more than allowed lets the axis refuse a table that is too long.
-    let count = count.min(MAX_POINTS + 1);
-    let [time, pos, vel] = tables;
-    for (i, point) in points.iter_mut().enumerate().take(count) {
-        match (time.get(i), pos.get(i), vel.get(i)) {
-            (Some(ms), Some(pos), Some(vel)) => *point = PvtPoint { t: ms / 1000.0, pos, vel },
-            _ => return Err(SystemError::HmplInvalidArg.into()),
-        }
-    }
-    Ok((points, count))
-}
-
-fn out_of_range() -> Failure {
-    Failure::MinusOne(ErrorCode::System(SystemError::HmplArgOutOfRange).code())
-}
-
-fn slave(id: i64) -> Result<usize, Failure> {
-    usize::try_from(id).map_err(|_| out_of_range())
-}
-
-fn object(index: i64) -> Result<u16, Failure> {
-    u16::try_from(index).map_err(|_| Failure::MinusOne(SdoAbort::NoObject.code()))
-}
-
-fn sub(sub: i64) -> Result<u8, Failure> {
-    u8::try_from(sub).map_err(|_| Failure::MinusOne(SdoAbort::NoSubIndex.code()))
-}
-
-/// An object is 1 to 8 bytes.
-fn length(len: i64) -> Result<usize, Failure> {
-    usize::try_from(len).ok().filter(|l| (1..=8).contains(l)).ok_or(Failure::MinusOne(SdoAbort::LengthMismatch.code()))
-}
-
-/// A value for an object `len` bytes wide: cut to fit, it would be another value.
-fn fitting(value: i64, len: usize) -> Result<i64, Failure> {
-    if fits_width(value, len) { Ok(value) } else { Err(Failure::MinusOne(SdoAbort::ValueRange.code())) }
-}
-
-/// An SDO read whose length must be the object's.
-fn sdo_read(m: &Machine, slave_id: i64, index: i64, subindex: i64, length_arg: i64) -> Result<(i64, usize), Failure> {
-    let len = length(length_arg)?;
-    let (value, size) = m.network.sdo_read(slave(slave_id)?, object(index)?, sub(subindex)?)?;
-    if size != len {
-        return Err(Failure::MinusOne(SdoAbort::LengthMismatch.code()));
-    }
-    Ok((value, size))
-}
-
-/// An object mapped in the RxPDO of a slave in Op.
-fn output_field(m: &Machine, slave_id: i64, index: i64, subindex: i64) -> Result<Field, Failure> {
-    if m.network.state() != AlState::Op {
-        return Err(Failure::MinusOne(ErrorCode::System(SystemError::HmplNotInOpMode).code()));
-    }
-    m.network
-        .output_field(slave(slave_id)?, object(index)?, sub(subindex)?)
-        .ok_or(Failure::MinusOne(SdoAbort::NotMappable.code()))
 }
