@@ -428,6 +428,9 @@ mod tests {
             for (i, q, axis) in spec.quantities() {
                 assert!(q == Quantity::Axis || axis.is_some(), "{}: argument {i} has no axis before it", spec.name);
             }
+            for arg in spec.args.iter().filter(|a| a.role == Some(Role::Moves)) {
+                assert_eq!(arg.quantity, Some(Quantity::Axis), "{}: {} moves no axis", spec.name, arg.name);
+            }
         }
     }
 }
