@@ -5,7 +5,7 @@
 use crate::registry::declare_functions;
 
 declare_functions! {
-    Command, COMMANDS;
+    Command, COMMANDS => CommandCall<'a>;
 
     // HMPL 5.2: axis motion control.
     /// Enables (servo on) the axis by walking the drive's CiA 402 state machine; both axes
@@ -17,22 +17,22 @@ declare_functions! {
     ["HMPL 5.2.3", ascii] fn Reset(axis_id: Int[Axis]) -> Int;
     /// Moves to an absolute position (mm or deg) with the axis' profile. In buffer mode 0 a
     /// move under way is re-planned to the new target; in mode 1 it is queued.
-    ["HMPL 5.2.4", ascii] fn MoveAbs(axis_id: Int[Axis], pos: Double[Target]) -> Int;
+    ["HMPL 5.2.4", ascii] fn MoveAbs(axis_id: Int[Axis] as Moves, pos: Double[Target]) -> Int;
     /// Moves by a distance from the target under way (or from the reference at rest).
-    ["HMPL 5.2.5", ascii] fn MoveRel(axis_id: Int[Axis], rel_dist: Double[Distance]) -> Int;
+    ["HMPL 5.2.5", ascii] fn MoveRel(axis_id: Int[Axis] as Moves, rel_dist: Double[Distance]) -> Int;
     /// Moves at a constant velocity until stopped; the sign is the direction.
-    ["HMPL 5.2.6", ascii] fn MoveVel(axis_id: Int[Axis], vel: Double[Velocity]) -> Int;
+    ["HMPL 5.2.6", ascii] fn MoveVel(axis_id: Int[Axis] as Moves, vel: Double[Velocity]) -> Int;
     /// Produces a constant torque (N·m) in cyclic synchronous torque mode (`SetOpMode(a, 10)`).
-    ["HMPL 5.2.7", ascii] fn MoveTrq(axis_id: Int[Axis], torque_cmd: Double[Torque]) -> Int;
+    ["HMPL 5.2.7", ascii] fn MoveTrq(axis_id: Int[Axis] as Moves, torque_cmd: Double[Torque]) -> Int;
     /// Moves through position-velocity-time points (times in ms from 0, at most 50 points),
     /// starting where the axis stands. The tables hold at least `num_pt` numbers each.
-    ["HMPL 5.2.8"] fn MovePVT(axis_id: Int[Axis], time: Doubles[PvtTime], pos: Doubles[Target], vel: Doubles[PvtVelocity], num_pt: Int) -> Int;
+    ["HMPL 5.2.8"] fn MovePVT(axis_id: Int[Axis] as Moves, time: Doubles[PvtTime], pos: Doubles[Target], vel: Doubles[PvtVelocity], num_pt: Int) -> Int;
     /// Decelerates to a stop and clears the path planning.
-    ["HMPL 5.2.9", ascii] fn Stop(axis_id: Int[Axis]) -> Int;
+    ["HMPL 5.2.9", ascii] fn Stop(axis_id: Int[Axis] as Moves) -> Int;
     /// Pauses the motion (velocity to 0), keeping it for `Resume`.
-    ["HMPL 5.2.10", ascii] fn Halt(axis_id: Int[Axis]) -> Int;
+    ["HMPL 5.2.10", ascii] fn Halt(axis_id: Int[Axis] as Moves) -> Int;
     /// Continues a halted motion to its target.
-    ["HMPL 5.2.11", ascii] fn Resume(axis_id: Int[Axis]) -> Int;
+    ["HMPL 5.2.11", ascii] fn Resume(axis_id: Int[Axis] as Moves) -> Int;
 
     // HMPL 5.3: axis settings.
     /// Sets the profile velocity (mm/s or deg/s, > 0, at most the machine file's `max_vel`).
@@ -81,9 +81,9 @@ declare_functions! {
     /// Removes the link (disengaging first).
     ["HMPL 6.3", ascii] fn DisableGear(axis_slave_id: Int[Axis]) -> Int;
     /// Engages the linked slave at a ratio (negative allowed): it follows the master's travel.
-    ["HMPL 6.4", ascii] fn GearIn(axis_master_id: Int[Axis], axis_slave_id: Int[Axis], gear_ratio: Double[GearRatio]) -> Int;
+    ["HMPL 6.4", ascii] fn GearIn(axis_master_id: Int[Axis], axis_slave_id: Int[Axis] as Moves, gear_ratio: Double[GearRatio]) -> Int;
     /// Disengages the slave; it comes to rest with its deceleration.
-    ["HMPL 6.5", ascii] fn GearOut(axis_slave_id: Int[Axis]) -> Int;
+    ["HMPL 6.5", ascii] fn GearOut(axis_slave_id: Int[Axis] as Moves) -> Int;
 
     // HMPL ch. 7: gantry.
     /// Pairs a right-hand (linear) and a left-hand (yaw) axis; both must be disabled.
@@ -94,7 +94,7 @@ declare_functions! {
     // HMPL ch. 20: homing.
     /// Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
     /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
-    ["HMPL 20.2", ascii] fn MoveHome(axis_id: Int[Axis]) -> Int;
+    ["HMPL 20.2", ascii] fn MoveHome(axis_id: Int[Axis] as Moves) -> Int;
     /// Sets the homing method: 1, 2, 7-14, 17, 18, 23-30, 33, 34, 37 (default 33).
     ["HMPL 20.3", ascii] fn SetHomeMethod(axis_id: Int[Axis], method: Int) -> Int;
     /// Sets the fast homing speed, searching the switch (default 20).
@@ -114,7 +114,7 @@ declare_functions! {
     /// Clears the axis' last error.
     ["HMPL 18.4", ascii] fn ClearAxisLastErr(axis_id: Int[Axis]) -> Int;
     /// Clears a group's last error.
-    ["HMPL 18.6", ascii] fn ClearGrpLastErr(group_id: Int) -> Int;
+    ["HMPL 18.6", ascii] fn ClearGrpLastErr(group_id: Int as Group) -> Int;
 
     /// Reads a drive object by SDO. Returns its value (sign-extended), or -1 on failure
     /// (ambiguous with a real -1, as in HMPL; use `ReadSDOEx` to tell them apart).
@@ -179,7 +179,7 @@ declare_functions! {
 }
 
 declare_functions! {
-    Query, QUERIES;
+    Query, QUERIES => QueryCall;
 
     // HMPL 5.3: axis settings and variables (mm or deg, s, ms).
     /// The profile velocity.
@@ -297,7 +297,7 @@ declare_functions! {
     /// The axis' last error as a 32-bit code `0x83IIEEEE` (0: none).
     ["HMPL 18.3", ascii] fn GetAxisLastErr(axis_id: Int) -> Int;
     /// A group's last error `0x82IIEEEE` (0: none).
-    ["HMPL 18.5", ascii] fn GetGrpLastErr(group_id: Int) -> Int;
+    ["HMPL 18.5", ascii] fn GetGrpLastErr(group_id: Int as Group) -> Int;
     /// The drive's own error code (0x603F).
     ["HMPL 18.7", ascii] fn GetDriveErr(axis_id: Int) -> Int;
 

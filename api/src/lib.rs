@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod alarms;
+pub mod call;
 pub mod constants;
 pub mod docs;
 pub mod errors;
@@ -13,5 +14,5 @@ pub mod registry;
 pub mod system_vars;
 
 pub use errors::{AxisError, ErrorCode, GroupError, SdoAbort, SystemError};
-pub use functions::{Command, Local, Query};
-pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, Quantity, ValueType};
+pub use functions::{Command, CommandCall, Local, Query, QueryCall};
+pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, Quantity, Role, ValueType};

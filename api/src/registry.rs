@@ -144,6 +144,19 @@ pub struct ArgSpec {
     /// What the argument is, for the core's range check; `None` for what has no range of
     /// its own (pins, flags, modes checked by the command itself).
     pub quantity: Option<Quantity>,
+    /// What the argument names for the core beyond its range, if anything.
+    pub role: Option<Role>,
+}
+
+/// What an argument names, declared with `as Role` after its type, so that the core reads
+/// it from the typed call (`arg_with`) instead of a list of its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// The axis a motion command sets going: one task at a time may command it in a
+    /// cycle, and an E-stop refuses it until the axis is enabled again.
+    Moves,
+    /// The group the function addresses (HMPL ch. 18.5, 18.6).
+    Group,
 }
 
 /// One function of the registry.
@@ -237,13 +250,70 @@ pub fn find(name: &str) -> Option<&'static FunctionSpec> {
 }
 
 /// Declares one kind of functions: an enum with a variant per function, and its table.
+/// With `=> CallEnum` (and `<'a>` when an argument borrows: `Str`, `Bytes`, `Doubles`; the
+/// lifetime must be named `'a`), also the typed call: one variant per function with its
+/// arguments as named, typed fields, read from a `call::Source` and written to a
+/// `call::Sink` in the declaration's order.
 macro_rules! declare_functions {
+    (
+        $enum:ident, $table:ident => $call:ident $(<$lt:lifetime>)?;
+        $(
+            $(#[doc = $doc:literal])*
+            [$manual:literal $(, $ascii:ident)?]
+            fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
+        )*
+    ) => {
+        declare_functions! {
+            $enum, $table;
+            $(
+                $(#[doc = $doc])*
+                [$manual $(, $ascii)?]
+                fn $name ( $( $arg : $aty $([$q])? $(as $role)? ),* ) $(-> $ret)? ;
+            )*
+        }
+
+        #[doc = concat!("A typed call of a `", stringify!($enum), "`: its arguments as the registry declares them.")]
+        #[derive(Clone, Debug, PartialEq)]
+        #[allow(non_camel_case_types)]
+        pub enum $call $(<$lt>)? {
+            $(
+                #[doc = concat!("`", stringify!($name), "` (", $manual, ").")]
+                $name { $( #[doc = concat!("`", stringify!($arg), "`.")] $arg: declare_functions!(@ty $aty), )* },
+            )*
+        }
+
+        impl $(<$lt>)? $call $(<$lt>)? {
+            /// The registry function this is a call of.
+            pub fn func(&self) -> $enum {
+                match self { $( $call::$name { .. } => $enum::$name, )* }
+            }
+
+            /// Writes the arguments to `sink`, in the declaration's order.
+            #[allow(unused_variables)]
+            pub fn write<K: $crate::call::Sink>(&self, sink: &mut K) -> Result<(), K::Error> {
+                match self { $( $call::$name { $( $arg, )* } => { $( declare_functions!(@write sink $arg $aty); )* } )* }
+                Ok(())
+            }
+
+            /// The argument the declaration marks `as role` (an axis or group id), if any.
+            #[allow(unused_variables, unused_mut)]
+            pub fn arg_with(&self, role: $crate::registry::Role) -> Option<i64> {
+                let mut found = None;
+                match self { $( $call::$name { $( $arg, )* } => { $( $( declare_functions!(@role found role $arg $role); )? )* } )* }
+                found
+            }
+        }
+
+        declare_functions!(@typed $enum, $call $(, $lt)?; func, source; match func {
+            $( $enum::$name => $call::$name { $( $arg: declare_functions!(@read source $aty), )* }, )*
+        });
+    };
     (
         $enum:ident, $table:ident;
         $(
             $(#[doc = $doc:literal])*
             [$manual:literal $(, $ascii:ident)?]
-            fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? ),* $(,)? ) $(-> $ret:tt)? ;
+            fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
         )*
     ) => {
         #[doc = concat!("The registry's functions of kind `", stringify!($enum), "`, one variant each.")]
@@ -282,12 +352,54 @@ macro_rules! declare_functions {
                     name: stringify!($arg),
                     ty: $crate::registry::ArgType::$aty,
                     quantity: declare_functions!(@quantity $($q)?),
+                    role: declare_functions!(@role $($role)?),
                 }, )* ],
                 returns: declare_functions!(@ret $($ret)?),
                 doc: &[ $( $doc, )* ],
             },
         )* ];
     };
+    (@typed $enum:ident, $call:ident, $lt:lifetime; $func:ident, $source:ident; $body:expr) => {
+        impl<$lt> $crate::call::TypedCall<$lt> for $call<$lt> {
+            type Func = $enum;
+            fn read<S: $crate::call::Source<$lt>>($func: $enum, $source: &mut S) -> Result<Self, S::Error> {
+                Ok($body)
+            }
+        }
+    };
+    (@typed $enum:ident, $call:ident; $func:ident, $source:ident; $body:expr) => {
+        impl<'s> $crate::call::TypedCall<'s> for $call {
+            type Func = $enum;
+            fn read<S: $crate::call::Source<'s>>($func: $enum, $source: &mut S) -> Result<Self, S::Error> {
+                Ok($body)
+            }
+        }
+    };
+    (@ty Int) => { i64 };
+    (@ty Double) => { f64 };
+    (@ty Bool) => { bool };
+    (@ty Str) => { ::std::borrow::Cow<'a, [u8]> };
+    (@ty Bytes) => { ::std::borrow::Cow<'a, [u8]> };
+    (@ty Doubles) => { $crate::call::Doubles<'a> };
+    (@read $s:ident Int) => { $s.int()? };
+    (@read $s:ident Double) => { $s.double()? };
+    (@read $s:ident Bool) => { $s.bool()? };
+    (@read $s:ident Str) => { $s.str()? };
+    (@read $s:ident Bytes) => { $s.bytes()? };
+    (@read $s:ident Doubles) => { $s.doubles()? };
+    (@write $s:ident $v:ident Int) => { $s.int(*$v)? };
+    (@write $s:ident $v:ident Double) => { $s.double(*$v)? };
+    (@write $s:ident $v:ident Bool) => { $s.bool(*$v)? };
+    (@write $s:ident $v:ident Str) => { $s.str($v)? };
+    (@write $s:ident $v:ident Bytes) => { $s.bytes($v)? };
+    (@write $s:ident $v:ident Doubles) => { $s.doubles($v)? };
+    (@role $found:ident $want:ident $arg:ident $role:ident) => {
+        if $want == $crate::registry::Role::$role {
+            $found = Some(*$arg);
+        }
+    };
+    (@role $role:ident) => { Some($crate::registry::Role::$role) };
+    (@role) => { None };
     (@quantity $q:ident) => { Some($crate::registry::Quantity::$q) };
     (@quantity) => { None };
     (@ascii ascii) => { true };
@@ -315,6 +427,9 @@ mod tests {
             }
             for (i, q, axis) in spec.quantities() {
                 assert!(q == Quantity::Axis || axis.is_some(), "{}: argument {i} has no axis before it", spec.name);
+            }
+            for arg in spec.args.iter().filter(|a| a.role == Some(Role::Moves)) {
+                assert_eq!(arg.quantity, Some(Quantity::Axis), "{}: {} moves no axis", spec.name, arg.name);
             }
         }
     }

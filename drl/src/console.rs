@@ -212,7 +212,7 @@ impl State {
                 }
                 let mut dh_written = false;
                 for (register, value) in registers.into_iter().zip(values) {
-                    dh_written |= matches!(register, Register::User(a) if a >= ipc::shared::DH_BASE);
+                    dh_written |= matches!(register, Register::User(a) if a >= calls::user_area::DH_BASE);
                     self.res.write(register, value, &mut self.program);
                 }
                 if dh_written {
@@ -240,7 +240,7 @@ impl Resources {
 
     fn read(&self, register: Register, program: &ProgramControl) -> u16 {
         match register {
-            Register::User(a) => self.shared.user_word(a as i64).unwrap_or(0),
+            Register::User(a) => calls::user_area::read(&self.shared, a as i64).unwrap_or(0),
             Register::ControllerState => self.monitor.latest().map_or(0, |s| s.controller_state as u16),
             Register::TargetState => self.target as u16,
             Register::DrlId => program.current_id(),
@@ -259,7 +259,7 @@ impl Resources {
     fn write(&mut self, register: Register, value: u16, program: &mut ProgramControl) {
         match register {
             Register::User(a) => {
-                self.shared.set_user_word(a as i64, value);
+                calls::user_area::write(&self.shared, a as i64, value);
             }
             Register::TargetState => {
                 if let Some(target) = ControllerState::target(value) {

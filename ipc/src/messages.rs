@@ -64,11 +64,6 @@ impl Request {
         self.args[i] as i64
     }
 
-    /// Argument `i` as a `Double`.
-    pub fn double(&self, i: usize) -> f64 {
-        f64::from_bits(self.args[i])
-    }
-
     /// The blob's used bytes.
     pub fn blob(&self) -> &[u8] {
         &self.blob[..self.blob_len as usize]

@@ -82,7 +82,7 @@ pub enum Open {
 
 /// An iceoryx2 failure. A refused permission says whose files are in the way and how to
 /// get past them (a run as another user leaves them).
-pub(crate) fn failed(what: &str, e: impl std::fmt::Debug) -> IpcError {
+pub fn failed(what: &str, e: impl std::fmt::Debug) -> IpcError {
     classify(what, e, IpcError::Service)
 }
 

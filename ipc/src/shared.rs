@@ -42,37 +42,9 @@ pub struct SharedData {
     dh_writes: AtomicU64,
 }
 
-/// Words of DV and of DH: 24 KiB each (DXMC A.1).
+/// Words of DV and of DH: 24 KiB each (DXMC A.1). Which Modbus address names which word
+/// is the `calls` crate's business; this is the storage.
 pub const USER_AREA_WORDS: usize = 0x3000;
-/// DXMC A.1: DV at Modbus 0x0000..0x2FFF, DH at 0x8000..0xAFFF.
-pub const DV_BASE: u16 = 0x0000;
-/// Where DH starts in the Modbus address space.
-pub const DH_BASE: u16 = 0x8000;
-
-/// A Modbus user area (DXMC A.1).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum UserArea {
-    /// Volatile.
-    Dv,
-    /// Retentive: kept across restarts.
-    Dh,
-}
-
-impl UserArea {
-    /// The area and word index of a Modbus address, if it is in DV or DH.
-    pub fn of(address: i64) -> Option<(UserArea, usize)> {
-        let words = USER_AREA_WORDS as i64;
-        match address {
-            a if (DV_BASE as i64..DV_BASE as i64 + words).contains(&a) => {
-                Some((UserArea::Dv, (a - DV_BASE as i64) as usize))
-            }
-            a if (DH_BASE as i64..DH_BASE as i64 + words).contains(&a) => {
-                Some((UserArea::Dh, (a - DH_BASE as i64) as usize))
-            }
-            _ => None,
-        }
-    }
-}
 
 // SAFETY: repr(C), only atomics, valid when zeroed (a zero table, free mutexes, no variables).
 unsafe impl Shareable for SharedData {}
@@ -100,25 +72,26 @@ pub enum Lock {
 }
 
 impl SharedData {
-    fn area(&self, area: UserArea) -> &[AtomicU16; USER_AREA_WORDS] {
-        match area {
-            UserArea::Dv => &self.dv,
-            UserArea::Dh => &self.dh,
-        }
+    /// Word `i` of DV (volatile); `None` past its end.
+    pub fn dv_word(&self, i: usize) -> Option<u16> {
+        self.dv.get(i).map(|w| w.load(Ordering::Relaxed))
     }
 
-    /// A word of DV or DH by Modbus address.
-    pub fn user_word(&self, address: i64) -> Option<u16> {
-        UserArea::of(address).map(|(area, i)| self.area(area)[i].load(Ordering::Relaxed))
+    /// Writes word `i` of DV; false past its end.
+    pub fn set_dv_word(&self, i: usize, value: u16) -> bool {
+        self.dv.get(i).map(|w| w.store(value, Ordering::Relaxed)).is_some()
     }
 
-    /// Writes a word of DV or DH by Modbus address; false outside them.
-    pub fn set_user_word(&self, address: i64, value: u16) -> bool {
-        let Some((area, i)) = UserArea::of(address) else { return false };
-        self.area(area)[i].store(value, Ordering::Relaxed);
-        if area == UserArea::Dh {
-            self.dh_writes.fetch_add(1, Ordering::Release);
-        }
+    /// Word `i` of DH (retentive); `None` past its end.
+    pub fn dh_word(&self, i: usize) -> Option<u16> {
+        self.dh.get(i).map(|w| w.load(Ordering::Relaxed))
+    }
+
+    /// Writes word `i` of DH and counts the write (DH is saved when it moves); false past its end.
+    pub fn set_dh_word(&self, i: usize, value: u16) -> bool {
+        let Some(word) = self.dh.get(i) else { return false };
+        word.store(value, Ordering::Relaxed);
+        self.dh_writes.fetch_add(1, Ordering::Release);
         true
     }
 

@@ -11,10 +11,10 @@ use config::RtConfig;
 use hdrhistogram::Histogram;
 use ipc::Namespace;
 use ipc::clock::monotonic_ns;
-use ipc::floor::{Ping, Pong};
 use rt_core::realtime;
 
 use super::metrics;
+use super::ping_pong::{Ping, Pong};
 
 pub const ONE_WAY: &str = "floor: iceoryx2 one way";
 pub const PING_PONG: &str = "floor: iceoryx2 round trip";

@@ -10,6 +10,7 @@
 
 pub mod floor;
 pub mod metrics;
+mod ping_pong;
 pub mod report;
 pub mod worker;
 

@@ -274,14 +274,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         Local::ReadModbusWord => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let address = int_arg(lua, spec, &args, 0)?;
-            host.shared.user_word(address).ok_or_else(|| {
+            calls::user_area::read(&host.shared, address).ok_or_else(|| {
                 error_here(lua, format!("ReadModbusWord: 0x{address:X} is outside DV 0x0000..0x2FFF and DH 0x8000..0xAFFF"))
             })
         }),
         Local::WriteModbusWord => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let (address, value) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            let stored = u16::try_from(value).is_ok_and(|v| host.shared.set_user_word(address, v));
+            let stored = u16::try_from(value).is_ok_and(|v| calls::user_area::write(&host.shared, address, v));
             Ok(if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) })
         }),
         Local::SaveUserTable | Local::LoadUserTable => lua.create_function(move |lua, args: MultiValue| {

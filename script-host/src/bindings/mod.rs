@@ -13,12 +13,13 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::rc::Rc;
 
+use api::call::{self, ArgError, Expected, Got, Source};
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
-use api::{ArgType, Command, Func, FunctionSpec, Query, SdoAbort, ValueType};
+use api::{Command, CommandCall, Func, FunctionSpec, Query, QueryCall, SdoAbort, ValueType};
+use calls::{query, wire};
 use ipc::events::EventSender;
 use ipc::messages::Request;
 use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
-use ipc::query::{self, Words};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};
@@ -94,8 +95,35 @@ pub fn error_here(lua: &Lua, message: impl std::fmt::Display) -> mlua::Error {
     mlua::Error::runtime(format!("{}{message}", crate::sandbox::raised_at(lua)))
 }
 
-fn bad_argument(lua: &Lua, spec: &FunctionSpec, i: usize, expected: &str, got: &Value) -> mlua::Error {
-    error_here(lua, format!("bad argument #{} to '{}' ({expected} expected, got {})", i + 1, spec.name, type_name(got)))
+/// Words a neutral argument error as `luaL_argerror` would.
+fn arg_error(lua: &Lua, spec: &FunctionSpec, error: ArgError) -> mlua::Error {
+    let (index, expected, got) = match error {
+        ArgError::Type { index, expected, got } => (index, expected, got),
+        // Lua drops extra arguments before they get here (`neutral_args`).
+        ArgError::TooMany { takes, given } => {
+            return error_here(lua, format!("'{}' takes {takes} arguments, got {given}", spec.name));
+        }
+    };
+    let expected = match expected {
+        Expected::Integer => "integer",
+        Expected::Number => "number",
+        Expected::BoolOrNumber => "boolean or number",
+        Expected::Utf8String => "UTF-8 string",
+        Expected::String => "string",
+        Expected::ByteTable => "table of integers 0..255",
+        Expected::BytesOrString => "table of bytes or string",
+        Expected::Numbers => "table of numbers",
+    };
+    let got = match got {
+        Got::Missing | Got::Nil => "nil".to_string(),
+        Got::Bool => "boolean".to_string(),
+        Got::Int(n) => format!("integer {n}"),
+        Got::Double(n) => format!("number {n}"),
+        Got::Str => "string".to_string(),
+        Got::List => "table".to_string(),
+        Got::Other(name) => name.to_string(),
+    };
+    error_here(lua, format!("bad argument #{} to '{}' ({expected} expected, got {got})", index + 1, spec.name))
 }
 
 /// A value as a message names it: numbers with their value.
@@ -107,43 +135,61 @@ fn type_name(v: &Value) -> String {
     }
 }
 
-fn int_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<i64> {
-    let v = args.get(i).cloned().unwrap_or(Value::Nil);
-    match v {
-        Value::Integer(n) => Ok(n),
-        Value::Number(n) if n.fract() == 0.0 && n.abs() < 9.0e15 => Ok(n as i64),
-        other => Err(bad_argument(lua, spec, i, "integer", &other)),
+/// A Lua value as the neutral encoder takes it: a table as its sequence `1..n`, whose
+/// elements are taken as they are (a table inside is only named, so a table that holds
+/// itself cannot loop).
+fn neutral(value: &Value) -> mlua::Result<call::Value> {
+    Ok(match value {
+        Value::Table(t) => call::Value::List(
+            t.sequence_values::<Value>().map(|v| v.map(|v| neutral_element(&v))).collect::<mlua::Result<_>>()?,
+        ),
+        other => neutral_element(other),
+    })
+}
+
+fn neutral_element(value: &Value) -> call::Value {
+    match value {
+        Value::Nil => call::Value::Nil,
+        Value::Boolean(b) => call::Value::Bool(*b),
+        Value::Integer(n) => call::Value::Int(*n),
+        Value::Number(n) => call::Value::Double(*n),
+        Value::String(s) => call::Value::Str(s.as_bytes().to_vec()),
+        other => call::Value::Other(other.type_name()),
     }
 }
 
+/// The arguments of a call as neutral values. Lua drops what is passed beyond a
+/// function's arguments, as it does for its own functions.
+fn neutral_args(spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<Vec<call::Value>> {
+    args.iter().take(spec.args.len()).map(neutral).collect()
+}
+
+/// Argument `i` read by the neutral encoder's rules (a local function's arguments).
+fn neutral_arg<T>(
+    lua: &Lua,
+    spec: &FunctionSpec,
+    args: &MultiValue,
+    i: usize,
+    read: impl FnOnce(&mut call::Values) -> Result<T, ArgError>,
+) -> mlua::Result<T> {
+    let value = args.get(i).map(neutral).transpose()?;
+    read(&mut call::Values::new(value.as_slice())).map_err(|e| match e {
+        ArgError::Type { expected, got, .. } => arg_error(lua, spec, ArgError::Type { index: i, expected, got }),
+        other => arg_error(lua, spec, other),
+    })
+}
+
+fn int_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<i64> {
+    neutral_arg(lua, spec, args, i, |v| v.int())
+}
+
 fn double_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<f64> {
-    match args.get(i).cloned().unwrap_or(Value::Nil) {
-        Value::Integer(n) => Ok(n as f64),
-        Value::Number(n) => Ok(n),
-        other => Err(bad_argument(lua, spec, i, "number", &other)),
-    }
+    neutral_arg(lua, spec, args, i, |v| v.double())
 }
 
 /// A C `int` condition: a boolean, or a number where 0 is false.
 fn bool_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<bool> {
-    match args.get(i).cloned().unwrap_or(Value::Nil) {
-        Value::Boolean(b) => Ok(b),
-        Value::Integer(n) => Ok(n != 0),
-        Value::Number(n) => Ok(n != 0.0),
-        other => Err(bad_argument(lua, spec, i, "boolean or number", &other)),
-    }
-}
-
-fn string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
-    match args.get(i).cloned().unwrap_or(Value::Nil) {
-        Value::String(s) => match s.to_str() {
-            Ok(text) => Ok(text.to_string()),
-            Err(_) => Err(bad_argument(lua, spec, i, "UTF-8 string", &Value::String(s))),
-        },
-        Value::Integer(n) => Ok(n.to_string()),
-        Value::Number(n) => Ok(n.to_string()),
-        other => Err(bad_argument(lua, spec, i, "string", &other)),
-    }
+    neutral_arg(lua, spec, args, i, |v| v.bool())
 }
 
 /// A string argument as the Lua string it is (a number as its text), any bytes.
@@ -152,77 +198,16 @@ fn lua_string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -
         Value::String(s) => Ok(s),
         Value::Integer(n) => lua.create_string(n.to_string()),
         Value::Number(n) => lua.create_string(n.to_string()),
-        other => Err(bad_argument(lua, spec, i, "string", &other)),
-    }
-}
-
-/// `uint8_t*` arguments: a table of integers 0..255, or a string.
-fn bytes_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<u8>> {
-    match args.get(i).cloned().unwrap_or(Value::Nil) {
-        Value::String(s) => Ok(s.as_bytes().to_vec()),
-        Value::Table(t) => t
-            .sequence_values::<Value>()
-            .map(|v| match v? {
-                Value::Integer(b) if (0..=255).contains(&b) => Ok(b as u8),
-                other => Err(bad_argument(lua, spec, i, "table of integers 0..255", &other)),
-            })
-            .collect(),
-        other => Err(bad_argument(lua, spec, i, "table of bytes or string", &other)),
+        other => Err(error_here(
+            lua,
+            format!("bad argument #{} to '{}' (string expected, got {})", i + 1, spec.name, type_name(&other)),
+        )),
     }
 }
 
 /// `double*` arguments: a table of numbers.
 fn doubles_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<f64>> {
-    match args.get(i).cloned().unwrap_or(Value::Nil) {
-        Value::Table(t) => t
-            .sequence_values::<Value>()
-            .map(|v| match v? {
-                Value::Integer(n) => Ok(n as f64),
-                Value::Number(n) => Ok(n),
-                other => Err(bad_argument(lua, spec, i, "table of numbers", &other)),
-            })
-            .collect(),
-        other => Err(bad_argument(lua, spec, i, "table of numbers", &other)),
-    }
-}
-
-/// Encodes the arguments as the registry types them: scalars as words, bytes and arrays in
-/// the blob, one after the other, with their lengths as words.
-fn encode(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, request: &mut Request) -> mlua::Result<()> {
-    for (i, arg) in spec.args.iter().enumerate() {
-        match arg.ty {
-            ArgType::Int => request.push_int(int_arg(lua, spec, args, i)?),
-            ArgType::Double => request.push_double(double_arg(lua, spec, args, i)?),
-            ArgType::Bytes => {
-                let bytes = bytes_arg(lua, spec, args, i)?;
-                append(lua, spec, request, &bytes)?;
-                request.push_int(bytes.len() as i64);
-            }
-            ArgType::Doubles => {
-                let numbers = doubles_arg(lua, spec, args, i)?;
-                let bytes: Vec<u8> = numbers.iter().flat_map(|n| n.to_le_bytes()).collect();
-                append(lua, spec, request, &bytes)?;
-                request.push_int(numbers.len() as i64);
-            }
-            ArgType::Str => {
-                let text = string_arg(lua, spec, args, i)?;
-                append(lua, spec, request, text.as_bytes())?;
-                request.push_int(text.len() as i64);
-            }
-            ArgType::Bool => request.push_int(bool_arg(lua, spec, args, i)? as i64),
-            ArgType::Func | ArgType::Rest | ArgType::Timer => {
-                return Err(error_here(lua, format!("{}: not callable with a {:?} argument", spec.name, arg.ty)));
-            }
-        }
-    }
-    Ok(())
-}
-
-fn append(lua: &Lua, spec: &FunctionSpec, request: &mut Request, bytes: &[u8]) -> mlua::Result<()> {
-    if !request.append_blob(bytes) {
-        return Err(error_here(lua, format!("{}: the arguments exceed {} bytes", spec.name, request.blob.len())));
-    }
-    Ok(())
+    neutral_arg(lua, spec, args, i, |v| v.doubles().map(|d| d.iter().collect()))
 }
 
 fn bytes_table(lua: &Lua, bytes: &[u8]) -> mlua::Result<Value> {
@@ -234,8 +219,10 @@ fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function
     let spec = command.spec();
     lua.create_function(move |lua, args: MultiValue| {
         host.beat();
+        let values = neutral_args(spec, &args)?;
+        let call: CommandCall = call::from_values(command, &values).map_err(|e| arg_error(lua, spec, e))?;
         let mut request = Request::new(command.id());
-        encode(lua, spec, &args, &mut request)?;
+        wire::encode(&call, &mut request).map_err(|e| error_here(lua, format!("{}: {e}", spec.name)))?;
         let reply = host.endpoint.borrow_mut().call(&mut request).map_err(mlua::Error::external)?;
         let first = reply.values[0] as i64;
         if first == -1 && reply.rc != 0 {
@@ -267,12 +254,9 @@ fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Functio
     let spec = query.spec();
     lua.create_function(move |lua, args: MultiValue| {
         host.beat();
-        let mut request = Request::new(0);
-        encode(lua, spec, &args, &mut request)?;
-        let answer = {
-            let mut endpoint = host.endpoint.borrow_mut();
-            query::evaluate(query, Words(&request.args[..request.argc as usize]), endpoint.snapshot())
-        };
+        let values = neutral_args(spec, &args)?;
+        let call: QueryCall = call::from_values(query, &values).map_err(|e| arg_error(lua, spec, e))?;
+        let answer = query::evaluate(&call, host.endpoint.borrow_mut().snapshot());
         let query::Answer(first, second) = answer.map_err(|code| error_here(lua, format!("{}: {code}", spec.name)))?;
         let mut results = MultiValue::new();
         for value in std::iter::once(first).chain(second) {

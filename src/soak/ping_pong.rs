@@ -5,15 +5,15 @@
 
 use std::time::Duration;
 
-use iceoryx2::prelude::*;
+use iceoryx2::prelude::Node;
 
-use crate::clock::monotonic_ns;
-use crate::messages::{Reply, Request};
-use crate::services::{
+use ::ipc::clock::monotonic_ns;
+use ::ipc::messages::{Reply, Request};
+use ::ipc::services::{
     self, Ipc, Open, ReplyPublisher, ReplySubscriber, RequestPublisher, RequestSubscriber, WakeListener, WakeNotifier,
     failed,
 };
-use crate::{IpcError, Namespace};
+use ::ipc::{IpcError, Namespace};
 
 /// The task id whose services the floor borrows, and the one whose wake event carries pings.
 const CHANNEL: u8 = 0;

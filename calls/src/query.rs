@@ -1,0 +1,190 @@
+//! Status queries (`api::Kind::Query`), answered from a snapshot in the reader's own
+//! address space: one match over `api::QueryCall`, so that every query of the registry has
+//! its answer here.
+
+use api::{ErrorCode, QueryCall, SystemError};
+
+use ipc::messages::{AxisSnapshot, GPIO_PINS, PdoEntrySnapshot, Snapshot, TaskState, fault_status, motion_status};
+
+/// A query's answer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    /// A Lua integer.
+    Int(i64),
+    /// A Lua float.
+    Double(f64),
+    /// A Lua boolean.
+    Bool(bool),
+    /// An out-pointer buffer (at most 8 bytes: the widest drive object).
+    Bytes {
+        /// The bytes, the first `len` of them used.
+        data: [u8; 8],
+        /// How many bytes are used.
+        len: u8,
+    },
+}
+
+/// One or two values: the C return value and an out-pointer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Answer(pub Value, pub Option<Value>);
+
+impl From<Value> for Answer {
+    fn from(v: Value) -> Self {
+        Answer(v, None)
+    }
+}
+
+/// AL state codes (HMPL 2.5).
+const ECAT_PRE_OP: u32 = 2;
+const ECAT_OP: u32 = 8;
+
+/// Answers a status query from the snapshot, in the script process, without a round trip to the core.
+pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
+    let status = |id, bit| axis(s, id).map(|a| Value::Bool(a.motion_status & bit != 0).into());
+    let fault = |id, bit| axis(s, id).map(|a| Value::Bool(a.fault_status & bit != 0).into());
+    let double = |id, f: fn(&AxisSnapshot) -> f64| axis(s, id).map(|a| Value::Double(f(a)).into());
+    let int = |id, f: fn(&AxisSnapshot) -> i64| axis(s, id).map(|a| Value::Int(f(a)).into());
+    let slave = |id: i64| usize::try_from(id).ok().filter(|&i| i < s.slave_count as usize).map(|i| &s.slaves[i]);
+    Ok(match *call {
+        QueryCall::GetVel { axis_id } => double(axis_id, |a| a.vel)?,
+        QueryCall::GetAcc { axis_id } => double(axis_id, |a| a.acc)?,
+        QueryCall::GetDec { axis_id } => double(axis_id, |a| a.dec)?,
+        QueryCall::GetKillDec { axis_id } => double(axis_id, |a| a.kill_dec)?,
+        QueryCall::GetSWRL { axis_id } => double(axis_id, |a| a.swrl)?,
+        QueryCall::GetSWLL { axis_id } => double(axis_id, |a| a.swll)?,
+        QueryCall::GetSMTime { axis_id } => double(axis_id, |a| a.sm_time)?,
+        QueryCall::GetMoveTime { axis_id } => double(axis_id, |a| a.move_time)?,
+        QueryCall::GetSettlingTime { axis_id } => double(axis_id, |a| a.settling_time)?,
+        // No compensation is configured: the compensated feedback is the feedback.
+        QueryCall::GetPosFb { axis_id } | QueryCall::GetPosFbComp { axis_id } => double(axis_id, |a| a.pos_fb)?,
+        QueryCall::GetPosOffset { axis_id } => double(axis_id, |a| a.pos_offset)?,
+        QueryCall::GetPosErr { axis_id } => double(axis_id, |a| a.pos_err)?,
+        QueryCall::GetVelFb { axis_id } => double(axis_id, |a| a.vel_fb)?,
+        QueryCall::GetVelErr { axis_id } => double(axis_id, |a| a.vel_err)?,
+        QueryCall::GetCurrFb { axis_id } => double(axis_id, |a| a.curr_fb)?,
+        QueryCall::GetRefPos { axis_id } => double(axis_id, |a| a.ref_pos)?,
+        QueryCall::GetRefVel { axis_id } => double(axis_id, |a| a.ref_vel)?,
+        QueryCall::GetRefAcc { axis_id } => double(axis_id, |a| a.ref_acc)?,
+        QueryCall::GetPosOut { axis_id } => double(axis_id, |a| a.pos_out)?,
+        QueryCall::GetVelOut { axis_id } => double(axis_id, |a| a.vel_out)?,
+        QueryCall::GetAccOut { axis_id } => double(axis_id, |a| a.acc_out)?,
+        QueryCall::GetAxisNum {} => Value::Int(s.axis_count as i64).into(),
+        QueryCall::GetVelScale { axis_id } => double(axis_id, |a| a.vel_scale)?,
+        QueryCall::GetRolloverTurns { axis_id } => int(axis_id, |a| a.rollover_turns as i64)?,
+        QueryCall::GetBufferMode { axis_id } => int(axis_id, |a| a.buffer_mode as i64)?,
+        QueryCall::GetCmdNum { axis_id } => int(axis_id, |a| a.cmd_num as i64)?,
+        QueryCall::GetPosWindow { axis_id } => double(axis_id, |a| a.pos_window)?,
+        QueryCall::GetPosWindowTime { axis_id } => double(axis_id, |a| a.pos_window_time)?,
+        QueryCall::IsEnabled { axis_id } => status(axis_id, motion_status::ENABLED)?,
+        QueryCall::IsMoving { axis_id } => status(axis_id, motion_status::MOVING)?,
+        QueryCall::IsInPos { axis_id } => status(axis_id, motion_status::IN_POSITION)?,
+        QueryCall::IsErrorStop { axis_id } => fault(axis_id, fault_status::ERROR_STOP)?,
+        QueryCall::IsGantry { axis_id } => status(axis_id, motion_status::GANTRY)?,
+        QueryCall::IsGrouped { axis_id } => status(axis_id, motion_status::GROUP)?,
+        QueryCall::IsSync { axis_id } => status(axis_id, motion_status::SYNCHRONOUS)?,
+        QueryCall::IsHWLL { axis_id } => fault(axis_id, fault_status::HW_LEFT_LIMIT)?,
+        QueryCall::IsHWRL { axis_id } => fault(axis_id, fault_status::HW_RIGHT_LIMIT)?,
+        QueryCall::IsSWLL { axis_id } => fault(axis_id, fault_status::SW_LEFT_LIMIT)?,
+        QueryCall::IsSWRL { axis_id } => fault(axis_id, fault_status::SW_RIGHT_LIMIT)?,
+        QueryCall::IsDriveErr { axis_id } => fault(axis_id, fault_status::DRIVE_FAULT)?,
+        QueryCall::IsPosErr { axis_id } => fault(axis_id, fault_status::POSITION_ERROR)?,
+        // Compensation (HMPL ch. 14) has no functions here, so it is never active.
+        QueryCall::IsCompActive { axis_id } => axis(s, axis_id).map(|_| Value::Bool(false).into())?,
+        QueryCall::IsAcc { axis_id } => status(axis_id, motion_status::ACCELERATING)?,
+        QueryCall::GetGearRatio { axis_slave_id } => double(axis_slave_id, |a| a.gear_ratio)?,
+        QueryCall::IsInGear { axis_id } => axis(s, axis_id).map(|a| Value::Bool(a.in_gear != 0).into())?,
+        QueryCall::IsGearMaster { axis_id } => axis(s, axis_id).map(|a| Value::Bool(a.gear_master != 0).into())?,
+        QueryCall::IsGearSlave { axis_id } => status(axis_id, motion_status::GEAR)?,
+        QueryCall::GetGantryPairID { axis_id } => int(axis_id, |a| a.gantry_pair_id as i64)?,
+        QueryCall::IsGantryPair { axis_id_1, axis_id_2 } => {
+            let (a, b) = (axis(s, axis_id_1)?, axis(s, axis_id_2)?);
+            Value::Bool(a.gantry_pair_id >= 0 && a.gantry_pair_id == b.gantry_pair_id).into()
+        }
+        QueryCall::IsHomed { axis_id } => status(axis_id, motion_status::HOMED)?,
+        QueryCall::IsHoming { axis_id } => status(axis_id, motion_status::HOMING)?,
+        QueryCall::IsHomeSwitch { axis_id } => status(axis_id, motion_status::HOME_SWITCH)?,
+        QueryCall::GetSystemLastErr {} => Value::Int(s.system_last_err as i64).into(),
+        QueryCall::GetAxisLastErr { axis_id } => int(axis_id, |a| a.last_err as i64)?,
+        QueryCall::GetGrpLastErr { group_id } => {
+            let g = usize::try_from(group_id).ok().filter(|&g| g < s.group_last_err.len());
+            Value::Int(s.group_last_err[g.ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))?] as i64).into()
+        }
+        QueryCall::GetDriveErr { axis_id } => int(axis_id, |a| a.drive_err as i64)?,
+        QueryCall::ReadPDO { slv_id, obj_index, obj_subindex } => match read_pdo(s, slv_id, obj_index, obj_subindex) {
+            Some((value, _)) => Value::Int(value).into(),
+            None => Value::Int(-1).into(),
+        },
+        QueryCall::ReadPDOEx { slv_id, obj_index, obj_subindex } => {
+            match read_pdo(s, slv_id, obj_index, obj_subindex) {
+                Some((value, len)) => {
+                    let mut data = [0; 8];
+                    data[..len].copy_from_slice(&value.to_le_bytes()[..len]);
+                    Answer(Value::Int(0), Some(Value::Bytes { data, len: len as u8 }))
+                }
+                None => Answer(Value::Int(-1), Some(Value::Bytes { data: [0; 8], len: 0 })),
+            }
+        }
+        QueryCall::IsSystemInit {} => Value::Bool(false).into(),
+        QueryCall::IsSystemOper {} => Value::Bool(s.ecat_state == ECAT_OP && s.system_error == 0).into(),
+        QueryCall::IsSystemPreOp {} => Value::Bool(s.ecat_state == ECAT_PRE_OP).into(),
+        QueryCall::IsSystemError {} => Value::Bool(s.system_error != 0).into(),
+        QueryCall::GetECATSt {} => Value::Int(s.ecat_state as i64).into(),
+        QueryCall::GetSlvECATSt { slv_id } => Value::Int(slave(slv_id).map_or(-1, |sl| sl.al_state as i64)).into(),
+        QueryCall::GetSlaveNum {} => Value::Int(s.slave_count as i64).into(),
+        QueryCall::GetSlvChNum { slv_slot_id, ch_type } => {
+            let (id, slot) = api::constants::split_slave_slot(slv_slot_id);
+            let count = match (slave(id), slot, ch_type) {
+                (Some(sl), 0, 1) => sl.digital_inputs as i64,
+                (Some(sl), 0, 2) => sl.digital_outputs as i64,
+                (Some(_), 0, 3 | 4) => 0,
+                _ => -1,
+            };
+            Value::Int(count).into()
+        }
+        QueryCall::GetSlvSlotNum { slv_id } => Value::Int(if slave(slv_id).is_some() { 0 } else { -1 }).into(),
+        QueryCall::GetGPI { gpi_idx } => pin(s.gpio.gpi, gpi_idx),
+        QueryCall::GetGPO { gpo_idx } => pin(s.gpio.gpo, gpo_idx),
+        QueryCall::GetAllGPI {} => Value::Int(s.gpio.gpi as i64).into(),
+        QueryCall::GetAllGPO {} => Value::Int(s.gpio.gpo as i64).into(),
+        QueryCall::GetAllGPIInvertSt {} => Value::Int(s.gpio.gpi_invert as i64).into(),
+        QueryCall::GetAllGPOInvertSt {} => Value::Int(s.gpio.gpo_invert as i64).into(),
+        QueryCall::IsTaskStop { task_id } => {
+            let task = usize::try_from(task_id).ok().and_then(|t| s.tasks.get(t));
+            let task = task.ok_or(ErrorCode::System(SystemError::NotValidTaskid))?;
+            Value::Bool(TaskState::from(task.state).is_stopped()).into()
+        }
+    })
+}
+
+/// HMPL 9.4: one pin of a bitmask, 1 or 0; -1 for a pin that does not exist.
+fn pin(bits: u32, pin: i64) -> Answer {
+    let value = if (1..=GPIO_PINS).contains(&pin) { (bits >> (pin - 1)) as i64 & 1 } else { -1 };
+    Value::Int(value).into()
+}
+
+/// An object in a slave's process data: its value (sign-extended) and length in bytes.
+fn read_pdo(s: &Snapshot, slave: i64, index: i64, sub: i64) -> Option<(i64, usize)> {
+    let slave = s.slaves.get(usize::try_from(slave).ok()?).filter(|_| slave < s.slave_count as i64)?;
+    let find = |entries: &[PdoEntrySnapshot], image: &[u8]| {
+        entries.iter().find(|e| e.index as i64 == index && e.sub as i64 == sub).map(|e| {
+            let len = e.bits as usize / 8;
+            let mut raw = [0u8; 8];
+            raw[..len].copy_from_slice(&image[e.offset as usize..e.offset as usize + len]);
+            let value = u64::from_le_bytes(raw);
+            let shift = 64 - e.bits as u32;
+            let value = if e.signed != 0 { ((value << shift) as i64) >> shift } else { value as i64 };
+            (value, len)
+        })
+    };
+    find(&slave.tx[..slave.tx_count as usize], &slave.inputs)
+        .or_else(|| find(&slave.rx[..slave.rx_count as usize], &slave.outputs))
+}
+
+/// The axis a query names, or HMPL's "argument out of range".
+pub fn axis(s: &Snapshot, id: i64) -> Result<&AxisSnapshot, ErrorCode> {
+    usize::try_from(id)
+        .ok()
+        .filter(|&i| i < s.axis_count as usize)
+        .map(|i| &s.axes[i])
+        .ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))
+}

@@ -1,0 +1,359 @@
+//! Carries out the commands scripts send: one match over the typed `api::CommandCall`
+//! (decoded by `calls::wire`), so that the compiler holds every command of the registry
+//! to an implementation. The match is here; what a command does is in the module of its
+//! manual chapter: `axis` (HMPL ch. 5, 18, 20), `couplings` (ch. 6, 7), `drive_objects`
+//! (ch. 17), `io` (ch. 9), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
+
+mod axis;
+mod couplings;
+mod drive_objects;
+mod io;
+mod tasks;
+
+use api::alarms::{Alarm, Event as AlarmEvent};
+use api::call::{Doubles, Sink};
+use api::{ArgSpec, CommandCall, ErrorCode, Quantity, Role, SdoAbort, SystemError};
+use calls::wire::{self, DecodeError};
+use ipc::Disposition;
+use ipc::messages::{Reply, Request};
+
+use crate::ecat::{AlState, SdoError};
+use crate::machine::Machine;
+use crate::motion::axis::Ignore;
+use crate::tasks::Entry;
+use axis::{axis, home_number, motion};
+
+/// How a command failed, in the return convention of its chapter.
+enum Failure {
+    /// Most functions return the HMPL error code (and record it as a last error).
+    Code(ErrorCode),
+    /// Ch. 9 and 17 return -1; `rc` carries the reason (a CiA 301 abort code or an HMPL code).
+    MinusOne(u32),
+    /// Refused with an alarm (DXMC format), returned as the code.
+    Alarm(Alarm),
+}
+
+impl From<ErrorCode> for Failure {
+    fn from(e: ErrorCode) -> Self {
+        Failure::Code(e)
+    }
+}
+
+impl From<SystemError> for Failure {
+    fn from(e: SystemError) -> Self {
+        Failure::Code(e.into())
+    }
+}
+
+impl From<SdoError> for Failure {
+    fn from(e: SdoError) -> Self {
+        Failure::MinusOne(match e {
+            SdoError::Abort(abort) => abort.code(),
+            SdoError::NoMailbox => SdoAbort::DeviceState.code(),
+            SdoError::NoSlave(_) => ErrorCode::System(SystemError::HmplArgOutOfRange).code(),
+        })
+    }
+}
+
+/// What a command did: finished, or started something that answers when it completes.
+enum Done {
+    Now,
+    Later,
+}
+
+/// Applies one request of task `caller` to the machine and fills its reply: the function's
+/// return values, and `rc` 0 or the reason it failed.
+pub fn execute(machine: &mut Machine, caller: u8, request: &Request, reply: &mut Reply) -> Disposition {
+    let result = match wire::decode(request) {
+        Err(DecodeError::UnknownFunction(_)) => Err(SystemError::HmplNotSupported.into()),
+        Err(_) | Ok(_) if !machine.tasks.accepts_commands(caller) => Err(SystemError::TaskNotRunning.into()),
+        Err(_) => Err(SystemError::HmplInvalidArg.into()),
+        Ok(call) => match check_ranges(machine, &call) {
+            Ok(()) => run(machine, caller, &call, reply),
+            Err(failure) => Err(failure),
+        },
+    };
+    match result {
+        Ok(Done::Later) => return Disposition::Defer,
+        Ok(Done::Now) => finish(machine, reply, Ok(())),
+        Err(failure) => finish(machine, reply, Err(failure)),
+    }
+    Disposition::Reply
+}
+
+/// Completes a deferred call once its operation is over; false while it still runs.
+pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bool {
+    let result = match wire::decode(request) {
+        Ok(CommandCall::MoveHome { axis_id }) => {
+            let Ok(axis) = machine.kernel.axis_mut(axis_id) else { return true };
+            let id = axis.id();
+            match axis.take_home_result() {
+                None => return false,
+                Some(result) => result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))),
+            }
+        }
+        Ok(CommandCall::StartTask { task_id } | CommandCall::StartTaskFunc { task_id, .. }) => {
+            let Ok(task) = u8::try_from(task_id) else { return true };
+            match machine.tasks.take_start_result(task) {
+                None => return false,
+                Some(result) => result.map_err(Failure::from),
+            }
+        }
+        // The caller stopped itself (StopTask of itself, StopAllTask, EStop): no answer.
+        _ => return false,
+    };
+    finish(machine, reply, result);
+    true
+}
+
+fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>) {
+    match result {
+        Ok(()) if reply.valuec == 0 => reply.push_int(0),
+        Ok(()) => {}
+        Err(Failure::Code(code)) => {
+            if let ErrorCode::System(_) = code {
+                machine.kernel.record_system_error(code.code());
+            }
+            reply.rc = code.code();
+            reply.valuec = 0;
+            reply.push_int(code.code() as i64);
+        }
+        Err(Failure::MinusOne(reason)) => {
+            reply.rc = reason;
+            reply.valuec = 0;
+            reply.push_int(-1);
+        }
+        Err(Failure::Alarm(alarm)) => {
+            reply.rc = alarm.0;
+            reply.valuec = 0;
+            reply.push_int(alarm.0 as i64);
+        }
+    }
+}
+
+/// Every argument the registry gives a quantity is checked against its range before the
+/// command runs, on the axis named by the axis argument before it. One path for every
+/// command: no setter can forget it, and NaN, infinities and numbers no drive could carry
+/// never reach the kernel (issue 11).
+fn check_ranges(m: &mut Machine, call: &CommandCall) -> Result<(), Failure> {
+    call.write(&mut RangeCheck { m, args: call.func().spec().args.iter(), axis: None })
+}
+
+/// Walks a call's arguments in order: an `Axis` argument must name an axis, and every
+/// number with a quantity after it must fit that axis.
+struct RangeCheck<'m> {
+    m: &'m mut Machine,
+    args: std::slice::Iter<'static, ArgSpec>,
+    axis: Option<i64>,
+}
+
+impl RangeCheck<'_> {
+    fn admit(&mut self, values: impl Iterator<Item = f64>) -> Result<(), Failure> {
+        let (Some(quantity), Some(axis)) = (self.args.next().and_then(|a| a.quantity), self.axis) else {
+            return Ok(());
+        };
+        let axis = self.m.kernel.axis_mut(axis)?;
+        let id = axis.id();
+        for value in values {
+            axis.admit(quantity, value).map_err(|e| Failure::from(ErrorCode::axis(id, e)))?;
+        }
+        Ok(())
+    }
+}
+
+impl Sink for RangeCheck<'_> {
+    type Error = Failure;
+
+    fn int(&mut self, value: i64) -> Result<(), Failure> {
+        if self.args.next().and_then(|a| a.quantity) == Some(Quantity::Axis) {
+            self.m.kernel.axis_mut(value)?;
+            self.axis = Some(value);
+        }
+        Ok(())
+    }
+
+    fn double(&mut self, value: f64) -> Result<(), Failure> {
+        self.admit(std::iter::once(value))
+    }
+
+    fn bool(&mut self, _: bool) -> Result<(), Failure> {
+        self.args.next();
+        Ok(())
+    }
+
+    fn str(&mut self, _: &[u8]) -> Result<(), Failure> {
+        self.args.next();
+        Ok(())
+    }
+
+    fn bytes(&mut self, _: &[u8]) -> Result<(), Failure> {
+        self.args.next();
+        Ok(())
+    }
+
+    fn doubles(&mut self, values: &Doubles) -> Result<(), Failure> {
+        self.admit(values.iter())
+    }
+}
+
+type Outcome = Result<Done, Failure>;
+
+fn now(result: Result<(), impl Into<Failure>>) -> Outcome {
+    result.map(|()| Done::Now).map_err(Into::into)
+}
+
+/// Checks that `caller` may command axis `a` in this cycle.
+fn may_command(m: &mut Machine, caller: u8, a: i64) -> Result<u8, Failure> {
+    let cycle = m.cycle;
+    let axis = m.kernel.axis_mut(a)?;
+    let id = axis.id();
+    if axis.is_emergency_stopped() {
+        return Err(SystemError::EmergencyStop.into());
+    }
+    if !m.state.allows_motion() {
+        return Err(Failure::Alarm(m.tasks.axis_alarm(caller, id, AlarmEvent::WrongMode, cycle)));
+    }
+    if axis.check_claim(caller, cycle).is_err() {
+        return Err(Failure::Alarm(m.tasks.axis_alarm(caller, id, AlarmEvent::CommandBufferBusy, cycle)));
+    }
+    Ok(id)
+}
+
+fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
+    // The axis a motion command sets going (declared `as Moves` in the registry).
+    let moved = match call.arg_with(Role::Moves) {
+        Some(a) if m.network.state() == AlState::Op => Some(may_command(m, caller, a)?),
+        _ => None,
+    };
+    let outcome = run_command(m, caller, call, reply);
+    if let (Some(axis), Ok(_)) = (moved, &outcome) {
+        let cycle = m.cycle;
+        let run_speed = m.run_speed(caller);
+        if let Ok(axis) = m.kernel.axis_mut(axis as i64) {
+            axis.claim(caller, cycle, run_speed);
+        }
+    }
+    outcome
+}
+
+fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
+    use CommandCall as C;
+    match *call {
+        // HMPL 5.2: motion.
+        C::Enable { axis_id } => motion(m, |m| now(m.kernel.enable(axis_id))),
+        C::Disable { axis_id } => motion(m, |m| now(m.kernel.disable(axis_id))),
+        C::Reset { axis_id } => axis(m, axis_id, |ax| ax.reset()),
+        C::MoveAbs { axis_id, pos } => axis(m, axis_id, |ax| ax.move_abs(pos)),
+        C::MoveRel { axis_id, rel_dist } => axis(m, axis_id, |ax| ax.move_rel(rel_dist)),
+        C::MoveVel { axis_id, vel } => axis(m, axis_id, |ax| ax.move_vel(vel)),
+        C::MoveTrq { axis_id, torque_cmd } => axis(m, axis_id, |ax| ax.move_trq(torque_cmd)),
+        C::MovePVT { axis_id, ref time, ref pos, ref vel, num_pt } => {
+            axis::move_pvt(m, axis_id, [time, pos, vel], num_pt)
+        }
+        C::Stop { axis_id } => axis(m, axis_id, |ax| ax.stop()),
+        C::Halt { axis_id } => axis(m, axis_id, |ax| ax.halt()),
+        C::Resume { axis_id } => axis(m, axis_id, |ax| ax.resume()),
+        // HMPL 5.3: settings.
+        C::SetVel { axis_id, vel } => axis(m, axis_id, |ax| ax.set_vel(vel)),
+        C::SetAcc { axis_id, acc } => axis(m, axis_id, |ax| ax.set_acc(acc)),
+        C::SetAccTime { axis_id, acc_time } => axis(m, axis_id, |ax| ax.set_acc_time(acc_time)),
+        C::SetDec { axis_id, dec } => axis(m, axis_id, |ax| ax.set_dec(dec)),
+        C::SetDecTime { axis_id, dec_time } => axis(m, axis_id, |ax| ax.set_dec_time(dec_time)),
+        C::SetKillDec { axis_id, kill_dec } => axis(m, axis_id, |ax| ax.set_kill_dec(kill_dec)),
+        C::SetSWRL { axis_id, right_limit_pos } => axis(m, axis_id, |ax| ax.set_swrl(right_limit_pos)),
+        C::SetSWLL { axis_id, left_limit_pos } => axis(m, axis_id, |ax| ax.set_swll(left_limit_pos)),
+        C::SetSMTime { axis_id, smooth_time } => axis(m, axis_id, |ax| ax.set_sm_time(smooth_time)),
+        C::SetPos { axis_id, pos } => motion(m, |m| now(m.kernel.set_pos(axis_id, pos))),
+        C::IgnoreHWL { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::HardwareLimits, cmd != 0)),
+        C::IgnoreSWL { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::SoftwareLimits, cmd != 0)),
+        C::IgnorePE { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::PositionError, cmd != 0)),
+        C::SetVelScale { axis_id, vel_scale } => axis(m, axis_id, |ax| ax.set_vel_scale(vel_scale)),
+        C::SetRollover { axis_id, rollover_val } => axis(m, axis_id, |ax| ax.set_rollover(rollover_val)),
+        C::SetOpMode { axis_id, op_mode } => axis(m, axis_id, |ax| ax.set_op_mode(op_mode)),
+        C::SetBufferMode { axis_id, buf_mode } => axis(m, axis_id, |ax| ax.set_buffer_mode(buf_mode)),
+        C::SetPosWindow { axis_id, pos_window } => axis(m, axis_id, |ax| ax.set_pos_window(pos_window)),
+        C::SetPosWindowTime { axis_id, pos_window_time } => {
+            axis(m, axis_id, |ax| ax.set_pos_window_time(pos_window_time))
+        }
+        // HMPL ch. 6 and 7: gear and gantry.
+        C::EnableGear { axis_master_id, axis_slave_id } => {
+            couplings::coupling(m, |k| k.enable_gear(axis_master_id, axis_slave_id))
+        }
+        C::DisableGear { axis_slave_id } => couplings::coupling(m, |k| k.disable_gear(axis_slave_id)),
+        C::GearIn { axis_master_id, axis_slave_id, gear_ratio } => {
+            couplings::coupling(m, |k| k.gear_in(axis_master_id, axis_slave_id, gear_ratio))
+        }
+        C::GearOut { axis_slave_id } => couplings::coupling(m, |k| k.gear_out(axis_slave_id)),
+        C::EnableGantryPair { rhs_axis_id, lhs_axis_id } => {
+            couplings::coupling(m, |k| k.enable_gantry_pair(rhs_axis_id, lhs_axis_id))
+        }
+        C::DisableGantryPair { axis_id } => couplings::coupling(m, |k| k.disable_gantry_pair(axis_id)),
+        // HMPL ch. 20: homing.
+        C::MoveHome { axis_id } => axis::move_home(m, axis_id),
+        C::SetHomeMethod { axis_id, method } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_method(method))),
+        C::SetHomeSwitchVel { axis_id, fast_vel } => home_number(m, axis_id, fast_vel, |h| &mut h.switch_vel),
+        C::SetHomeZeroVel { axis_id, slow_vel } => home_number(m, axis_id, slow_vel, |h| &mut h.zero_vel),
+        C::SetHomeAcc { axis_id, acc } => home_number(m, axis_id, acc, |h| &mut h.acc),
+        C::SetHomeOffset { axis_id, offset } => home_number(m, axis_id, offset, |h| &mut h.offset),
+        C::SetHomeTimeout { axis_id, timeout } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_timeout(timeout))),
+        C::SetHomedStatus { axis_id, is_homed } => axis(m, axis_id, |ax| {
+            ax.set_homed(is_homed != 0);
+            Ok(())
+        }),
+        // HMPL ch. 18: errors.
+        C::ClearAxisLastErr { axis_id } => axis(m, axis_id, |ax| {
+            ax.clear_last_err();
+            Ok(())
+        }),
+        C::ClearGrpLastErr { group_id } => now(m.kernel.clear_group_last_err(group_id)),
+        // HMPL ch. 17: drive variables.
+        C::ReadSDO { slv_id, obj_index, obj_subindex, obj_length } => {
+            drive_objects::read_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
+        }
+        C::ReadSDOEx { slv_id, obj_index, obj_subindex, obj_length } => {
+            drive_objects::read_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
+        }
+        C::WriteSDO { slv_id, obj_index, obj_subindex, obj_length, obj_value } => {
+            drive_objects::write_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
+        }
+        C::WriteSDOEx { slv_id, obj_index, obj_subindex, obj_length, ref obj_value } => {
+            drive_objects::write_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
+        }
+        C::WritePDO { slv_id, obj_index, obj_subindex, obj_value } => {
+            drive_objects::write_pdo(m, [slv_id, obj_index, obj_subindex], obj_value)
+        }
+        C::ForceWritePDO { slv_id, obj_index, obj_subindex, obj_value } => {
+            drive_objects::force_write_pdo(m, [slv_id, obj_index, obj_subindex], obj_value)
+        }
+        C::ReleasePDO { slv_id, obj_index, obj_subindex } => {
+            drive_objects::release_pdo(m, [slv_id, obj_index, obj_subindex])
+        }
+        C::SimDriveFault { slv_id, error_code } => drive_objects::sim_drive_fault(m, slv_id, error_code),
+        // HMPL ch. 9: controller I/O.
+        C::SimSetGPI { gpi_idx, on_off } => io::pin(m.io.set_level(gpi_idx, on_off)),
+        C::SetGPO { gpo_idx, on_off } => io::pin(m.io.set_gpo(gpo_idx, on_off)),
+        C::ToggleGPO { gpo_idx } => io::pin(m.io.toggle_gpo(gpo_idx)),
+        C::SetAllGPO { all_gpo_state } => io::pin(m.io.set_all_gpo(all_gpo_state)),
+        C::SetGPIInvert { gpi_idx, invert } => io::pin(m.io.set_gpi_invert(gpi_idx, invert)),
+        C::SetGPOInvert { gpo_idx, invert } => io::pin(m.io.set_gpo_invert(gpo_idx, invert)),
+        C::BindEMO { gpi_idx } => io::pin(m.io.bind_emo(gpi_idx)),
+        // HMPL ch. 2: system.
+        C::DisableAll {} => {
+            m.kernel.disable_all();
+            Ok(Done::Now)
+        }
+        C::StopAll {} => motion(m, |m| {
+            m.kernel.stop_all();
+            Ok(Done::Now)
+        }),
+        C::EStop {} => {
+            m.emergency_stop();
+            Ok(Done::Later)
+        }
+        // HMPL ch. 16: tasks.
+        C::StartTask { task_id } => tasks::start(m, task_id, Entry::TOP_LEVEL),
+        C::StartTaskFunc { task_id, ref func_name } => tasks::start_func(m, task_id, func_name),
+        C::StopTask { task_id } => tasks::stop(m, caller, task_id),
+        C::StopAllTask {} => tasks::stop_all(m),
+    }
+}
