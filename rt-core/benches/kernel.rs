@@ -1,6 +1,7 @@
 //! The motion kernel's costs, measured with criterion:
 //! - planning one move: a trapezoid from rest, a retarget of a moving axis, and a whole
-//!   `MoveAbs` through the profile generator (plan + first sample, smoothing on);
+//!   `MoveAbs` through the profile generator and the filter chain after it (plan + first
+//!   sample, smoothing on);
 //! - one kernel cycle (read drives, plan, limits, status, write drives) per axis, with
 //!   every axis moving, for 1 to 64 axes. The drives' own simulation is not timed.
 //!
