@@ -1,6 +1,7 @@
 //! The calls of the API between the transport (`ipc`, which carries bytes and shared
-//! memory only) and the front ends and the core: the status queries answered from a
-//! snapshot, and the Modbus address map of the user areas DV and DH (DXMC A.1).
+//! memory only) and the front ends and the core: typed commands on the wire (`wire`), the
+//! status queries answered from a snapshot (`query`), and the Modbus address map of the
+//! user areas DV and DH (`user_area`, DXMC A.1).
 
 // Every public item is part of a contract with other processes or crates: say what it is.
 #![warn(missing_docs)]
