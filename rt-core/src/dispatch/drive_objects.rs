@@ -5,7 +5,7 @@ use api::{ErrorCode, SdoAbort, SystemError};
 use ipc::messages::Reply;
 
 use super::{Done, Failure, Outcome, now};
-use crate::drive::od::fits_width;
+use crate::coe::fits_width;
 use crate::ecat::{AlState, Field};
 use crate::machine::Machine;
 

@@ -28,7 +28,7 @@ use modes::profile_position::ProfilePosition;
 use modes::profile_torque::ProfileTorque;
 use modes::profile_velocity::ProfileVelocity;
 use modes::{ModeInput, ModeOfOperation, Setpoint, cyclic};
-use od::ObjectStore;
+use crate::coe::ObjectStore;
 use plant::{Demand, Plant, SERVO_PERIOD_S};
 use touch_probe::TouchProbe;
 use travel::{Edges, Travel};

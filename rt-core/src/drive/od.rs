@@ -7,7 +7,7 @@
 //! The drive uses `ObjId` constants resolved at compile time.
 
 use crate::coe::{ALL_VARIANTS, Access, ObjectDef};
-pub use crate::coe::{ObjId, ObjectStore, fits_width};
+use crate::coe::{ObjId, ObjectStore};
 use crate::drive::DriveModel;
 
 /// The drive models an object exists on (CoE manual table 4-22).

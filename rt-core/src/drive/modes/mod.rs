@@ -10,7 +10,7 @@ pub mod profile_velocity;
 
 use num_enum::{IntoPrimitive, TryFromPrimitive};
 
-use crate::drive::od::ObjectStore;
+use crate::coe::{ObjId, ObjectStore};
 use crate::drive::travel::{Edges, Travel};
 use crate::profile::Kinematics;
 
@@ -85,7 +85,7 @@ impl ModeInput<'_> {
 
 /// Reads a UINT32 profile value, capped by a limit object where the limit is set (a
 /// limit of 0 means "no limit": the manual's default of 0x607F would stop every move).
-pub fn capped(od: &ObjectStore, value: crate::drive::od::ObjId, limit: crate::drive::od::ObjId) -> f64 {
+pub fn capped(od: &ObjectStore, value: ObjId, limit: ObjId) -> f64 {
     let v = od.get(value) as f64;
     let cap = od.get(limit) as f64;
     if cap > 0.0 { v.min(cap) } else { v }
