@@ -282,10 +282,12 @@ pub struct AxisSnapshot {
     pub gear_ratio: f64,
 }
 
-/// Entries and bytes of one PDO (CoE manual 2.4: at most 7 entries, 20 bytes).
-pub const MAX_PDO_ENTRIES: usize = 7;
-/// Bytes of one PDO's process data.
-pub const MAX_PDO_BYTES: usize = 20;
+/// PDOs a slave may assign per direction (0x1600/0x1601 and 0x1A00/0x1A01).
+pub const PDOS_PER_DIRECTION: usize = 2;
+/// Mapped entries of one direction: each PDO holds at most 7 (CoE manual 2.4).
+pub const MAX_PDO_ENTRIES: usize = 7 * PDOS_PER_DIRECTION;
+/// Bytes of one direction's process data: each PDO carries at most 20 (CoE manual 2.4).
+pub const MAX_PDO_BYTES: usize = 20 * PDOS_PER_DIRECTION;
 /// One drive per axis.
 pub const MAX_SLAVES: usize = MAX_AXES;
 
@@ -306,14 +308,14 @@ pub struct PdoEntrySnapshot {
 }
 
 /// One slave as the master sees it: its AL state, its mapping and its process data.
-#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 pub struct SlaveSnapshot {
     /// 1 Init, 2 PreOp, 4 SafeOp, 8 Op.
     pub al_state: u8,
-    /// Entries of the RxPDO used in `rx`.
+    /// Entries of the RxPDOs used in `rx` (the first PDO's, then the second's).
     pub rx_count: u8,
-    /// Entries of the TxPDO used in `tx`.
+    /// Entries of the TxPDOs used in `tx`.
     pub tx_count: u8,
     /// Digital inputs and outputs of the slave (HMPL ch. 21).
     pub digital_inputs: u8,
@@ -329,6 +331,23 @@ pub struct SlaveSnapshot {
     pub outputs: [u8; MAX_PDO_BYTES],
     /// See `outputs`.
     pub inputs: [u8; MAX_PDO_BYTES],
+}
+
+impl Default for SlaveSnapshot {
+    fn default() -> Self {
+        SlaveSnapshot {
+            al_state: 0,
+            rx_count: 0,
+            tx_count: 0,
+            digital_inputs: 0,
+            digital_outputs: 0,
+            al_status_code: 0,
+            rx: [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES],
+            tx: [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES],
+            outputs: [0; MAX_PDO_BYTES],
+            inputs: [0; MAX_PDO_BYTES],
+        }
+    }
 }
 
 /// Bytes of text an event carries: `SendMsgEvent`'s 128 characters and an alarm's line.

@@ -401,3 +401,33 @@ fn the_process_image_of_two_slaves() {
     ];
     assert_eq!(inputs, expected);
 }
+
+/// Programs see the second TxPDO too: the snapshot holds both PDOs of a direction, so
+/// `ReadPDO` (HMPL 17.3) finds the touch probe's objects mapped by 0x1A01.
+#[test]
+fn the_snapshot_shows_the_second_pdo_to_programs() {
+    use api::QueryCall;
+    use calls::query::{Value, evaluate};
+    // The built-in machine's TxPDO: 0x1A00 full (7 entries, 19 bytes).
+    let full = AxisConfig { counts_per_unit: bench::CPU, ..AxisConfig::default() };
+    let mut net = Bench::unstarted(AxisConfig { travel: at_15000_counts().travel, ..full });
+    assign_touch_probe_pdo(&mut net, 0);
+    net.sdo_write(0, 0x60B8, 0, &[0x01, 0x00]).unwrap();
+    net.start(PERIOD_NS).expect("start-up to Op");
+    net.exchange(bench::PERIOD_S);
+    let mut snapshot: Box<ipc::messages::Snapshot> = Box::default();
+    rt_core::master::describe_slaves(&net, &mut snapshot);
+    rt_core::master::update_slaves(&net, &mut snapshot);
+    assert_eq!(snapshot.slaves[0].tx_count, 9, "7 entries of 0x1A00, 2 of 0x1A01");
+    let read = |index, sub| match evaluate(
+        &QueryCall::ReadPDO { slv_id: 0, obj_index: index, obj_subindex: sub },
+        &snapshot,
+    ) {
+        Ok(answer) => answer.0,
+        Err(e) => panic!("ReadPDO 0x{index:04X}: {e:?}"),
+    };
+    assert_eq!(read(0x6064, 0), Value::Int(15000), "0x1A00: position actual");
+    assert_eq!(read(0x60B9, 0), Value::Int(1), "0x1A01: touch probe status, TP1 enabled");
+    assert_eq!(read(0x60BA, 0), Value::Int(0), "0x1A01: no positive edge yet");
+    assert_eq!(read(0x60BB, 0), Value::Int(-1), "not mapped");
+}

@@ -17,6 +17,7 @@ pub mod travel;
 pub use config::DriveModel;
 
 use crate::cia402::{State, statusword};
+use crate::coe::ObjectStore;
 use crate::config::{AxisConfig, DriveSettings};
 use crate::ecat::SdoAbort;
 use crate::ecat::device::Device;
@@ -28,7 +29,6 @@ use modes::profile_position::ProfilePosition;
 use modes::profile_torque::ProfileTorque;
 use modes::profile_velocity::ProfileVelocity;
 use modes::{ModeInput, ModeOfOperation, Setpoint, cyclic};
-use crate::coe::ObjectStore;
 use plant::{Demand, Plant, SERVO_PERIOD_S};
 use touch_probe::TouchProbe;
 use travel::{Edges, Travel};

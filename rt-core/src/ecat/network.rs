@@ -147,10 +147,15 @@ impl Network {
     /// and DC SYNC0 at the controller's cycle (2.5).
     fn configure(&mut self, slave: usize, cycle_ns: u64) -> Result<(), StartError> {
         let Mapping { rx, tx } = self.mappings[slave].clone();
+        // A second PDO assigned beforehand (through SDO) stays assigned.
+        let assigned = |index: u16| self.slaves[slave].sdo_read(index, 0).map_or(1, |(n, _)| n.max(1) as u8);
+        let (rx_assigned, tx_assigned) = (assigned(0x1C12), assigned(0x1C13));
         let mut write = |index: u16, sub: u8, data: &[u8]| {
             self.slaves[slave].sdo_write(index, sub, data).map_err(|error| StartError::Sdo { slave, index, sub, error })
         };
-        for (entries, mapping, assignment) in [(rx, 0x1600, 0x1C12), (tx, 0x1A00, 0x1C13)] {
+        for (entries, mapping, assignment, assigned) in
+            [(rx, 0x1600, 0x1C12, rx_assigned), (tx, 0x1A00, 0x1C13, tx_assigned)]
+        {
             let Some(entries) = entries else { continue };
             write(assignment, 0, &[0])?;
             write(mapping, 0, &[0])?;
@@ -158,7 +163,7 @@ impl Network {
                 write(mapping, i as u8 + 1, &entry.to_le_bytes())?;
             }
             write(mapping, 0, &[entries.len() as u8])?;
-            write(assignment, 0, &[1])?;
+            write(assignment, 0, &[assigned])?;
         }
         write(0x1C32, 2, &(cycle_ns as u32).to_le_bytes())?;
         write(0x1C32, 1, &2u16.to_le_bytes())?;

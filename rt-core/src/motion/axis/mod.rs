@@ -15,8 +15,8 @@ use api::AxisError;
 use ipc::messages::fault_status;
 
 use crate::cia402::State;
-use crate::config::AxisConfig;
 use crate::coe::fits_width;
+use crate::config::AxisConfig;
 use crate::ecat::Network;
 use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
 use crate::motion::filter::FilterChain;
