@@ -65,8 +65,11 @@ fn main() {
     let ns = Namespace::new(&ns).unwrap();
     let deadline = Instant::now() + Duration::from_secs(10);
     let endpoint = loop {
+        // The event stream comes up last: the bindings open it too.
+        let ready = ipc::controller_ready(&ns).unwrap_or(false);
         match TaskEndpoint::open(&ns, 0, controller.id()) {
-            Ok(endpoint) => break endpoint,
+            Ok(endpoint) if ready => break endpoint,
+            Ok(_) => std::thread::sleep(Duration::from_millis(20)),
             Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
             Err(e) => panic!("the controller did not come up: {e}"),
         }

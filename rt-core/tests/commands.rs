@@ -122,3 +122,23 @@ fn the_run_speed_scales_the_motion_of_its_task_only() {
     rig.cycles(100);
     assert!((vel(&rig, 0) - 40.0).abs() < 1e-9);
 }
+
+/// The range check looks at the first axis of a command; a second one (a gear slave, a
+/// gantry partner) only when a number of its own comes (GearIn's ratio). Otherwise the
+/// command refuses it itself, after the EtherCAT check: outside Op, `EnableGear(0, 99)`
+/// says "not in Op", as HMPL 2.2 wants of every motion command.
+#[test]
+fn a_second_axis_is_checked_where_its_command_checks_it() {
+    let code = |e: SystemError| api::ErrorCode::System(e).code() as i64;
+    let mut rig = Rig::new(FaultReaction::None);
+    rig.machine.network.request_state(0, rt_core::ecat::AlState::PreOp).unwrap();
+    assert_ne!(rig.machine.network.state(), rt_core::ecat::AlState::Op);
+    assert_eq!(rig.call(0, Command::EnableGear, &[0, 99], &[]), code(SystemError::HmplNotInOpMode));
+    assert_eq!(rig.call(0, Command::EnableGantryPair, &[0, 99], &[]), code(SystemError::HmplNotInOpMode));
+    assert_eq!(rig.call(0, Command::EnableGear, &[99, 0], &[]), code(SystemError::HmplArgOutOfRange), "the first axis");
+    assert_eq!(
+        rig.call(0, Command::GearIn, &[0, 99], &[1.0]),
+        code(SystemError::HmplArgOutOfRange),
+        "the ratio's axis"
+    );
+}

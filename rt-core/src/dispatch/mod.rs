@@ -139,8 +139,8 @@ fn check_ranges(m: &mut Machine, call: &CommandCall) -> Result<(), Failure> {
     call.write(&mut RangeCheck { m, args: call.func().spec().args.iter(), axis: None })
 }
 
-/// Walks a call's arguments in order: an `Axis` argument must name an axis, and every
-/// number with a quantity after it must fit that axis.
+/// Walks a call's arguments in order: the first `Axis` argument must name an axis, and
+/// every number with a quantity must fit the axis named last before it.
 struct RangeCheck<'m> {
     m: &'m mut Machine,
     args: std::slice::Iter<'static, ArgSpec>,
@@ -166,7 +166,11 @@ impl Sink for RangeCheck<'_> {
 
     fn int(&mut self, value: i64) -> Result<(), Failure> {
         if self.args.next().and_then(|a| a.quantity) == Some(Quantity::Axis) {
-            self.m.kernel.axis_mut(value)?;
+            // The first axis is checked here; a later one (a gear slave) when a number of
+            // its own comes, else by the command itself, which answers as its chapter says.
+            if self.axis.is_none() {
+                self.m.kernel.axis_mut(value)?;
+            }
             self.axis = Some(value);
         }
         Ok(())
