@@ -199,16 +199,27 @@ fn a_run_refused_another_user_s_files_names_them_and_the_fix() {
     // other user runs a copy of the binary from the test's open folder.
     let bin = dir.path().join("luamotion");
     std::fs::copy(BIN, &bin).unwrap();
-    let child = Command::new(&bin)
+    let mut command = Command::new(&bin);
+    command
         .args(["run", "--ns", &ns, "--data-dir"])
         .arg(dir.path().join("data"))
         .arg(&prog)
         .uid(NOBODY)
         .gid(NOBODY)
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+        .stderr(Stdio::piped());
+    // Another test thread forking while the copy was open for writing holds it open in
+    // its child until that child's exec: the copy is "busy" (ETXTBSY) for that moment.
+    let mut attempts = 0;
+    let child = loop {
+        match command.spawn() {
+            Err(e) if e.raw_os_error() == Some(libc::ETXTBSY) && attempts < 100 => {
+                attempts += 1;
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            spawned => break spawned.unwrap(),
+        }
+    };
     let out = finish(child, Duration::from_secs(20));
     assert!(!out.status.success(), "{}", out.stderr);
     // iceoryx2 0.10 makes its folders rwxr-xr-x: root's keep every other user out.
