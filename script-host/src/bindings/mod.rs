@@ -13,12 +13,14 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::rc::Rc;
 
-use api::call::{self, ArgError, Expected, Got, Source};
+use std::borrow::Cow;
+
+use api::call::{self, ArgError, Doubles, Expected, Got, Source, TypedCall};
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::{Command, CommandCall, Func, FunctionSpec, Query, QueryCall, SdoAbort, ValueType};
 use calls::{query, wire};
 use ipc::events::EventSender;
-use ipc::messages::{MAX_ARGS, Request};
+use ipc::messages::Request;
 use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
@@ -99,7 +101,7 @@ pub fn error_here(lua: &Lua, message: impl std::fmt::Display) -> mlua::Error {
 fn arg_error(lua: &Lua, spec: &FunctionSpec, error: ArgError) -> mlua::Error {
     let (index, expected, got) = match error {
         ArgError::Type { index, expected, got } => (index, expected, got),
-        // Lua drops extra arguments before they get here (`neutral_args`).
+        // Lua drops extra arguments before they get here (`LuaArgs`).
         ArgError::TooMany { takes, given } => {
             return error_here(lua, format!("'{}' takes {takes} arguments, got {given}", spec.name));
         }
@@ -158,29 +160,63 @@ fn neutral_element(value: &Value) -> call::Value {
     }
 }
 
-/// The arguments of a call as neutral values, on the stack: a call with numbers only
-/// allocates nothing for them (a status query costs a few hundred ns in all).
-struct NeutralArgs {
-    values: [call::Value; MAX_ARGS],
-    len: usize,
+/// A call's Lua arguments as the encoder's source: each one becomes a neutral value when
+/// it is read and is taken by the neutral encoder's rules (`call::Values`), so numbers
+/// cost no more than their conversion. Lua drops what is passed beyond a function's
+/// arguments, as it does for its own functions.
+struct LuaArgs<'a> {
+    args: &'a MultiValue,
+    next: usize,
 }
 
-impl NeutralArgs {
-    fn as_slice(&self) -> &[call::Value] {
-        &self.values[..self.len]
+impl<'a> LuaArgs<'a> {
+    fn new(args: &'a MultiValue) -> Self {
+        LuaArgs { args, next: 0 }
+    }
+
+    /// The next argument through `read`, with its own position in an error; what it
+    /// borrows from the neutral value is copied (strings and tables only).
+    fn read<T>(&mut self, read: impl FnOnce(&mut call::Values) -> Result<T, ArgError>) -> Result<T, ArgError> {
+        let index = self.next;
+        self.next += 1;
+        // A table's sequence is read raw, which cannot fail: the error is only named.
+        let value = match self.args.get(index).map(neutral).transpose() {
+            Ok(value) => value,
+            Err(_) => return Err(ArgError::Type { index, expected: Expected::Numbers, got: Got::List }),
+        };
+        read(&mut call::Values::new(value.as_slice())).map_err(|e| match e {
+            ArgError::Type { expected, got, .. } => ArgError::Type { index, expected, got },
+            other => other,
+        })
     }
 }
 
-/// Lua drops what is passed beyond a function's arguments, as it does for its own
-/// functions; no command or query has more than `MAX_ARGS`.
-fn neutral_args(spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<NeutralArgs> {
-    let mut values = std::array::from_fn(|_| call::Value::Nil);
-    let mut len = 0;
-    for (slot, arg) in values.iter_mut().zip(args.iter().take(spec.args.len())) {
-        *slot = neutral(arg)?;
-        len += 1;
+impl<'a> Source<'a> for LuaArgs<'a> {
+    type Error = ArgError;
+
+    fn int(&mut self) -> Result<i64, ArgError> {
+        self.read(|v| v.int())
     }
-    Ok(NeutralArgs { values, len })
+
+    fn double(&mut self) -> Result<f64, ArgError> {
+        self.read(|v| v.double())
+    }
+
+    fn bool(&mut self) -> Result<bool, ArgError> {
+        self.read(|v| v.bool())
+    }
+
+    fn str(&mut self) -> Result<Cow<'a, [u8]>, ArgError> {
+        self.read(|v| v.str().map(|s| Cow::Owned(s.into_owned())))
+    }
+
+    fn bytes(&mut self) -> Result<Cow<'a, [u8]>, ArgError> {
+        self.read(|v| v.bytes().map(|b| Cow::Owned(b.into_owned())))
+    }
+
+    fn doubles(&mut self) -> Result<Doubles<'a>, ArgError> {
+        self.read(|v| v.doubles().map(|d| Doubles::Values(Cow::Owned(d.iter().collect()))))
+    }
 }
 
 /// Argument `i` read by the neutral encoder's rules (a local function's arguments).
@@ -238,8 +274,7 @@ fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function
     let spec = command.spec();
     lua.create_function(move |lua, args: MultiValue| {
         host.beat();
-        let values = neutral_args(spec, &args)?;
-        let call: CommandCall = call::from_values(command, values.as_slice()).map_err(|e| arg_error(lua, spec, e))?;
+        let call = CommandCall::read(command, &mut LuaArgs::new(&args)).map_err(|e| arg_error(lua, spec, e))?;
         let mut request = Request::new(command.id());
         wire::encode(&call, &mut request).map_err(|e| error_here(lua, format!("{}: {e}", spec.name)))?;
         let reply = host.endpoint.borrow_mut().call(&mut request).map_err(mlua::Error::external)?;
@@ -273,8 +308,7 @@ fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Functio
     let spec = query.spec();
     lua.create_function(move |lua, args: MultiValue| {
         host.beat();
-        let values = neutral_args(spec, &args)?;
-        let call: QueryCall = call::from_values(query, values.as_slice()).map_err(|e| arg_error(lua, spec, e))?;
+        let call = QueryCall::read(query, &mut LuaArgs::new(&args)).map_err(|e| arg_error(lua, spec, e))?;
         let answer = query::evaluate(&call, host.endpoint.borrow_mut().snapshot());
         let query::Answer(first, second) = answer.map_err(|code| error_here(lua, format!("{}: {code}", spec.name)))?;
         let mut results = MultiValue::new();
