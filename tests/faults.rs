@@ -295,12 +295,17 @@ fn check(fault: Fault, reaction: &str) {
     // The core missed no cycle because of it: the cycles that detect the fault, react,
     // order the kill and handle the process' end all finish within their period. (Their
     // wake-up lateness is the OS's and the hypervisor's, not the fault handling's.) In a
-    // debug build, iceoryx2 takes up to ~1.3 ms to drop a dead process' ports from the
-    // RT thread's side (0.1 to 0.3 ms in a release build): there the bound is doubled.
+    // debug build the bound is doubled. One cycle is the exception ARCHITECTURE.md's
+    // invariant 1 names: the one in which iceoryx2 drops the dead process' ports from the
+    // RT thread's side (0.1 to 0.3 ms in a release build, around 2 ms in a debug build);
+    // it gets twice the bound.
     let budget_us = if cfg!(debug_assertions) { 2000.0 } else { 1000.0 };
-    for c in detected..detected + 50 {
-        let work_us = run.row(c + 1)["previous_execution_us"];
-        assert!(work_us < budget_us, "cycle {c} took {work_us} us: {context}");
+    let work_us: Vec<(u64, f64)> =
+        (detected..detected + 50).map(|c| (c, run.row(c + 1)["previous_execution_us"])).collect();
+    let over: Vec<&(u64, f64)> = work_us.iter().filter(|(_, us)| *us >= budget_us).collect();
+    assert!(over.len() <= 1, "cycles over {budget_us} us: {over:?}: {context}");
+    for (c, us) in over {
+        assert!(*us < 2.0 * budget_us, "cycle {c} took {us} us: {context}");
     }
 }
 

@@ -24,7 +24,7 @@ impl Network {
     pub fn inject_fault(&mut self, slave: usize, code: u16) -> Result<(), FaultInjectionError> {
         match self.slaves_mut().get_mut(slave).and_then(|s| s.device_mut_as::<Drive>()) {
             Some(drive) => drive.inject_fault(code),
-            None => Err(FaultInjectionError::UnknownCode(code)),
+            None => Err(FaultInjectionError::NotADrive(slave)),
         }
     }
 }
@@ -32,4 +32,18 @@ impl Network {
 /// An axis' drive, with the PDO mapping the master writes to it.
 fn drive(axis: &AxisConfig) -> SlaveSetup {
     SlaveSetup { device: Box::new(Drive::new(axis)), rx_pdo: axis.rx_pdo.clone(), tx_pdo: axis.tx_pdo.clone() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fault goes to a drive of table 4-16 only; a slave that is not one says so.
+    #[test]
+    fn faults_are_injected_into_drives_only() {
+        let mut network = Network::new(&[AxisConfig::default()]);
+        assert_eq!(network.inject_fault(0, 0x2310), Ok(()));
+        assert_eq!(network.inject_fault(0, 0x1234), Err(FaultInjectionError::UnknownCode(0x1234)));
+        assert_eq!(network.inject_fault(1, 0x2310), Err(FaultInjectionError::NotADrive(1)));
+    }
 }

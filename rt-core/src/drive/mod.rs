@@ -103,6 +103,8 @@ pub enum FaultInjectionError {
     UnknownCode(u16),
     #[error("the {1:?} drive does not report 0x{0:04X} (CoE manual table 4-16)")]
     NotOnThisModel(u16, DriveModel),
+    #[error("slave {0} is not a drive")]
+    NotADrive(usize),
 }
 
 pub struct Drive {
