@@ -227,11 +227,7 @@ fn neutral_arg<T>(
     i: usize,
     read: impl FnOnce(&mut call::Values) -> Result<T, ArgError>,
 ) -> mlua::Result<T> {
-    let value = args.get(i).map(neutral).transpose()?;
-    read(&mut call::Values::new(value.as_slice())).map_err(|e| match e {
-        ArgError::Type { expected, got, .. } => arg_error(lua, spec, ArgError::Type { index: i, expected, got }),
-        other => arg_error(lua, spec, other),
-    })
+    LuaArgs { args, next: i }.read(read).map_err(|e| arg_error(lua, spec, e))
 }
 
 fn int_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<i64> {
