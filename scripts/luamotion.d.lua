@@ -258,6 +258,380 @@ function EnableGantryPair(rhs_axis_id, lhs_axis_id) end
 ---@return integer
 function DisableGantryPair(axis_id) end
 
+--- Enables the group; every axis in it must be enabled first (0x82II03F2 otherwise).
+---HMPL 8.2.1 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function EnableGroup(group_id) end
+
+--- Disables the group; its axes stay grouped and enabled, its path planning is cleared.
+---HMPL 8.2.2 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function DisableGroup(group_id) end
+
+--- Group Error Stop -> Group Standby, once every cause is gone (axes enabled, no error stop).
+---HMPL 8.2.3 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function ResetGroup(group_id) end
+
+--- Decelerates along the path and clears the group's command buffer.
+---HMPL 8.2.4 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function StopGroup(group_id) end
+
+--- Pauses the group's motion (path velocity to 0), keeping the path for `ResumeGroup`.
+---HMPL 8.2.5 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function HaltGroup(group_id) end
+
+--- Continues a halted group along the same path.
+---HMPL 8.2.6 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function ResumeGroup(group_id) end
+
+--- Jogs the tool in MCS along X, Y, Z, A, B or C (`carte_dir` 0..5) at a signed
+--- velocity (mm/s or deg/s) until `StopGroup` or a jog velocity of 0.
+---HMPL 8.2.7 (command (round trip to the core))
+---@param group_id integer
+---@param carte_dir integer
+---@param jog_vel number
+---@return integer
+function JogGroup(group_id, carte_dir, jog_vel) end
+
+--- Jogs one axis of the group (`grp_axis` 0..8, in the order added) at a signed velocity.
+---HMPL 8.2.8 (command (round trip to the core))
+---@param group_id integer
+---@param grp_axis integer
+---@param jog_vel number
+---@return integer
+function JogGroupAxis(group_id, grp_axis, jog_vel) end
+
+--- Linear interpolation to (X, Y) in the group's coordinate system.
+---HMPL 8.2.9 (command (round trip to the core))
+---@param group_id integer
+---@param end_x number
+---@param end_y number
+---@return integer
+function LineAbs2D(group_id, end_x, end_y) end
+
+--- Linear interpolation to (X, Y, Z).
+---HMPL 8.2.10 (command (round trip to the core))
+---@param group_id integer
+---@param end_x number
+---@param end_y number
+---@param end_z number
+---@return integer
+function LineAbs3D(group_id, end_x, end_y, end_z) end
+
+--- Linear interpolation by (dX, dY) from where the queued path ends.
+---HMPL 8.2.11 (command (round trip to the core))
+---@param group_id integer
+---@param distance_x number
+---@param distance_y number
+---@return integer
+function LineRel2D(group_id, distance_x, distance_y) end
+
+--- Linear interpolation by (dX, dY, dZ).
+---HMPL 8.2.12 (command (round trip to the core))
+---@param group_id integer
+---@param distance_x number
+---@param distance_y number
+---@param distance_z number
+---@return integer
+function LineRel3D(group_id, distance_x, distance_y, distance_z) end
+
+--- Arc through a border point to an end point (three points; less than a full turn).
+---HMPL 8.2.13 (command (round trip to the core))
+---@param group_id integer
+---@param border_x number
+---@param border_y number
+---@param end_x number
+---@param end_y number
+---@return integer
+function Arc2D(group_id, border_x, border_y, end_x, end_y) end
+
+--- Clockwise arc about a center to an end point on the same radius.
+---HMPL 8.2.14 (command (round trip to the core))
+---@param group_id integer
+---@param center_x number
+---@param center_y number
+---@param end_x number
+---@param end_y number
+---@return integer
+function ArcCW2D(group_id, center_x, center_y, end_x, end_y) end
+
+--- Counter-clockwise arc about a center to an end point on the same radius.
+---HMPL 8.2.15 (command (round trip to the core))
+---@param group_id integer
+---@param center_x number
+---@param center_y number
+---@param end_x number
+---@param end_y number
+---@return integer
+function ArcCCW2D(group_id, center_x, center_y, end_x, end_y) end
+
+--- Arc about a center by `angle` degrees: > 0 counter-clockwise, < 0 clockwise.
+---HMPL 8.2.16 (command (round trip to the core))
+---@param group_id integer
+---@param center_x number
+---@param center_y number
+---@param angle number
+---@return integer
+function ArcAngle2D(group_id, center_x, center_y, angle) end
+
+--- Circular motion about a center to an end point; `turns` >= 0 counter-clockwise, < 0
+--- clockwise; total angle θ + (turns-1)·360 for turns >= 1 (0 as 1), θ + turns·360 below.
+---HMPL 8.2.17 (command (round trip to the core))
+---@param group_id integer
+---@param center_x number
+---@param center_y number
+---@param end_x number
+---@param end_y number
+---@param turns integer
+---@return integer
+function Circle2D(group_id, center_x, center_y, end_x, end_y, turns) end
+
+--- Appends an axis to the group (X, Y, Z, A, B, C order; at most 9); the group is disabled.
+---HMPL 8.3.1 (command (round trip to the core))
+---@param group_id integer
+---@param axis_id integer
+---@return integer
+function AddAxisToGrp(group_id, axis_id) end
+
+--- Removes the axis added last; the group is disabled.
+---HMPL 8.3.2 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function RemoveAxisFromGrp(group_id) end
+
+--- Disables the group and removes all its axes.
+---HMPL 8.3.4 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function UngrpAllAxes(group_id) end
+
+--- Sets the linear (TCP) profile: vel 0..5000 mm/s, acc and dec > 0..50000 mm/s²,
+--- smooth time 0..500 ms. Defaults 100, 5000, 5000, 50.
+---HMPL 8.3.6 (command (round trip to the core))
+---@param group_id integer
+---@param max_velocity number
+---@param max_acceleration number
+---@param max_deceleration number
+---@param smooth_time number
+---@return integer
+function SetGrpMotionProfile(group_id, max_velocity, max_acceleration, max_deceleration, smooth_time) end
+
+--- Sets the angular profile: vel 0..7200 deg/s, acc and dec > 0..72000 deg/s², smooth
+--- time 0..500 ms. Defaults 360, 1800, 1800, 50.
+---HMPL 8.3.7 (command (round trip to the core))
+---@param group_id integer
+---@param max_velocity number
+---@param max_acceleration number
+---@param max_deceleration number
+---@param smooth_time number
+---@return integer
+function SetGrpAngMotionProfile(group_id, max_velocity, max_acceleration, max_deceleration, smooth_time) end
+
+--- Sets the kinematics: 1 Cartesian (2 SCARA, 3 wafer, 4 articulated are not available).
+---HMPL 8.3.9 (command (round trip to the core))
+---@param group_id integer
+---@param kin_type integer
+---@return integer
+function SetGrpKin(group_id, kin_type) end
+
+--- Sets the linear profile velocity, 0..5000 mm/s.
+---HMPL 8.3.11 (command (round trip to the core))
+---@param group_id integer
+---@param vel number
+---@return integer
+function SetGrpVel(group_id, vel) end
+
+--- Sets the linear profile acceleration, > 0..50000 mm/s².
+---HMPL 8.3.13 (command (round trip to the core))
+---@param group_id integer
+---@param acc number
+---@return integer
+function SetGrpAcc(group_id, acc) end
+
+--- Sets the acceleration from a time (ms > 0): acc = vel / time.
+---HMPL 8.3.14 (command (round trip to the core))
+---@param group_id integer
+---@param acc_time number
+---@return integer
+function SetGrpAccTime(group_id, acc_time) end
+
+--- Sets the linear profile deceleration, > 0..50000 mm/s².
+---HMPL 8.3.16 (command (round trip to the core))
+---@param group_id integer
+---@param dec number
+---@return integer
+function SetGrpDec(group_id, dec) end
+
+--- Sets the deceleration from a time (ms > 0): dec = vel / time.
+---HMPL 8.3.17 (command (round trip to the core))
+---@param group_id integer
+---@param dec_time number
+---@return integer
+function SetGrpDecTime(group_id, dec_time) end
+
+--- Sets the smooth time, 0..500 ms.
+---HMPL 8.3.19 (command (round trip to the core))
+---@param group_id integer
+---@param smooth_time number
+---@return integer
+function SetGrpSMTime(group_id, smooth_time) end
+
+--- Selects the coordinate system of later targets: `CS_MCS`, or flags such as
+--- `CS_OFFSET | CS_WCS2 | CS_PCS`.
+---HMPL 8.3.21 (command (round trip to the core))
+---@param group_id integer
+---@param coord_sys integer
+---@return integer
+function SetGrpCoordSys(group_id, coord_sys) end
+
+--- Sets the buffer mode of later commands: BM_BUFF, BM_ABORT, BM_LOW, BM_PREV, BM_NEXT,
+--- BM_HIGH or BM_LOOKAHEAD.
+---HMPL 8.3.23 (command (round trip to the core))
+---@param group_id integer
+---@param buffer_mode integer
+---@return integer
+function SetGrpBufferMode(group_id, buffer_mode) end
+
+--- Sets the transition mode of later junctions: TM_NONE, TM_CONST_VEL, TM_CORNER_DIST,
+--- TM_MAX_CORNER_DEV or TM_MAX_CORNER_CURV.
+---HMPL 8.3.25 (command (round trip to the core))
+---@param group_id integer
+---@param trans_mode integer
+---@return integer
+function SetGrpTransMode(group_id, trans_mode) end
+
+--- Sets the transition parameters (table 8.3.26.1): velocity (0, 5000) mm/s, distance
+--- and deviation mm > 0, curvature (0, 1e7) 1/mm; the ones the mode does not use may be 0.
+---HMPL 8.3.26 (command (round trip to the core))
+---@param group_id integer
+---@param trans_vel number
+---@param trans_dis number
+---@param trans_dev number
+---@param trans_curv number
+---@return integer
+function SetGrpTransPrm(group_id, trans_vel, trans_dis, trans_dev, trans_curv) end
+
+--- Sets the velocity override, 0..100 %, applied along the path under way.
+---HMPL 8.3.28 (command (round trip to the core))
+---@param group_id integer
+---@param vel_scale number
+---@return integer
+function SetGrpVelScale(group_id, vel_scale) end
+
+--- The transform {X, Y, Z mm, A, B, C deg} of `CS_PCS`, `CS_WCSn` or `CS_OFFSET`: `rc, trans_param`.
+---HMPL 8.3.30 (command (round trip to the core))
+---@param group_id integer
+---@param coord_sys integer
+---@return integer
+---@return number[]
+function GetGrpCoordTrans(group_id, coord_sys) end
+
+--- Sets the transform {X, Y, Z mm, A, B, C deg} (fixed-frame roll-pitch-yaw) of
+--- `CS_PCS`, `CS_WCSn` or `CS_OFFSET`.
+---HMPL 8.3.31 (command (round trip to the core))
+---@param group_id integer
+---@param coord_sys integer
+---@param trans_param number[]
+---@return integer
+function SetGrpCoordTrans(group_id, coord_sys, trans_param) end
+
+--- The commanded pose {X, Y, Z, A, B, C} in a coordinate system: `rc, pose_cmd`.
+---HMPL 8.3.32 (command (round trip to the core))
+---@param group_id integer
+---@param coord_sys integer
+---@return integer
+---@return number[]
+function GetGrpPoseCmd(group_id, coord_sys) end
+
+--- The pose from the axes' feedback in a coordinate system: `rc, pose_fb`.
+---HMPL 8.3.33 (command (round trip to the core))
+---@param group_id integer
+---@param coord_sys integer
+---@return integer
+---@return number[]
+function GetGrpPoseFb(group_id, coord_sys) end
+
+--- Sets a look-ahead parameter: 0 corner acceleration (default 5000 mm/s²), 1 arc
+--- acceleration (default 100 mm/s²), 2 chord error (default 0: off), mm.
+---HMPL 8.3.34 (command (round trip to the core))
+---@param group_id integer
+---@param prm_id integer
+---@param value number
+---@return integer
+function SetGrpLookAheadPrm(group_id, prm_id, value) end
+
+--- Sets the command buffer's size to 2^queue_size (0..10; default 512); only when empty.
+---HMPL 8.3.35 (command (round trip to the core))
+---@param group_id integer
+---@param queue_size integer
+---@return integer
+function SetGrpQueueSize(group_id, queue_size) end
+
+--- Linear motion to a 6-D target {X, Y, Z, A, B, C} in `coord_sys`.
+---HMPL 8.5.1 (command (round trip to the core))
+---@param group_id integer
+---@param target_pos number[]
+---@param motion_profile number[]
+---@param coord_sys integer
+---@param buff_mode integer
+---@param trans_mode integer
+---@param trans_par number[]
+---@return integer
+function LineAbs(group_id, target_pos, motion_profile, coord_sys, buff_mode, trans_mode, trans_par) end
+
+--- Linear motion by a 6-D distance.
+---HMPL 8.5.2 (command (round trip to the core))
+---@param group_id integer
+---@param relative_dist number[]
+---@param motion_profile number[]
+---@param coord_sys integer
+---@param buff_mode integer
+---@param trans_mode integer
+---@param trans_par number[]
+---@return integer
+function LineRel(group_id, relative_dist, motion_profile, coord_sys, buff_mode, trans_mode, trans_par) end
+
+--- 3-D circle about `center_pos` with the rotation of `normal_vector` (right-hand rule),
+--- `turns` as Circle2D, to a 6-D target; a target off the circle's plane makes a helix.
+---HMPL 8.5.3 (command (round trip to the core))
+---@param group_id integer
+---@param center_pos number[]
+---@param normal_vector number[]
+---@param turns integer
+---@param target_pos number[]
+---@param motion_profile number[]
+---@param coord_sys integer
+---@param buff_mode integer
+---@param trans_mode integer
+---@param trans_par number[]
+---@return integer
+function CircleAbs(group_id, center_pos, normal_vector, turns, target_pos, motion_profile, coord_sys, buff_mode, trans_mode, trans_par) end
+
+--- As CircleAbs with a target relative to where the queued path ends (the center is absolute).
+---HMPL 8.5.4 (command (round trip to the core))
+---@param group_id integer
+---@param center_pos number[]
+---@param normal_vector number[]
+---@param turns integer
+---@param relative_dist number[]
+---@param motion_profile number[]
+---@param coord_sys integer
+---@param buff_mode integer
+---@param trans_mode integer
+---@param trans_par number[]
+---@return integer
+function CircleRel(group_id, center_pos, normal_vector, turns, relative_dist, motion_profile, coord_sys, buff_mode, trans_mode, trans_par) end
+
 --- Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
 --- 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
 ---HMPL 20.2 (command (round trip to the core))
@@ -931,6 +1305,96 @@ function GetAllGPIInvertSt() end
 ---@return integer
 function GetAllGPOInvertSt() end
 
+--- The group of an axis, -1 when it is in none.
+---HMPL 8.3.5 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetGroupID(axis_id) end
+
+--- The kinematics id (1 Cartesian).
+---HMPL 8.3.8 (query (local snapshot))
+---@param group_id integer
+---@return integer
+function GetGrpKin(group_id) end
+
+--- The linear profile velocity, mm/s.
+---HMPL 8.3.10 (query (local snapshot))
+---@param group_id integer
+---@return number
+function GetGrpVel(group_id) end
+
+--- The linear profile acceleration, mm/s².
+---HMPL 8.3.12 (query (local snapshot))
+---@param group_id integer
+---@return number
+function GetGrpAcc(group_id) end
+
+--- The linear profile deceleration, mm/s².
+---HMPL 8.3.15 (query (local snapshot))
+---@param group_id integer
+---@return number
+function GetGrpDec(group_id) end
+
+--- The smooth time, ms.
+---HMPL 8.3.18 (query (local snapshot))
+---@param group_id integer
+---@return number
+function GetGrpSMTime(group_id) end
+
+--- The coordinate system flags of later targets.
+---HMPL 8.3.20 (query (local snapshot))
+---@param group_id integer
+---@return integer
+function GetGrpCoordSys(group_id) end
+
+--- The buffer mode of later commands.
+---HMPL 8.3.22 (query (local snapshot))
+---@param group_id integer
+---@return integer
+function GetGrpBufferMode(group_id) end
+
+--- The transition mode of later junctions.
+---HMPL 8.3.24 (query (local snapshot))
+---@param group_id integer
+---@return integer
+function GetGrpTransMode(group_id) end
+
+--- Commands in the group's buffer, the one under way included.
+---HMPL 8.3.27 (query (local snapshot))
+---@param group_id integer
+---@return integer
+function GetGrpCmdNum(group_id) end
+
+--- The velocity override, 0..100 %.
+---HMPL 8.3.29 (query (local snapshot))
+---@param group_id integer
+---@return number
+function GetGrpVelScale(group_id) end
+
+--- True while the group is enabled.
+---HMPL 8.4.1 (query (local snapshot))
+---@param group_id integer
+---@return boolean
+function IsGrpEnabled(group_id) end
+
+--- True while the group's path generator still outputs positions.
+---HMPL 8.4.2 (query (local snapshot))
+---@param group_id integer
+---@return boolean
+function IsGrpMoving(group_id) end
+
+--- True when the group stands still and every axis in it is in position.
+---HMPL 8.4.3 (query (local snapshot))
+---@param group_id integer
+---@return boolean
+function IsGrpInPos(group_id) end
+
+--- True in Group Error Stop.
+---HMPL 8.4.4 (query (local snapshot))
+---@param group_id integer
+---@return boolean
+function IsGrpErrorStop(group_id) end
+
 --- True unless the task is starting or running.
 ---HMPL 16.6 (query (local snapshot))
 ---@param task_id integer
@@ -1034,6 +1498,15 @@ function TON(timer, IN, PT) end
 ---@return boolean
 function TOF(timer, IN, PT) end
 
+--- Adds the axes to the group in order (X, Y, Z, A, B, C; at most 9) and enables it,
+--- as AddAxisToGrp for each then EnableGroup. On a failure the axes it added are removed
+--- again and the code is returned.
+---HMPL 8.3.3 (script process)
+---@param group_id integer
+---@param ... any
+---@return integer
+function SetupGroup(group_id, ...) end
+
 --- Writes `num_data` values from the table `input` at `start_idx`. 0 or 0x138F.
 ---HMPL 11.2 (script process)
 ---@param start_idx integer
@@ -1089,6 +1562,24 @@ HMPL_SLOT_1 = 65536 -- HMPL 9.1 (value: luamotion)
 HMPL_SLOT_2 = 131072 -- HMPL 9.1 (value: luamotion)
 HMPL_SLOT_3 = 196608 -- HMPL 9.1 (value: luamotion)
 HMPL_SLOT_4 = 262144 -- HMPL 9.1 (value: luamotion)
+BM_BUFF = 0 -- HMPL table 8.1.4.1 (value: luamotion)
+BM_ABORT = 1 -- HMPL table 8.1.4.1 (value: luamotion)
+BM_LOW = 2 -- HMPL table 8.1.4.1 (value: luamotion)
+BM_PREV = 3 -- HMPL table 8.1.4.1 (value: luamotion)
+BM_NEXT = 4 -- HMPL table 8.1.4.1 (value: luamotion)
+BM_HIGH = 5 -- HMPL table 8.1.4.1 (value: luamotion)
+BM_LOOKAHEAD = 6 -- HMPL table 8.1.4.1 (value: luamotion)
+TM_NONE = 0 -- HMPL table 8.1.5.1 (value: luamotion)
+TM_CONST_VEL = 1 -- HMPL table 8.1.5.1 (value: luamotion)
+TM_CORNER_DIST = 2 -- HMPL table 8.1.5.1 (value: luamotion)
+TM_MAX_CORNER_DEV = 3 -- HMPL table 8.1.5.1 (value: luamotion)
+TM_MAX_CORNER_CURV = 4 -- HMPL table 8.1.5.1 (value: luamotion)
+TM_START_VEL = 5 -- HMPL table 8.1.5.1, not available (value: luamotion)
+CS_MCS = 1 -- HMPL table 8.1.2.1 (value: luamotion)
+CS_PCS = 2 -- HMPL table 8.1.2.1 (value: luamotion)
+CS_OFFSET = 4 -- HMPL table 8.1.2.1 (value: luamotion)
+CS_GLOBAL = 8 -- HMPL table 8.1.2.1, not supported (value: luamotion)
+CS_ACS = 16 -- HMPL table 8.1.2.1 (value: luamotion)
 HOME_METHOD_1 = 1
 HOME_METHOD_2 = 2
 HOME_METHOD_7 = 7
@@ -1128,6 +1619,21 @@ HMPL_AXIS_12 = 12
 HMPL_AXIS_13 = 13
 HMPL_AXIS_14 = 14
 HMPL_AXIS_15 = 15
+CS_WCS1 = 256
+CS_WCS2 = 512
+CS_WCS3 = 768
+CS_WCS4 = 1024
+CS_WCS5 = 1280
+CS_WCS6 = 1536
+CS_WCS7 = 1792
+CS_WCS8 = 2048
+CS_WCS9 = 2304
+CS_WCS10 = 2560
+CS_WCS11 = 2816
+CS_WCS12 = 3072
+CS_WCS13 = 3328
+CS_WCS14 = 3584
+CS_WCS15 = 3840
 eERR_HCV_ID_NOT_FOUND = 0x0001
 eERR_DATA_EXCEEDED = 0x0002
 eERR_HCV_IS_READ_ONLY = 0x0003

@@ -299,6 +299,8 @@ impl<'a> Source<'a> for Values<'a> {
                 })
                 .collect::<Result<Vec<f64>, _>>()
                 .map(|v| Doubles::Values(Cow::Owned(v))),
+            // HMPL passes NULL (0) for a `double*` it does not use (8.5, `trans_par`).
+            (_, None | Some(Value::Nil | Value::Int(0))) => Ok(Doubles::Values(Cow::Owned(Vec::new()))),
             (i, other) => Self::refuse(i, Expected::Numbers, other),
         }
     }
@@ -408,6 +410,12 @@ mod tests {
             refused(1, Expected::Numbers, Got::Str)
         );
         assert_eq!(pvt(Value::Double(1.0)), refused(1, Expected::Numbers, Got::Double(1.0)));
+        assert_eq!(pvt(Value::Int(1)), refused(1, Expected::Numbers, Got::Int(1)));
+        // HMPL 8.5: NULL (0 or nil) for a `double*` is an empty table.
+        for null in [Value::Int(0), Value::Nil] {
+            let values = [Value::Int(0), null, Value::List(Vec::new()), Value::List(Vec::new()), Value::Int(0)];
+            assert!(command(Command::MovePVT, &values).is_ok());
+        }
     }
 
     /// Tables in a buffer and collected numbers compare by their numbers, NaN too.

@@ -24,14 +24,35 @@ pub const CONSTANTS: &[(&str, Constant, &str)] = &[
     ("HMPL_SLOT_2", Constant::Int(2 << 16), "HMPL 9.1 (value: luamotion)"),
     ("HMPL_SLOT_3", Constant::Int(3 << 16), "HMPL 9.1 (value: luamotion)"),
     ("HMPL_SLOT_4", Constant::Int(4 << 16), "HMPL 9.1 (value: luamotion)"),
+    // The manual names the group constants without their numbers (docs/decisions.md, "Groups").
+    ("BM_BUFF", Constant::Int(0), "HMPL table 8.1.4.1 (value: luamotion)"),
+    ("BM_ABORT", Constant::Int(1), "HMPL table 8.1.4.1 (value: luamotion)"),
+    ("BM_LOW", Constant::Int(2), "HMPL table 8.1.4.1 (value: luamotion)"),
+    ("BM_PREV", Constant::Int(3), "HMPL table 8.1.4.1 (value: luamotion)"),
+    ("BM_NEXT", Constant::Int(4), "HMPL table 8.1.4.1 (value: luamotion)"),
+    ("BM_HIGH", Constant::Int(5), "HMPL table 8.1.4.1 (value: luamotion)"),
+    ("BM_LOOKAHEAD", Constant::Int(6), "HMPL table 8.1.4.1 (value: luamotion)"),
+    ("TM_NONE", Constant::Int(0), "HMPL table 8.1.5.1 (value: luamotion)"),
+    ("TM_CONST_VEL", Constant::Int(1), "HMPL table 8.1.5.1 (value: luamotion)"),
+    ("TM_CORNER_DIST", Constant::Int(2), "HMPL table 8.1.5.1 (value: luamotion)"),
+    ("TM_MAX_CORNER_DEV", Constant::Int(3), "HMPL table 8.1.5.1 (value: luamotion)"),
+    ("TM_MAX_CORNER_CURV", Constant::Int(4), "HMPL table 8.1.5.1 (value: luamotion)"),
+    ("TM_START_VEL", Constant::Int(5), "HMPL table 8.1.5.1, not available (value: luamotion)"),
+    ("CS_MCS", Constant::Int(0x1), "HMPL table 8.1.2.1 (value: luamotion)"),
+    ("CS_PCS", Constant::Int(0x2), "HMPL table 8.1.2.1 (value: luamotion)"),
+    ("CS_OFFSET", Constant::Int(0x4), "HMPL table 8.1.2.1 (value: luamotion)"),
+    ("CS_GLOBAL", Constant::Int(0x8), "HMPL table 8.1.2.1, not supported (value: luamotion)"),
+    ("CS_ACS", Constant::Int(0x10), "HMPL table 8.1.2.1 (value: luamotion)"),
 ];
 
-/// `HOME_METHOD_n` (HMPL 20.1) and `HMPL_AXIS_n` (HMPL 23) as globals.
+/// `HOME_METHOD_n` (HMPL 20.1), `HMPL_AXIS_n` (HMPL 23) and `CS_WCSn` (HMPL 8.1.2) as globals.
 pub fn numbered() -> impl Iterator<Item = (String, i64)> {
     let methods = [1, 2, 7, 8, 9, 10, 11, 12, 13, 14, 17, 18, 23, 24, 25, 26, 27, 28, 29, 30, 33, 34, 37];
     let homes = methods.into_iter().map(|m| (format!("HOME_METHOD_{m}"), m));
     let axes = (0..16).map(|a| (format!("HMPL_AXIS_{a}"), a));
-    homes.chain(axes)
+    // HMPL table 8.1.2.1: the 15 workpiece systems, a 4-bit field above the flags.
+    let workpieces = (1..=15).map(|n| (format!("CS_WCS{n}"), n << 8));
+    homes.chain(axes).chain(workpieces)
 }
 
 /// `slv_slot_id`: the slave id in the low 16 bits, `HMPL_SLOT_n` = n << 16 above them.

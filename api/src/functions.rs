@@ -91,6 +91,114 @@ declare_functions! {
     /// Splits the pair of an axis; both must be disabled.
     ["HMPL 7.3", ascii] fn DisableGantryPair(axis_id: Int[Axis]) -> Int;
 
+    // HMPL 8.2: group motion control. Every group command returns 0 or the group's error
+    // `0x82IIEEEE` (table 18.1.3.1), also kept as its last error (HMPL 18.5).
+    /// Enables the group; every axis in it must be enabled first (0x82II03F2 otherwise).
+    ["HMPL 8.2.1", ascii] fn EnableGroup(group_id: Int[Group] as MovesGroup) -> Int;
+    /// Disables the group; its axes stay grouped and enabled, its path planning is cleared.
+    ["HMPL 8.2.2", ascii] fn DisableGroup(group_id: Int[Group] as MovesGroup) -> Int;
+    /// Group Error Stop -> Group Standby, once every cause is gone (axes enabled, no error stop).
+    ["HMPL 8.2.3", ascii] fn ResetGroup(group_id: Int[Group] as MovesGroup) -> Int;
+    /// Decelerates along the path and clears the group's command buffer.
+    ["HMPL 8.2.4", ascii] fn StopGroup(group_id: Int[Group] as MovesGroup) -> Int;
+    /// Pauses the group's motion (path velocity to 0), keeping the path for `ResumeGroup`.
+    ["HMPL 8.2.5", ascii] fn HaltGroup(group_id: Int[Group] as MovesGroup) -> Int;
+    /// Continues a halted group along the same path.
+    ["HMPL 8.2.6", ascii] fn ResumeGroup(group_id: Int[Group] as MovesGroup) -> Int;
+    /// Jogs the tool in MCS along X, Y, Z, A, B or C (`carte_dir` 0..5) at a signed
+    /// velocity (mm/s or deg/s) until `StopGroup` or a jog velocity of 0.
+    ["HMPL 8.2.7", ascii] fn JogGroup(group_id: Int[Group] as MovesGroup, carte_dir: Int, jog_vel: Double[GroupJogVelocity]) -> Int;
+    /// Jogs one axis of the group (`grp_axis` 0..8, in the order added) at a signed velocity.
+    ["HMPL 8.2.8", ascii] fn JogGroupAxis(group_id: Int[Group] as MovesGroup, grp_axis: Int, jog_vel: Double[GroupJogVelocity]) -> Int;
+    /// Linear interpolation to (X, Y) in the group's coordinate system.
+    ["HMPL 8.2.9", ascii] fn LineAbs2D(group_id: Int[Group] as MovesGroup, end_x: Double[PathCoordinate], end_y: Double[PathCoordinate]) -> Int;
+    /// Linear interpolation to (X, Y, Z).
+    ["HMPL 8.2.10", ascii] fn LineAbs3D(group_id: Int[Group] as MovesGroup, end_x: Double[PathCoordinate], end_y: Double[PathCoordinate], end_z: Double[PathCoordinate]) -> Int;
+    /// Linear interpolation by (dX, dY) from where the queued path ends.
+    ["HMPL 8.2.11", ascii] fn LineRel2D(group_id: Int[Group] as MovesGroup, distance_x: Double[PathCoordinate], distance_y: Double[PathCoordinate]) -> Int;
+    /// Linear interpolation by (dX, dY, dZ).
+    ["HMPL 8.2.12", ascii] fn LineRel3D(group_id: Int[Group] as MovesGroup, distance_x: Double[PathCoordinate], distance_y: Double[PathCoordinate], distance_z: Double[PathCoordinate]) -> Int;
+    /// Arc through a border point to an end point (three points; less than a full turn).
+    ["HMPL 8.2.13", ascii] fn Arc2D(group_id: Int[Group] as MovesGroup, border_x: Double[PathCoordinate], border_y: Double[PathCoordinate], end_x: Double[PathCoordinate], end_y: Double[PathCoordinate]) -> Int;
+    /// Clockwise arc about a center to an end point on the same radius.
+    ["HMPL 8.2.14", ascii] fn ArcCW2D(group_id: Int[Group] as MovesGroup, center_x: Double[PathCoordinate], center_y: Double[PathCoordinate], end_x: Double[PathCoordinate], end_y: Double[PathCoordinate]) -> Int;
+    /// Counter-clockwise arc about a center to an end point on the same radius.
+    ["HMPL 8.2.15", ascii] fn ArcCCW2D(group_id: Int[Group] as MovesGroup, center_x: Double[PathCoordinate], center_y: Double[PathCoordinate], end_x: Double[PathCoordinate], end_y: Double[PathCoordinate]) -> Int;
+    /// Arc about a center by `angle` degrees: > 0 counter-clockwise, < 0 clockwise.
+    ["HMPL 8.2.16", ascii] fn ArcAngle2D(group_id: Int[Group] as MovesGroup, center_x: Double[PathCoordinate], center_y: Double[PathCoordinate], angle: Double[PathAngle]) -> Int;
+    /// Circular motion about a center to an end point; `turns` >= 0 counter-clockwise, < 0
+    /// clockwise; total angle θ + (turns-1)·360 for turns >= 1 (0 as 1), θ + turns·360 below.
+    ["HMPL 8.2.17", ascii] fn Circle2D(group_id: Int[Group] as MovesGroup, center_x: Double[PathCoordinate], center_y: Double[PathCoordinate], end_x: Double[PathCoordinate], end_y: Double[PathCoordinate], turns: Int) -> Int;
+
+    // HMPL 8.3: group settings.
+    /// Appends an axis to the group (X, Y, Z, A, B, C order; at most 9); the group is disabled.
+    ["HMPL 8.3.1", ascii] fn AddAxisToGrp(group_id: Int[Group], axis_id: Int) -> Int;
+    /// Removes the axis added last; the group is disabled.
+    ["HMPL 8.3.2", ascii] fn RemoveAxisFromGrp(group_id: Int[Group]) -> Int;
+    /// Disables the group and removes all its axes.
+    ["HMPL 8.3.4", ascii] fn UngrpAllAxes(group_id: Int[Group]) -> Int;
+    /// Sets the linear (TCP) profile: vel 0..5000 mm/s, acc and dec > 0..50000 mm/s²,
+    /// smooth time 0..500 ms. Defaults 100, 5000, 5000, 50.
+    ["HMPL 8.3.6", ascii] fn SetGrpMotionProfile(group_id: Int[Group], max_velocity: Double[PathVelocity], max_acceleration: Double[PathAcceleration], max_deceleration: Double[PathDeceleration], smooth_time: Double[PathSmoothTime]) -> Int;
+    /// Sets the angular profile: vel 0..7200 deg/s, acc and dec > 0..72000 deg/s², smooth
+    /// time 0..500 ms. Defaults 360, 1800, 1800, 50.
+    ["HMPL 8.3.7", ascii] fn SetGrpAngMotionProfile(group_id: Int[Group], max_velocity: Double[AngularVelocity], max_acceleration: Double[AngularAcceleration], max_deceleration: Double[AngularDeceleration], smooth_time: Double[AngularSmoothTime]) -> Int;
+    /// Sets the kinematics: 1 Cartesian (2 SCARA, 3 wafer, 4 articulated are not available).
+    ["HMPL 8.3.9", ascii] fn SetGrpKin(group_id: Int[Group], kin_type: Int) -> Int;
+    /// Sets the linear profile velocity, 0..5000 mm/s.
+    ["HMPL 8.3.11", ascii] fn SetGrpVel(group_id: Int[Group], vel: Double[PathVelocity]) -> Int;
+    /// Sets the linear profile acceleration, > 0..50000 mm/s².
+    ["HMPL 8.3.13", ascii] fn SetGrpAcc(group_id: Int[Group], acc: Double[PathAcceleration]) -> Int;
+    /// Sets the acceleration from a time (ms > 0): acc = vel / time.
+    ["HMPL 8.3.14", ascii] fn SetGrpAccTime(group_id: Int[Group], acc_time: Double[PathAccTime]) -> Int;
+    /// Sets the linear profile deceleration, > 0..50000 mm/s².
+    ["HMPL 8.3.16", ascii] fn SetGrpDec(group_id: Int[Group], dec: Double[PathDeceleration]) -> Int;
+    /// Sets the deceleration from a time (ms > 0): dec = vel / time.
+    ["HMPL 8.3.17", ascii] fn SetGrpDecTime(group_id: Int[Group], dec_time: Double[PathDecTime]) -> Int;
+    /// Sets the smooth time, 0..500 ms.
+    ["HMPL 8.3.19", ascii] fn SetGrpSMTime(group_id: Int[Group], smooth_time: Double[PathSmoothTime]) -> Int;
+    /// Selects the coordinate system of later targets: `CS_MCS`, or flags such as
+    /// `CS_OFFSET | CS_WCS2 | CS_PCS`.
+    ["HMPL 8.3.21", ascii] fn SetGrpCoordSys(group_id: Int[Group], coord_sys: Int) -> Int;
+    /// Sets the buffer mode of later commands: BM_BUFF, BM_ABORT, BM_LOW, BM_PREV, BM_NEXT,
+    /// BM_HIGH or BM_LOOKAHEAD.
+    ["HMPL 8.3.23", ascii] fn SetGrpBufferMode(group_id: Int[Group], buffer_mode: Int) -> Int;
+    /// Sets the transition mode of later junctions: TM_NONE, TM_CONST_VEL, TM_CORNER_DIST,
+    /// TM_MAX_CORNER_DEV or TM_MAX_CORNER_CURV.
+    ["HMPL 8.3.25", ascii] fn SetGrpTransMode(group_id: Int[Group], trans_mode: Int) -> Int;
+    /// Sets the transition parameters (table 8.3.26.1): velocity (0, 5000) mm/s, distance
+    /// and deviation mm > 0, curvature (0, 1e7) 1/mm; the ones the mode does not use may be 0.
+    ["HMPL 8.3.26", ascii] fn SetGrpTransPrm(group_id: Int[Group], trans_vel: Double[TransitionParameter], trans_dis: Double[TransitionParameter], trans_dev: Double[TransitionParameter], trans_curv: Double[TransitionParameter]) -> Int;
+    /// Sets the velocity override, 0..100 %, applied along the path under way.
+    ["HMPL 8.3.28", ascii] fn SetGrpVelScale(group_id: Int[Group], vel_scale: Double[PathVelScale]) -> Int;
+    /// The transform {X, Y, Z mm, A, B, C deg} of `CS_PCS`, `CS_WCSn` or `CS_OFFSET`: `rc, trans_param`.
+    ["HMPL 8.3.30"] fn GetGrpCoordTrans(group_id: Int[Group], coord_sys: Int) -> (Int, Doubles);
+    /// Sets the transform {X, Y, Z mm, A, B, C deg} (fixed-frame roll-pitch-yaw) of
+    /// `CS_PCS`, `CS_WCSn` or `CS_OFFSET`.
+    ["HMPL 8.3.31"] fn SetGrpCoordTrans(group_id: Int[Group], coord_sys: Int, trans_param: Doubles[PathCoordinate]) -> Int;
+    /// The commanded pose {X, Y, Z, A, B, C} in a coordinate system: `rc, pose_cmd`.
+    ["HMPL 8.3.32"] fn GetGrpPoseCmd(group_id: Int[Group], coord_sys: Int) -> (Int, Doubles);
+    /// The pose from the axes' feedback in a coordinate system: `rc, pose_fb`.
+    ["HMPL 8.3.33"] fn GetGrpPoseFb(group_id: Int[Group], coord_sys: Int) -> (Int, Doubles);
+    /// Sets a look-ahead parameter: 0 corner acceleration (default 5000 mm/s²), 1 arc
+    /// acceleration (default 100 mm/s²), 2 chord error (default 0: off), mm.
+    ["HMPL 8.3.34", ascii] fn SetGrpLookAheadPrm(group_id: Int[Group], prm_id: Int, value: Double[LookAheadParameter]) -> Int;
+    /// Sets the command buffer's size to 2^queue_size (0..10; default 512); only when empty.
+    ["HMPL 8.3.35", ascii] fn SetGrpQueueSize(group_id: Int[Group], queue_size: Int) -> Int;
+
+    // HMPL 8.5: advanced group motion. `motion_profile` = {vel, acc, dec, smooth_time} as
+    // SetGrpMotionProfile; `trans_par` = {trans_vel, trans_dis, trans_dev, trans_curv}
+    // (0 or an empty table with TM_NONE).
+    /// Linear motion to a 6-D target {X, Y, Z, A, B, C} in `coord_sys`.
+    ["HMPL 8.5.1"] fn LineAbs(group_id: Int[Group] as MovesGroup, target_pos: Doubles[PathCoordinate], motion_profile: Doubles[MotionProfile], coord_sys: Int, buff_mode: Int, trans_mode: Int, trans_par: Doubles[TransitionParameter]) -> Int;
+    /// Linear motion by a 6-D distance.
+    ["HMPL 8.5.2"] fn LineRel(group_id: Int[Group] as MovesGroup, relative_dist: Doubles[PathCoordinate], motion_profile: Doubles[MotionProfile], coord_sys: Int, buff_mode: Int, trans_mode: Int, trans_par: Doubles[TransitionParameter]) -> Int;
+    /// 3-D circle about `center_pos` with the rotation of `normal_vector` (right-hand rule),
+    /// `turns` as Circle2D, to a 6-D target; a target off the circle's plane makes a helix.
+    ["HMPL 8.5.3"] fn CircleAbs(group_id: Int[Group] as MovesGroup, center_pos: Doubles[PathCoordinate], normal_vector: Doubles[PathCoordinate], turns: Int, target_pos: Doubles[PathCoordinate], motion_profile: Doubles[MotionProfile], coord_sys: Int, buff_mode: Int, trans_mode: Int, trans_par: Doubles[TransitionParameter]) -> Int;
+    /// As CircleAbs with a target relative to where the queued path ends (the center is absolute).
+    ["HMPL 8.5.4"] fn CircleRel(group_id: Int[Group] as MovesGroup, center_pos: Doubles[PathCoordinate], normal_vector: Doubles[PathCoordinate], turns: Int, relative_dist: Doubles[PathCoordinate], motion_profile: Doubles[MotionProfile], coord_sys: Int, buff_mode: Int, trans_mode: Int, trans_par: Doubles[TransitionParameter]) -> Int;
+
     // HMPL ch. 20: homing.
     /// Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
     /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
@@ -340,6 +448,38 @@ declare_functions! {
     /// The inverted outputs as a bitmask.
     ["HMPL 9.4.6", ascii] fn GetAllGPOInvertSt() -> Int;
 
+    // HMPL 8.3 and 8.4: group settings and status, read from the snapshot.
+    /// The group of an axis, -1 when it is in none.
+    ["HMPL 8.3.5", ascii] fn GetGroupID(axis_id: Int) -> Int;
+    /// The kinematics id (1 Cartesian).
+    ["HMPL 8.3.8", ascii] fn GetGrpKin(group_id: Int) -> Int;
+    /// The linear profile velocity, mm/s.
+    ["HMPL 8.3.10", ascii] fn GetGrpVel(group_id: Int) -> Double;
+    /// The linear profile acceleration, mm/s².
+    ["HMPL 8.3.12", ascii] fn GetGrpAcc(group_id: Int) -> Double;
+    /// The linear profile deceleration, mm/s².
+    ["HMPL 8.3.15", ascii] fn GetGrpDec(group_id: Int) -> Double;
+    /// The smooth time, ms.
+    ["HMPL 8.3.18", ascii] fn GetGrpSMTime(group_id: Int) -> Double;
+    /// The coordinate system flags of later targets.
+    ["HMPL 8.3.20", ascii] fn GetGrpCoordSys(group_id: Int) -> Int;
+    /// The buffer mode of later commands.
+    ["HMPL 8.3.22", ascii] fn GetGrpBufferMode(group_id: Int) -> Int;
+    /// The transition mode of later junctions.
+    ["HMPL 8.3.24", ascii] fn GetGrpTransMode(group_id: Int) -> Int;
+    /// Commands in the group's buffer, the one under way included.
+    ["HMPL 8.3.27", ascii] fn GetGrpCmdNum(group_id: Int) -> Int;
+    /// The velocity override, 0..100 %.
+    ["HMPL 8.3.29", ascii] fn GetGrpVelScale(group_id: Int) -> Double;
+    /// True while the group is enabled.
+    ["HMPL 8.4.1", ascii] fn IsGrpEnabled(group_id: Int) -> Bool;
+    /// True while the group's path generator still outputs positions.
+    ["HMPL 8.4.2", ascii] fn IsGrpMoving(group_id: Int) -> Bool;
+    /// True when the group stands still and every axis in it is in position.
+    ["HMPL 8.4.3", ascii] fn IsGrpInPos(group_id: Int) -> Bool;
+    /// True in Group Error Stop.
+    ["HMPL 8.4.4", ascii] fn IsGrpErrorStop(group_id: Int) -> Bool;
+
     /// True unless the task is starting or running.
     ["HMPL 16.6", ascii] fn IsTaskStop(task_id: Int) -> Bool;
 }
@@ -387,6 +527,11 @@ declare_functions! {
     /// Off-delay timer on controller time: true as soon as `IN` is true; false `PT` ms after
     /// `IN` falls.
     ["HMPL 2.25"] fn TOF(timer: Timer, IN: Bool, PT: Int) -> Bool;
+
+    /// Adds the axes to the group in order (X, Y, Z, A, B, C; at most 9) and enables it,
+    /// as AddAxisToGrp for each then EnableGroup. On a failure the axes it added are removed
+    /// again and the code is returned.
+    ["HMPL 8.3.3"] fn SetupGroup(group_id: Int, axis_ids: Rest) -> Int;
 
     // HMPL ch. 11: the user table, 512000 doubles shared by all tasks (indices from 0).
     /// Writes `num_data` values from the table `input` at `start_idx`. 0 or 0x138F.

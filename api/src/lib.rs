@@ -15,4 +15,4 @@ pub mod system_vars;
 
 pub use errors::{AxisError, ErrorCode, GroupError, SdoAbort, SystemError};
 pub use functions::{Command, CommandCall, Local, Query, QueryCall};
-pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, Quantity, Role, ValueType};
+pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, Quantity, Refusal, Role, ValueType};

@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 use std::sync::LazyLock;
 
-use crate::AxisError;
+use crate::{AxisError, GroupError};
 
 /// Where a call is carried out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -112,24 +112,91 @@ pub enum Quantity {
     PvtTime,
     /// See `PvtTime`.
     PvtVelocity,
+    /// The id of a group (HMPL ch. 8); the group-bound quantities after it belong to it.
+    Group,
+    /// A coordinate of a group's path: a position, distance or center (mm), an orientation
+    /// (deg), a normal vector or a transform: finite, at most 1e9.
+    PathCoordinate,
+    /// An arc's angle, deg: finite, less than 1e9.
+    PathAngle,
+    /// The linear profile velocity, 0..5000 mm/s (HMPL 8.3.6).
+    PathVelocity,
+    /// The linear profile acceleration, > 0..50000 mm/s² (HMPL 8.3.6).
+    PathAcceleration,
+    /// The linear profile deceleration, > 0..50000 mm/s² (HMPL 8.3.6).
+    PathDeceleration,
+    /// The group's smooth time, 0..500 ms (HMPL 8.3.6, 8.3.19).
+    PathSmoothTime,
+    /// An acceleration time, ms > 0 (HMPL 8.3.14); the acceleration it gives is checked too.
+    PathAccTime,
+    /// A deceleration time, ms > 0 (HMPL 8.3.17).
+    PathDecTime,
+    /// The angular profile velocity, 0..7200 deg/s (HMPL 8.3.7).
+    AngularVelocity,
+    /// The angular profile acceleration, > 0..72000 deg/s² (HMPL 8.3.7).
+    AngularAcceleration,
+    /// The angular profile deceleration, > 0..72000 deg/s² (HMPL 8.3.7).
+    AngularDeceleration,
+    /// The angular smooth time, 0..500 ms (HMPL 8.3.7).
+    AngularSmoothTime,
+    /// A group's velocity override, 0..100 % (HMPL 8.3.28).
+    PathVelScale,
+    /// A signed jog velocity: |v| at most 5000 mm/s or 7200 deg/s (HMPL 8.2.7, 8.2.8).
+    GroupJogVelocity,
+    /// `motion_profile` of HMPL 8.5: {vel, acc, dec, smooth_time}, each as SetGrpMotionProfile.
+    MotionProfile,
+    /// A transition parameter: finite and not negative; its range is checked with the
+    /// mode that uses it (table 8.3.26.1).
+    TransitionParameter,
+    /// A look-ahead parameter: finite and not negative (HMPL 8.3.34).
+    LookAheadParameter,
+}
+
+/// Which error a value out of range records: the axis' or the group's (HMPL ch. 18).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refusal {
+    /// The axis' last error (`0x83IIEEEE`).
+    Axis(AxisError),
+    /// The group's last error (`0x82IIEEEE`).
+    Group(GroupError),
 }
 
 impl Quantity {
-    /// The axis error a value out of range records (HMPL table 18.1.2.1).
-    pub fn error(self) -> AxisError {
+    /// Whether the quantity belongs to a group (the last `Group` argument before it) rather
+    /// than to an axis.
+    pub fn is_group_bound(self) -> bool {
+        matches!(self.error(), Refusal::Group(_))
+    }
+
+    /// The error a value out of range records (HMPL tables 18.1.2.1 and 18.1.3.1).
+    pub fn error(self) -> Refusal {
+        use Refusal::{Axis as A, Group as G};
         match self {
-            Quantity::Axis | Quantity::Length | Quantity::Time | Quantity::Torque => AxisError::CmdInvalidParameter,
-            Quantity::Position | Quantity::Target | Quantity::Distance => AxisError::CmdInvalidPos,
-            Quantity::Rollover => AxisError::CmdInvalidRolloverPos,
-            Quantity::Speed | Quantity::Velocity => AxisError::CmdInvalidVel,
-            Quantity::Acceleration | Quantity::AccTime => AxisError::CmdInvalidAcc,
-            Quantity::Deceleration | Quantity::DecTime => AxisError::CmdInvalidDec,
-            Quantity::KillDeceleration => AxisError::CmdInvalidKillDec,
-            Quantity::SmoothTime => AxisError::CmdInvalidSmTime,
-            Quantity::Percent => AxisError::CmdInvalidVelScale,
-            Quantity::GearRatio => AxisError::CmdInvalidGearRatio,
-            Quantity::PvtTime => AxisError::PvtMotionInvalidTime,
-            Quantity::PvtVelocity => AxisError::PvtMotionVelLimit,
+            Quantity::Axis | Quantity::Length | Quantity::Time | Quantity::Torque => A(AxisError::CmdInvalidParameter),
+            Quantity::Position | Quantity::Target | Quantity::Distance => A(AxisError::CmdInvalidPos),
+            Quantity::Rollover => A(AxisError::CmdInvalidRolloverPos),
+            Quantity::Speed | Quantity::Velocity => A(AxisError::CmdInvalidVel),
+            Quantity::Acceleration | Quantity::AccTime => A(AxisError::CmdInvalidAcc),
+            Quantity::Deceleration | Quantity::DecTime => A(AxisError::CmdInvalidDec),
+            Quantity::KillDeceleration => A(AxisError::CmdInvalidKillDec),
+            Quantity::SmoothTime => A(AxisError::CmdInvalidSmTime),
+            Quantity::Percent => A(AxisError::CmdInvalidVelScale),
+            Quantity::GearRatio => A(AxisError::CmdInvalidGearRatio),
+            Quantity::PvtTime => A(AxisError::PvtMotionInvalidTime),
+            Quantity::PvtVelocity => A(AxisError::PvtMotionVelLimit),
+            Quantity::Group | Quantity::PathCoordinate | Quantity::PathAngle => G(GroupError::CmdInvalidPos),
+            Quantity::PathVelocity | Quantity::GroupJogVelocity => G(GroupError::CmdInvalidLinVel),
+            Quantity::PathAcceleration | Quantity::PathAccTime => G(GroupError::CmdInvalidLinAcc),
+            Quantity::PathDeceleration | Quantity::PathDecTime => G(GroupError::CmdInvalidLinDec),
+            Quantity::PathSmoothTime => G(GroupError::CmdInvalidLinSmTime),
+            Quantity::AngularVelocity => G(GroupError::CmdInvalidAngVel),
+            Quantity::AngularAcceleration => G(GroupError::CmdInvalidAngAcc),
+            Quantity::AngularDeceleration => G(GroupError::CmdInvalidAngDec),
+            Quantity::AngularSmoothTime => G(GroupError::CmdInvalidAngSmTime),
+            Quantity::PathVelScale => G(GroupError::CmdInvalidVelScale),
+            Quantity::MotionProfile => G(GroupError::CmdInvalidLinVel),
+            Quantity::TransitionParameter => G(GroupError::CmdInvalidTransVel),
+            Quantity::LookAheadParameter => G(GroupError::CmdLookaheadInvalidParam),
         }
     }
 }
@@ -157,6 +224,9 @@ pub enum Role {
     Moves,
     /// The group the function addresses (HMPL ch. 18.5, 18.6).
     Group,
+    /// The group a group motion command sets going (HMPL ch. 8): as `Moves`, for every
+    /// axis of the group.
+    MovesGroup,
 }
 
 /// One function of the registry.
@@ -179,11 +249,14 @@ pub struct FunctionSpec {
 }
 
 impl FunctionSpec {
-    /// Each argument with its quantity and the index of the axis argument before it.
+    /// Each argument with its quantity and the index of its owner before it: the last
+    /// `Axis` argument for an axis-bound quantity, the last `Group` for a group-bound one.
     pub fn quantities(&self) -> impl Iterator<Item = (usize, Quantity, Option<usize>)> + '_ {
         self.args.iter().enumerate().filter_map(|(i, arg)| {
-            let axis = self.args[..i].iter().rposition(|a| a.quantity == Some(Quantity::Axis));
-            arg.quantity.map(|q| (i, q, axis))
+            let q = arg.quantity?;
+            let owner = if q.is_group_bound() { Quantity::Group } else { Quantity::Axis };
+            let at = self.args[..i].iter().rposition(|a| a.quantity == Some(owner));
+            Some((i, q, at))
         })
     }
 
@@ -425,11 +498,15 @@ mod tests {
                     assert!(arg.quantity.is_some(), "{}: argument {} has no quantity", spec.name, arg.name);
                 }
             }
-            for (i, q, axis) in spec.quantities() {
-                assert!(q == Quantity::Axis || axis.is_some(), "{}: argument {i} has no axis before it", spec.name);
+            for (i, q, owner) in spec.quantities() {
+                let own = matches!(q, Quantity::Axis | Quantity::Group);
+                assert!(own || owner.is_some(), "{}: argument {i} has no axis or group before it", spec.name);
             }
             for arg in spec.args.iter().filter(|a| a.role == Some(Role::Moves)) {
                 assert_eq!(arg.quantity, Some(Quantity::Axis), "{}: {} moves no axis", spec.name, arg.name);
+            }
+            for arg in spec.args.iter().filter(|a| a.role == Some(Role::MovesGroup)) {
+                assert_eq!(arg.quantity, Some(Quantity::Group), "{}: {} moves no group", spec.name, arg.name);
             }
         }
     }

@@ -4,7 +4,10 @@
 
 use api::{ErrorCode, QueryCall, SystemError};
 
-use ipc::messages::{AxisSnapshot, GPIO_PINS, PdoEntrySnapshot, Snapshot, TaskState, fault_status, motion_status};
+use ipc::messages::{
+    AxisSnapshot, GPIO_PINS, GroupSnapshot, PdoEntrySnapshot, Snapshot, TaskState, fault_status, group_fault_status,
+    group_motion_status, motion_status,
+};
 
 /// A query's answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -109,6 +112,24 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
             let g = usize::try_from(group_id).ok().filter(|&g| g < s.group_last_err.len());
             Value::Int(s.group_last_err[g.ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))?] as i64).into()
         }
+        // HMPL 8.3 and 8.4.
+        QueryCall::GetGroupID { axis_id } => int(axis_id, |a| a.group_id as i64)?,
+        QueryCall::GetGrpKin { group_id } => Value::Int(group(s, group_id)?.kin as i64).into(),
+        QueryCall::GetGrpVel { group_id } => Value::Double(group(s, group_id)?.lin_profile[0]).into(),
+        QueryCall::GetGrpAcc { group_id } => Value::Double(group(s, group_id)?.lin_profile[1]).into(),
+        QueryCall::GetGrpDec { group_id } => Value::Double(group(s, group_id)?.lin_profile[2]).into(),
+        QueryCall::GetGrpSMTime { group_id } => Value::Double(group(s, group_id)?.lin_profile[3]).into(),
+        QueryCall::GetGrpCoordSys { group_id } => Value::Int(group(s, group_id)?.coord_sys as i64).into(),
+        QueryCall::GetGrpBufferMode { group_id } => Value::Int(group(s, group_id)?.buffer_mode as i64).into(),
+        QueryCall::GetGrpTransMode { group_id } => Value::Int(group(s, group_id)?.trans_mode as i64).into(),
+        QueryCall::GetGrpCmdNum { group_id } => Value::Int(group(s, group_id)?.cmd_num as i64).into(),
+        QueryCall::GetGrpVelScale { group_id } => Value::Double(group(s, group_id)?.vel_scale).into(),
+        QueryCall::IsGrpEnabled { group_id } => group_status(s, group_id, group_motion_status::ENABLED)?,
+        QueryCall::IsGrpMoving { group_id } => group_status(s, group_id, group_motion_status::MOVING)?,
+        QueryCall::IsGrpInPos { group_id } => group_status(s, group_id, group_motion_status::IN_POSITION)?,
+        QueryCall::IsGrpErrorStop { group_id } => {
+            Value::Bool(group(s, group_id)?.fault_status & group_fault_status::ERROR_STOP != 0).into()
+        }
         QueryCall::GetDriveErr { axis_id } => int(axis_id, |a| a.drive_err as i64)?,
         QueryCall::ReadPDO { slv_id, obj_index, obj_subindex } => match read_pdo(s, slv_id, obj_index, obj_subindex) {
             Some((value, _)) => Value::Int(value).into(),
@@ -178,6 +199,15 @@ fn read_pdo(s: &Snapshot, slave: i64, index: i64, sub: i64) -> Option<(i64, usiz
     };
     find(&slave.tx[..slave.tx_count as usize], &slave.inputs)
         .or_else(|| find(&slave.rx[..slave.rx_count as usize], &slave.outputs))
+}
+
+/// Group `id` of the snapshot, or HMPL's "argument out of range".
+pub fn group(s: &Snapshot, id: i64) -> Result<&GroupSnapshot, ErrorCode> {
+    usize::try_from(id).ok().and_then(|g| s.groups.get(g)).ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))
+}
+
+fn group_status(s: &Snapshot, id: i64, bit: u32) -> Result<Answer, ErrorCode> {
+    Ok(Value::Bool(group(s, id)?.motion_status & bit != 0).into())
 }
 
 /// The axis a query names, or HMPL's "argument out of range".

@@ -4,6 +4,10 @@
 //! of the path velocity. Everything here is computed from its inputs alone, never from a
 //! clock, so the kernel can run it in its cycle.
 
+pub mod blend;
+pub mod commands;
+pub mod frames;
+pub mod planner;
 pub mod segment;
 
 pub use segment::{Pose, Segment};

@@ -7,6 +7,7 @@
 mod axis;
 mod couplings;
 mod drive_objects;
+mod groups;
 mod io;
 mod tasks;
 
@@ -20,6 +21,7 @@ use ipc::messages::{Reply, Request};
 use crate::ecat::{AlState, SdoError};
 use crate::machine::Machine;
 use crate::motion::axis::Ignore;
+use crate::motion::group::settings as group_settings;
 use crate::tasks::Entry;
 use axis::{axis, home_number, motion};
 
@@ -132,26 +134,35 @@ fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>)
 }
 
 /// Every argument the registry gives a quantity is checked against its range before the
-/// command runs, on the axis named by the axis argument before it. One path for every
-/// command: no setter can forget it, and NaN, infinities and numbers no drive could carry
-/// never reach the kernel (issue 11).
+/// command runs, on the axis or group named by the owner argument before it. One path for
+/// every command: no setter can forget it, and NaN, infinities and numbers no drive could
+/// carry never reach the kernel (issue 11).
 fn check_ranges(m: &mut Machine, call: &CommandCall) -> Result<(), Failure> {
-    call.write(&mut RangeCheck { m, args: call.func().spec().args.iter(), axis: None })
+    call.write(&mut RangeCheck { m, args: call.func().spec().args.iter(), axis: None, group: None })
 }
 
-/// Walks a call's arguments in order: the first `Axis` argument must name an axis, and
-/// every number with a quantity must fit the axis named last before it.
+/// Walks a call's arguments in order: the first `Axis` or `Group` argument must name one,
+/// and every number with a quantity must fit the axis or group named last before it.
 struct RangeCheck<'m> {
     m: &'m mut Machine,
     args: std::slice::Iter<'static, ArgSpec>,
     axis: Option<i64>,
+    group: Option<i64>,
 }
 
 impl RangeCheck<'_> {
     fn admit(&mut self, values: impl Iterator<Item = f64>) -> Result<(), Failure> {
-        let (Some(quantity), Some(axis)) = (self.args.next().and_then(|a| a.quantity), self.axis) else {
+        let Some(quantity) = self.args.next().and_then(|a| a.quantity) else { return Ok(()) };
+        if quantity.is_group_bound() {
+            let Some(group) = self.group else { return Ok(()) };
+            for (i, value) in values.enumerate() {
+                if let Err(e) = group_settings::admit(quantity, i, value) {
+                    return Err(self.m.kernel.group_refusal(group, e).into());
+                }
+            }
             return Ok(());
-        };
+        }
+        let Some(axis) = self.axis else { return Ok(()) };
         let axis = self.m.kernel.axis_mut(axis)?;
         let id = axis.id();
         for value in values {
@@ -165,13 +176,21 @@ impl Sink for RangeCheck<'_> {
     type Error = Failure;
 
     fn int(&mut self, value: i64) -> Result<(), Failure> {
-        if self.args.next().and_then(|a| a.quantity) == Some(Quantity::Axis) {
-            // The first axis is checked here; a later one (a gear slave) when a number of
-            // its own comes, else by the command itself, which answers as its chapter says.
-            if self.axis.is_none() {
-                self.m.kernel.axis_mut(value)?;
+        match self.args.next().and_then(|a| a.quantity) {
+            Some(Quantity::Axis) => {
+                // The first axis is checked here; a later one (a gear slave) when a number
+                // of its own comes, else by the command itself, which answers as its
+                // chapter says.
+                if self.axis.is_none() {
+                    self.m.kernel.axis_mut(value)?;
+                }
+                self.axis = Some(value);
             }
-            self.axis = Some(value);
+            Some(Quantity::Group) => {
+                self.m.kernel.group(value)?;
+                self.group = Some(value);
+            }
+            _ => {}
         }
         Ok(())
     }
@@ -229,12 +248,29 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
         Some(a) if m.network.state() == AlState::Op => Some(may_command(m, caller, a)?),
         _ => None,
     };
+    // A group motion command moves every axis of the group (HMPL ch. 8).
+    let group = match call.arg_with(Role::MovesGroup) {
+        Some(g) if m.network.state() == AlState::Op => {
+            let (axes, n) = m.kernel.group(g)?.members();
+            for &a in &axes[..n] {
+                may_command(m, caller, a as i64)?;
+            }
+            Some((g, axes, n))
+        }
+        _ => None,
+    };
     let outcome = run_command(m, caller, call, reply);
-    if let (Some(axis), Ok(_)) = (moved, &outcome) {
+    if outcome.is_ok() {
         let cycle = m.cycle;
         let run_speed = m.run_speed(caller);
-        if let Ok(axis) = m.kernel.axis_mut(axis as i64) {
-            axis.claim(caller, cycle, run_speed);
+        let group_axes = group.as_ref().map_or(&[][..], |(_, axes, n)| &axes[..*n]);
+        for &axis in moved.iter().chain(group_axes) {
+            if let Ok(axis) = m.kernel.axis_mut(axis as i64) {
+                axis.claim(caller, cycle, run_speed);
+            }
+        }
+        if let Some((g, _, _)) = group {
+            m.kernel.claim_group(g, caller);
         }
     }
     outcome
@@ -242,6 +278,8 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
 
 fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
     use CommandCall as C;
+    use crate::motion::group::motion::PathCommand as P;
+    use path::planner::Profile;
     match *call {
         // HMPL 5.2: motion.
         C::Enable { axis_id } => motion(m, |m| now(m.kernel.enable(axis_id))),
@@ -292,6 +330,107 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             couplings::coupling(m, |k| k.enable_gantry_pair(rhs_axis_id, lhs_axis_id))
         }
         C::DisableGantryPair { axis_id } => couplings::coupling(m, |k| k.disable_gantry_pair(axis_id)),
+        // HMPL 8.2: group motion control.
+        C::EnableGroup { group_id } => groups::group(m, |k| k.enable_group(group_id)),
+        C::DisableGroup { group_id } => groups::group(m, |k| k.disable_group(group_id)),
+        C::ResetGroup { group_id } => groups::group(m, |k| k.reset_group(group_id)),
+        C::StopGroup { group_id } => groups::group(m, |k| k.stop_group(group_id)),
+        C::HaltGroup { group_id } => groups::group(m, |k| k.halt_group(group_id)),
+        C::ResumeGroup { group_id } => groups::group(m, |k| k.resume_group(group_id)),
+        C::JogGroup { group_id, carte_dir, jog_vel } => groups::group(m, |k| k.jog_group(group_id, carte_dir, jog_vel)),
+        C::JogGroupAxis { group_id, grp_axis, jog_vel } => {
+            groups::group(m, |k| k.jog_group_axis(group_id, grp_axis, jog_vel))
+        }
+        C::LineAbs2D { group_id, end_x, end_y } => groups::path(m, group_id, P::line_abs([end_x, end_y])),
+        C::LineAbs3D { group_id, end_x, end_y, end_z } => groups::path(m, group_id, P::line_abs([end_x, end_y, end_z])),
+        C::LineRel2D { group_id, distance_x, distance_y } => {
+            groups::path(m, group_id, P::line_rel([distance_x, distance_y]))
+        }
+        C::LineRel3D { group_id, distance_x, distance_y, distance_z } => {
+            groups::path(m, group_id, P::line_rel([distance_x, distance_y, distance_z]))
+        }
+        C::Arc2D { group_id, border_x, border_y, end_x, end_y } => {
+            groups::path(m, group_id, P::Arc2D { border: [border_x, border_y], end: [end_x, end_y] })
+        }
+        C::ArcCW2D { group_id, center_x, center_y, end_x, end_y } => {
+            groups::path(m, group_id, P::ArcCenter2D { center: [center_x, center_y], end: [end_x, end_y], ccw: false })
+        }
+        C::ArcCCW2D { group_id, center_x, center_y, end_x, end_y } => {
+            groups::path(m, group_id, P::ArcCenter2D { center: [center_x, center_y], end: [end_x, end_y], ccw: true })
+        }
+        C::ArcAngle2D { group_id, center_x, center_y, angle } => {
+            groups::path(m, group_id, P::ArcAngle2D { center: [center_x, center_y], angle })
+        }
+        C::Circle2D { group_id, center_x, center_y, end_x, end_y, turns } => {
+            groups::path(m, group_id, P::Circle2D { center: [center_x, center_y], end: [end_x, end_y], turns })
+        }
+        // HMPL 8.3: group settings.
+        C::AddAxisToGrp { group_id, axis_id } => groups::group(m, |k| k.add_axis_to_grp(group_id, axis_id)),
+        C::RemoveAxisFromGrp { group_id } => groups::group(m, |k| k.remove_axis_from_grp(group_id)),
+        C::UngrpAllAxes { group_id } => groups::group(m, |k| k.ungrp_all_axes(group_id)),
+        C::SetGrpMotionProfile { group_id, max_velocity, max_acceleration, max_deceleration, smooth_time } => {
+            let p = Profile { vel: max_velocity, acc: max_acceleration, dec: max_deceleration, smooth_ms: smooth_time };
+            groups::group(m, |k| k.set_group_value(group_id, |s| s.lin = p))
+        }
+        C::SetGrpAngMotionProfile { group_id, max_velocity, max_acceleration, max_deceleration, smooth_time } => {
+            let p = Profile { vel: max_velocity, acc: max_acceleration, dec: max_deceleration, smooth_ms: smooth_time };
+            groups::group(m, |k| k.set_group_value(group_id, |s| s.ang = p))
+        }
+        C::SetGrpKin { group_id, kin_type } => groups::group(m, |k| k.set_grp_kin(group_id, kin_type)),
+        C::SetGrpVel { group_id, vel } => groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.vel = vel)),
+        C::SetGrpAcc { group_id, acc } => groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.acc = acc)),
+        C::SetGrpAccTime { group_id, acc_time } => groups::group(m, |k| k.set_group(group_id, |s| s.set_acc_time(acc_time))),
+        C::SetGrpDec { group_id, dec } => groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.dec = dec)),
+        C::SetGrpDecTime { group_id, dec_time } => groups::group(m, |k| k.set_group(group_id, |s| s.set_dec_time(dec_time))),
+        C::SetGrpSMTime { group_id, smooth_time } => {
+            groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.smooth_ms = smooth_time))
+        }
+        C::SetGrpCoordSys { group_id, coord_sys } => groups::group(m, |k| k.set_grp_coord_sys(group_id, coord_sys)),
+        C::SetGrpBufferMode { group_id, buffer_mode } => {
+            groups::group(m, |k| k.set_group(group_id, |s| s.set_buffer_mode(buffer_mode)))
+        }
+        C::SetGrpTransMode { group_id, trans_mode } => groups::group(m, |k| k.set_grp_trans_mode(group_id, trans_mode)),
+        C::SetGrpTransPrm { group_id, trans_vel, trans_dis, trans_dev, trans_curv } => {
+            groups::group(m, |k| k.set_grp_trans_prm(group_id, [trans_vel, trans_dis, trans_dev, trans_curv]))
+        }
+        C::SetGrpVelScale { group_id, vel_scale } => {
+            groups::group(m, |k| k.set_group_value(group_id, |s| s.vel_scale = vel_scale))
+        }
+        C::GetGrpCoordTrans { group_id, coord_sys } => groups::six_out(reply, m.kernel.grp_coord_trans(group_id, coord_sys)),
+        C::SetGrpCoordTrans { group_id, coord_sys, ref trans_param } => {
+            groups::group(m, |k| k.set_grp_coord_trans(group_id, coord_sys, trans_param))
+        }
+        C::GetGrpPoseCmd { group_id, coord_sys } => groups::six_out(reply, m.kernel.grp_pose(group_id, coord_sys, false)),
+        C::GetGrpPoseFb { group_id, coord_sys } => groups::six_out(reply, m.kernel.grp_pose(group_id, coord_sys, true)),
+        C::SetGrpLookAheadPrm { group_id, prm_id, value } => {
+            groups::group(m, |k| k.set_group(group_id, |s| s.set_look_ahead(prm_id, value)))
+        }
+        C::SetGrpQueueSize { group_id, queue_size } => groups::group(m, |k| k.set_grp_queue_size(group_id, queue_size)),
+        // HMPL 8.5: advanced group motion.
+        C::LineAbs { group_id, ref target_pos, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
+            match groups::six(target_pos) {
+                Ok(target) => groups::advanced(m, group_id, P::LineAbs { target: target.map(Some) }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
+                Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
+            }
+        }
+        C::LineRel { group_id, ref relative_dist, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
+            match groups::six(relative_dist) {
+                Ok(distance) => groups::advanced(m, group_id, P::LineRel { distance }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
+                Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
+            }
+        }
+        C::CircleAbs { group_id, ref center_pos, ref normal_vector, turns, ref target_pos, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
+            match (groups::three(center_pos), groups::three(normal_vector), groups::six(target_pos)) {
+                (Ok(center), Ok(normal), Ok(target)) => groups::advanced(m, group_id, P::Circle { center, normal, turns, target, relative: false }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
+                (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
+            }
+        }
+        C::CircleRel { group_id, ref center_pos, ref normal_vector, turns, ref relative_dist, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
+            match (groups::three(center_pos), groups::three(normal_vector), groups::six(relative_dist)) {
+                (Ok(center), Ok(normal), Ok(target)) => groups::advanced(m, group_id, P::Circle { center, normal, turns, target, relative: true }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
+                (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
+            }
+        }
         // HMPL ch. 20: homing.
         C::MoveHome { axis_id } => axis::move_home(m, axis_id),
         C::SetHomeMethod { axis_id, method } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_method(method))),

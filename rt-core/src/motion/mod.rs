@@ -10,6 +10,7 @@ pub mod filter;
 pub mod gantry;
 pub mod gear;
 pub mod generator;
+pub mod group;
 pub mod homing;
 pub mod power;
 pub mod pvt;
@@ -24,12 +25,15 @@ use crate::config::{FaultReaction, MachineConfig};
 use crate::ecat::Network;
 use axis::Axis;
 use gantry::Gantries;
+use group::Group;
 
 pub use ipc::messages::MAX_GROUPS;
 
 pub struct Kernel {
     axes: Vec<Axis>,
     gantry: Gantries,
+    /// HMPL ch. 8: the groups, each with its interpolator.
+    groups: Vec<Group>,
     /// How many gear slaves each axis has: a master has at least one (HMPL 6.2).
     gear_slaves: Vec<usize>,
     /// Drive commands of the cycle (after the gantry transform); kept to avoid allocating.
@@ -50,6 +54,7 @@ impl Kernel {
         Kernel {
             axes,
             gantry: Gantries::new(n),
+            groups: (0..MAX_GROUPS).map(|_| Group::new(period_s)).collect(),
             gear_slaves: vec![0; n],
             commands: vec![0.0; n],
             group_last_err: [0; MAX_GROUPS],
@@ -111,7 +116,7 @@ impl Kernel {
         self.system_last_err = code;
     }
 
-    /// HMPL 18.6: the group's last error; no group exists to raise one yet.
+    /// HMPL 18.6: the group's last error.
     pub fn clear_group_last_err(&mut self, group: i64) -> Result<(), ErrorCode> {
         let g = usize::try_from(group).ok().filter(|&g| g < MAX_GROUPS).ok_or(SystemError::HmplArgOutOfRange)?;
         self.group_last_err[g] = 0;
@@ -127,9 +132,10 @@ impl Kernel {
     /// 3. references: each axis' source gives its reference (`Axis::plan`): the profile
     ///    generator through the filter chain, or the feedback while homing, in torque mode
     ///    or disabled; an engaged gear slave waits for stage 4;
-    /// 4. couplings out: engaged gear slaves follow their masters' references of stage 3
-    ///    (HMPL 6.1; masters are never slaves). A group will plan before stage 3, and its
-    ///    axes take their references from it there;
+    /// 4. couplings out: each enabled group steps its interpolator and its synced axes take
+    ///    their references from it (HMPL ch. 8), or leaves sync when an axis faulted; then
+    ///    engaged gear slaves follow their masters' references (HMPL 6.1; masters are never
+    ///    slaves, and a group axis may be a master);
     /// 5. limits and status: limits, position error, in position (`Axis::monitor`);
     /// 6. drive commands: output + offset, through the gantry transform, to the drives.
     pub fn step(&mut self, cycle: u64, network: &mut Network) {
@@ -140,6 +146,7 @@ impl Kernel {
         for axis in &mut self.axes {
             axis.plan();
         }
+        self.step_groups();
         self.follow_gears();
         for axis in &mut self.axes {
             axis.monitor();
@@ -178,8 +185,12 @@ impl Kernel {
         }
     }
 
-    /// HMPL 2.8: every axis stops with its kill deceleration and stays enabled.
+    /// HMPL 2.8: every axis stops with its kill deceleration and stays enabled; every
+    /// group stops along its path.
     pub fn stop_all(&mut self) {
+        for group in &mut self.groups {
+            group.stop();
+        }
         for axis in &mut self.axes {
             axis.kill_stop();
         }
@@ -195,9 +206,10 @@ impl Kernel {
     /// A task failed or was stopped: the motion it set going reacts as its fault reaction
     /// says (docs/decisions.md, "Fault reaction").
     pub fn react(&mut self, task: u8, reaction: FaultReaction) {
+        self.react_groups(task, reaction);
         for id in 0..self.axes.len() {
             let axis = &self.axes[id];
-            if axis.commander() != Some(task) || !(axis.is_moving() || axis.is_homing()) {
+            if axis.commander() != Some(task) || !(axis.is_moving() || axis.is_homing()) || self.is_grouped(id) {
                 continue;
             }
             match reaction {
@@ -224,6 +236,13 @@ impl Kernel {
             s.gantry_pair_id = pair as i32;
         }
         s.gear_master = self.gear_slaves[id].min(1) as u32;
+        if let Some(g) = self.axes[id].source().group() {
+            s.motion_status |= motion_status::GROUP;
+            s.group_id = g as i32;
+            if self.axes[id].source().is_group_synced() {
+                s.motion_status |= motion_status::SYNCHRONOUS;
+            }
+        }
         s
     }
 
@@ -233,6 +252,9 @@ impl Kernel {
             *slot = self.axis_snapshot(id);
         }
         snapshot.group_last_err = self.group_last_err;
+        for (slot, group) in snapshot.groups.iter_mut().zip(&self.groups) {
+            *slot = group.snapshot(&self.axes);
+        }
         snapshot.system_last_err = self.system_last_err;
     }
 }

@@ -46,6 +46,11 @@ impl Smoother {
         self.reset(pos, self.len);
     }
 
+    /// Samples in the window.
+    pub fn window(&self) -> usize {
+        self.len
+    }
+
     /// Every value in the window is the same: the output has come to rest on it.
     pub fn settled(&self) -> bool {
         self.unchanged >= self.len

@@ -11,9 +11,10 @@
 //! - `Torque`: cyclic synchronous torque (HMPL 5.2.7, 5.3.41); the reference follows the
 //!   feedback and the drive gets the torque.
 //!
-//! Groups (HMPL ch. 8) will add a `Group(id)` source here: the kernel plans each group
-//! before its axes take their references (as gear masters move before their slaves), and
-//! a grouped axis refuses its own motion with 0x83II00E6.
+//! - `Group`: an axis of a group (HMPL ch. 8). In sync, the group's interpolator gives its
+//!   reference (the kernel steps the groups after the axes' own sources, as gear masters
+//!   move before their slaves); out of sync (group disabled or in error stop), the axis'
+//!   generator brings it to rest and holds it. Its own motion is refused (0x83II00E6).
 
 use api::AxisError;
 
@@ -51,6 +52,10 @@ pub enum ReferenceSource {
     Torque {
         per_mille: f64,
     },
+    Group {
+        id: u8,
+        synced: bool,
+    },
 }
 
 impl ReferenceSource {
@@ -61,7 +66,49 @@ impl ReferenceSource {
             ReferenceSource::Gear { .. } => Some(AxisError::CmdInvalidInSync),
             ReferenceSource::Homing(_) => Some(AxisError::CmdInvalidState),
             ReferenceSource::Torque { .. } => Some(AxisError::CmdInvalidControlMode),
+            ReferenceSource::Group { .. } => Some(AxisError::CmdInvalidGrouped),
         }
+    }
+
+    /// The group the axis is in, if any.
+    pub fn group(&self) -> Option<u8> {
+        match self {
+            ReferenceSource::Group { id, .. } => Some(*id),
+            _ => None,
+        }
+    }
+
+    /// `AddAxisToGrp` (HMPL 8.3.1): only an axis its own generator drives joins a group;
+    /// it joins out of sync until the group is enabled.
+    pub fn join_group(&mut self, id: u8) -> Result<(), AxisError> {
+        match self {
+            ReferenceSource::Profile => {
+                *self = ReferenceSource::Group { id, synced: false };
+                Ok(())
+            }
+            ReferenceSource::Group { .. } => Err(AxisError::CmdInvalidGrouped),
+            other => Err(other.refuses_motion().unwrap_or(AxisError::CmdInvalidState)),
+        }
+    }
+
+    /// `RemoveAxisFromGrp`, `UngrpAllAxes` (HMPL 8.3.2, 8.3.4): the generator again.
+    pub fn leave_group(&mut self) {
+        if self.group().is_some() {
+            *self = ReferenceSource::Profile;
+        }
+    }
+
+    /// The group takes the reference (`EnableGroup`, `ResetGroup`) or gives it back
+    /// (`DisableGroup`, Group Error Stop).
+    pub fn set_group_sync(&mut self, sync: bool) {
+        if let ReferenceSource::Group { synced, .. } = self {
+            *synced = sync;
+        }
+    }
+
+    /// The group's interpolator gives the reference.
+    pub fn is_group_synced(&self) -> bool {
+        matches!(self, ReferenceSource::Group { synced: true, .. })
     }
 
     /// The master, if the axis is a gear slave.
@@ -100,6 +147,7 @@ impl ReferenceSource {
             ReferenceSource::Gear { .. } => Err(AxisError::CmdInvalidMasterSlaveConnection),
             ReferenceSource::Homing(_) => Err(AxisError::CmdInvalidState),
             ReferenceSource::Torque { .. } => Err(AxisError::CmdInvalidControlMode),
+            ReferenceSource::Group { .. } => Err(AxisError::CmdInvalidGrouped),
         }
     }
 
@@ -171,6 +219,8 @@ impl ReferenceSource {
             ReferenceSource::Gear { .. } if torque => Err(AxisError::CmdInvalidInSync),
             ReferenceSource::Gear { .. } => Ok(()),
             ReferenceSource::Homing(_) => Err(AxisError::CmdInvalidState),
+            ReferenceSource::Group { .. } if torque => Err(AxisError::CmdInvalidGrouped),
+            ReferenceSource::Group { .. } => Ok(()),
         }
     }
 
@@ -197,7 +247,7 @@ impl ReferenceSource {
 mod tests {
     use super::*;
     use AxisError::*;
-    use ReferenceSource::{Gear, Profile, Torque};
+    use ReferenceSource::{Gear, Group, Profile, Torque};
 
     const E: Engagement = Engagement { ratio: 2.0, master_origin: 1.0, slave_origin: -3.0 };
     const MASTER: u8 = 4;
@@ -255,6 +305,15 @@ mod tests {
                 },
                 Ok(Profile),
             ),
+            // Groups, HMPL 8.3.1 to 8.3.4.
+            ("8.3.1", Profile, "AddAxisToGrp", |s| s.join_group(2), Ok(Group { id: 2, synced: false })),
+            ("8.3.1", Group { id: 1, synced: true }, "AddAxisToGrp", |s| s.join_group(2), Err(CmdInvalidGrouped)),
+            ("8.3.1", engaged(), "AddAxisToGrp", |s| s.join_group(2), Err(CmdInvalidInSync)),
+            ("8.3.1", homing(), "AddAxisToGrp", |s| s.join_group(2), Err(CmdInvalidState)),
+            ("8.3.1", Torque { per_mille: 0.0 }, "AddAxisToGrp", |s| s.join_group(2), Err(CmdInvalidControlMode)),
+            ("20.2", Group { id: 1, synced: false }, "MoveHome", |s| s.start_homing(run()), Err(CmdInvalidGrouped)),
+            ("6.2", Group { id: 1, synced: false }, "EnableGear", |s| s.link_gear(MASTER), Err(CmdInvalidGrouped)),
+            ("5.3.41", Group { id: 1, synced: true }, "SetOpMode 10", |s| s.set_torque_mode(true), Err(CmdInvalidGrouped)),
             // Operation mode and torque, HMPL 5.3.41 and 5.2.7.
             ("5.3.41", Profile, "SetOpMode 10", |s| s.set_torque_mode(true), Ok(Torque { per_mille: 0.0 })),
             (
@@ -314,6 +373,7 @@ mod tests {
         assert_eq!(linked().refuses_motion(), Some(CmdInvalidInSync), "HMPL 6.2: linked, not engaged");
         assert_eq!(homing().refuses_motion(), Some(CmdInvalidState), "HMPL 20.2");
         assert_eq!(Torque { per_mille: 1.0 }.refuses_motion(), Some(CmdInvalidControlMode), "HMPL 5.3.41");
+        assert_eq!(Group { id: 0, synced: true }.refuses_motion(), Some(CmdInvalidGrouped), "HMPL 8.1, 18.1.2.1");
     }
 
     #[test]

@@ -5,7 +5,7 @@ use std::rc::Rc;
 use std::time::Duration;
 
 use api::FunctionSpec;
-use api::{ErrorCode, Local, SystemError};
+use api::{CommandCall, ErrorCode, Local, SystemError};
 use ipc::messages::{EventKind, EventRecord};
 use ipc::output::{char_boundary, cut_marker, escape};
 use ipc::shared::{Lock, MUTEXES};
@@ -13,7 +13,9 @@ use ipc::task_table::RunState;
 use mlua::{AnyUserData, BorrowedBytes, Function, Lua, MultiValue, Value};
 
 use super::timer::Timer;
-use super::{Host, bool_arg, double_arg, doubles_arg, error_here, int_arg, lua_string_arg, type_name, write_output};
+use super::{
+    Host, bool_arg, double_arg, doubles_arg, error_here, int_arg, lua_string_arg, round_trip, type_name, write_output,
+};
 use crate::printf::{self, Arg, Formatted};
 use crate::user_table;
 
@@ -237,6 +239,25 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let mut timer = AnyUserData::borrow_mut::<Timer>(&timer)?;
             Ok(if local == Local::TON { timer.on_delay(input, preset, now) } else { timer.off_delay(input, preset, now) })
         }),
+        Local::SetupGroup => lua.create_function(move |lua, args: MultiValue| {
+            // HMPL 8.3.3: AddAxisToGrp for each axis, then EnableGroup; what it added is
+            // removed again when a step fails, so a failed setup leaves the group as it was.
+            let group_id = int_arg(lua, spec, &args, 0)?;
+            let mut added = 0;
+            for i in 1..args.len() {
+                let axis_id = int_arg(lua, spec, &args, i)?;
+                let rc = core_rc(lua, &host, &CommandCall::AddAxisToGrp { group_id, axis_id })?;
+                if rc != 0 {
+                    return undo_setup(lua, &host, group_id, added, rc);
+                }
+                added += 1;
+            }
+            let rc = core_rc(lua, &host, &CommandCall::EnableGroup { group_id })?;
+            if rc != 0 {
+                return undo_setup(lua, &host, group_id, added, rc);
+            }
+            Ok(0)
+        }),
         Local::SetUserTable => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
@@ -381,4 +402,17 @@ mod tests {
         assert!((2090..=2101).contains(&sent), "{sent} events in 2 s");
         assert_eq!(Throttle::default().take(5), Ok(()), "the first event goes at once");
     }
+}
+
+/// A command's return code (its first value).
+fn core_rc(lua: &Lua, host: &Host, call: &CommandCall) -> mlua::Result<i64> {
+    Ok(round_trip(lua, host, call)?.values[0] as i64)
+}
+
+/// SetupGroup failed with `rc` after adding `added` axes: they are removed again.
+fn undo_setup(lua: &Lua, host: &Host, group_id: i64, added: usize, rc: i64) -> mlua::Result<i64> {
+    for _ in 0..added {
+        core_rc(lua, host, &CommandCall::RemoveAxisFromGrp { group_id })?;
+    }
+    Ok(rc)
 }

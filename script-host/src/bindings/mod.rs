@@ -20,7 +20,7 @@ use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::{Command, CommandCall, Func, FunctionSpec, Query, QueryCall, SdoAbort, ValueType};
 use calls::{query, wire};
 use ipc::events::EventSender;
-use ipc::messages::Request;
+use ipc::messages::{Reply, Request};
 use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
@@ -265,15 +265,20 @@ fn bytes_table(lua: &Lua, bytes: &[u8]) -> mlua::Result<Value> {
     Ok(Value::Table(lua.create_sequence_from(bytes.iter().map(|&b| b as i64))?))
 }
 
+/// Sends a typed command to the core and waits for its reply.
+fn round_trip(lua: &Lua, host: &Host, call: &CommandCall) -> mlua::Result<Reply> {
+    let mut request = Request::new(call.func().id());
+    wire::encode(call, &mut request).map_err(|e| error_here(lua, format!("{}: {e}", call.func().spec().name)))?;
+    host.endpoint.borrow_mut().call(&mut request).map_err(mlua::Error::external)
+}
+
 /// A command: one round trip to the core; returns what the registry says it returns.
 fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function> {
     let spec = command.spec();
     lua.create_function(move |lua, args: MultiValue| {
         host.beat();
         let call = CommandCall::read(command, &mut LuaArgs::new(&args)).map_err(|e| arg_error(lua, spec, e))?;
-        let mut request = Request::new(command.id());
-        wire::encode(&call, &mut request).map_err(|e| error_here(lua, format!("{}: {e}", spec.name)))?;
-        let reply = host.endpoint.borrow_mut().call(&mut request).map_err(mlua::Error::external)?;
+        let reply = round_trip(lua, &host, &call)?;
         let first = reply.values[0] as i64;
         if first == -1 && reply.rc != 0 {
             // Ch. 17 says only -1; say why, once, where the user sees it.
@@ -283,6 +288,11 @@ fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function
         for (i, ty) in spec.returns.iter().enumerate() {
             results.push_back(match ty {
                 ValueType::Bytes => bytes_table(lua, reply.blob())?,
+                // An out-pointer array: every value after the ones before it.
+                ValueType::Doubles => {
+                    let words = reply.values.get(i..reply.valuec as usize).unwrap_or(&[]);
+                    Value::Table(lua.create_sequence_from(words.iter().map(|&w| f64::from_bits(w)))?)
+                }
                 ValueType::Bool => Value::Boolean(reply.values[i] != 0),
                 _ => Value::Integer(reply.values[i] as i64),
             });

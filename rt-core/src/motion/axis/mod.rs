@@ -145,7 +145,11 @@ impl Axis {
     }
 
     pub fn is_moving(&self) -> bool {
-        if self.source.engagement().is_some() { self.reference.vel != 0.0 } else { self.profile_moving() }
+        if self.source.engagement().is_some() || self.source.is_group_synced() {
+            self.reference.vel != 0.0
+        } else {
+            self.profile_moving()
+        }
     }
 
     /// The profile generator plans, or the filter chain after it has not settled.
@@ -708,9 +712,12 @@ impl Axis {
         match self.source {
             _ if !self.link.is_enabled() => self.follow_feedback(),
             ReferenceSource::Homing(_) | ReferenceSource::Torque { .. } => self.follow_feedback(),
-            ReferenceSource::Gear { engaged: Some(_), .. } => {}
-            // A disengaged gear slave comes to rest through its generator.
-            ReferenceSource::Profile | ReferenceSource::Gear { engaged: None, .. } => {
+            ReferenceSource::Gear { engaged: Some(_), .. } | ReferenceSource::Group { synced: true, .. } => {}
+            // A disengaged gear slave, and an axis out of its group's sync, come to rest
+            // through the generator.
+            ReferenceSource::Profile
+            | ReferenceSource::Gear { engaged: None, .. }
+            | ReferenceSource::Group { synced: false, .. } => {
                 self.guard_software_limits();
                 self.reference = self.filters.push(self.generator.step());
             }
@@ -794,6 +801,51 @@ impl Axis {
             }
             self.reference = next;
         }
+    }
+
+    // --- groups (HMPL ch. 8): the kernel's group commands move the source ---
+
+    /// `AddAxisToGrp`: the kernel has checked the group.
+    pub(in crate::motion) fn join_group(&mut self, group: u8) -> Result<(), AxisError> {
+        let result = self.source.join_group(group);
+        self.check(result)
+    }
+
+    /// `RemoveAxisFromGrp`, `UngrpAllAxes`: the group is disabled, the axis at rest.
+    pub(in crate::motion) fn leave_group(&mut self) {
+        self.source.leave_group();
+    }
+
+    /// `EnableGroup`, `ResetGroup`: the group's interpolator takes the reference from where
+    /// the axis stands.
+    pub(in crate::motion) fn sync_group(&mut self) {
+        self.source.set_group_sync(true);
+    }
+
+    /// `DisableGroup`, Group Error Stop: the generator takes over the motion the group left
+    /// and brings it to rest with `dec` (HMPL table 8.1.1.4: "group leaves sync").
+    pub(in crate::motion) fn leave_group_sync(&mut self, dec: f64) {
+        if self.source.is_group_synced() {
+            self.source.set_group_sync(false);
+            self.come_to_rest(dec);
+        }
+    }
+
+    /// A synced group axis' reference from its group's interpolator. A reference that would
+    /// pass a limit stops the axis with its kill deceleration in error stop, as a move would;
+    /// the group sees it in its next cycle and leaves sync (HMPL table 8.1.1.4).
+    pub(in crate::motion) fn follow_group(&mut self, next: Kinematics) {
+        if !self.source.is_group_synced() || !self.link.is_enabled() {
+            return;
+        }
+        if let Some((bit, error)) = self.passes_limit(next) {
+            self.leave_group_sync(self.settings.kill_dec);
+            self.error_stop = true;
+            self.faults |= bit;
+            self.fail(error);
+            return;
+        }
+        self.reference = next;
     }
 
     /// The generator takes over the motion the gear left, unsmoothed until at rest.

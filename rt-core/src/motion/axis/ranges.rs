@@ -3,7 +3,7 @@
 //! so NaN, infinities and values no drive could carry never enter the kernel (issue 11).
 //! Choices where the manual gives no range are in docs/decisions.md, "Axes".
 
-use api::{AxisError, Quantity};
+use api::{AxisError, Quantity, Refusal};
 
 use super::Axis;
 use crate::motion::settings::MAX_SMOOTH_TIME_MS;
@@ -22,7 +22,12 @@ impl Axis {
     /// Checks one argument of a command against its quantity; records a refusal as the
     /// axis' last error.
     pub fn admit(&mut self, quantity: Quantity, value: f64) -> Result<(), AxisError> {
-        if self.in_range(quantity, value) { Ok(()) } else { Err(self.fail(quantity.error())) }
+        match (self.in_range(quantity, value), quantity.error()) {
+            (true, _) => Ok(()),
+            (false, Refusal::Axis(error)) => Err(self.fail(error)),
+            // Group-bound quantities are the group's (`motion/group/settings.rs`).
+            (false, Refusal::Group(_)) => Err(self.fail(AxisError::CmdInvalidParameter)),
+        }
     }
 
     fn in_range(&self, quantity: Quantity, v: f64) -> bool {
@@ -52,6 +57,24 @@ impl Axis {
                     && (!(per_mille.is_finite() && per_mille > 0.0) || (v * per_mille).abs() <= MAX_TORQUE_PER_MILLE)
             }
             Quantity::PvtTime => within(0.0, MAX_TIME_MS),
+            Quantity::Group
+            | Quantity::PathCoordinate
+            | Quantity::PathAngle
+            | Quantity::PathVelocity
+            | Quantity::PathAcceleration
+            | Quantity::PathDeceleration
+            | Quantity::PathSmoothTime
+            | Quantity::PathAccTime
+            | Quantity::PathDecTime
+            | Quantity::AngularVelocity
+            | Quantity::AngularAcceleration
+            | Quantity::AngularDeceleration
+            | Quantity::AngularSmoothTime
+            | Quantity::PathVelScale
+            | Quantity::GroupJogVelocity
+            | Quantity::MotionProfile
+            | Quantity::TransitionParameter
+            | Quantity::LookAheadParameter => false,
         }
     }
 

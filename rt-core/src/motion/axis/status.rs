@@ -27,6 +27,15 @@ impl Axis {
         }
     }
 
+    pub(in crate::motion) fn is_in_position(&self) -> bool {
+        self.in_position()
+    }
+
+    /// `fault_status` bits but ErrorStop (HMPL table 5.1.1.4).
+    pub(in crate::motion) fn fault_status(&self) -> u32 {
+        self.faults
+    }
+
     pub(super) fn in_position(&self) -> bool {
         self.in_window_cycles >= self.cycles(self.settings.pos_window_time_ms).max(1)
     }
@@ -83,6 +92,7 @@ impl Axis {
             buffer_mode: s.buffer_mode as u32,
             rollover_turns,
             gantry_pair_id: -1,
+            group_id: -1,
             gear_master: 0,
             in_gear: self.source.engagement().is_some() as u32,
             op_mode: self.op_mode() as u32,
