@@ -10,4 +10,5 @@ pub mod frames;
 pub mod planner;
 pub mod segment;
 
+pub use planner::{BufferMode, Limits, LookAhead, Motion, Planner, Profile, Sample};
 pub use segment::{Pose, Segment};

@@ -26,7 +26,18 @@ pub struct Rig {
 impl Rig {
     /// Tasks 0 and 1 attached, with fault reaction `reaction`.
     pub fn new(reaction: FaultReaction) -> Self {
-        let config = MachineConfig::default();
+        Self::with_config(MachineConfig::default(), reaction)
+    }
+
+    /// The default machine with `n` axes like its first.
+    pub fn with_axes(n: usize) -> Self {
+        let mut config = MachineConfig::default();
+        let first = config.axes[0].clone();
+        config.axes = (0..n).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
+        Self::with_config(config, FaultReaction::None)
+    }
+
+    pub fn with_config(config: MachineConfig, reaction: FaultReaction) -> Self {
         let mut network = Network::new(&config.axes);
         network.start(config.period_ns()).unwrap();
         let kernel = Kernel::new(&config, &network);
@@ -73,6 +84,19 @@ impl Rig {
         ints.iter().for_each(|&i| request.push_int(i));
         doubles.iter().for_each(|&d| request.push_double(d));
         self.send(task, &request)
+    }
+
+    /// `command(values...)` from `task`, the arguments in the declaration's order: its
+    /// return value and the reply.
+    pub fn call_values(&mut self, task: u8, command: Command, values: &[api::call::Value]) -> (i64, Reply) {
+        let call: api::CommandCall = api::call::from_values(command, values).expect("arguments as declared");
+        let mut request = Request::new(command.id());
+        calls::wire::encode(&call, &mut request).unwrap();
+        let mut reply = Reply::to(&request);
+        if dispatch::execute(&mut self.machine, task, &request, &mut reply) == ipc::Disposition::Defer {
+            return (i64::MIN, reply);
+        }
+        (reply.values[0] as i64, reply)
     }
 
     pub fn enable(&mut self, axis: i64) {
