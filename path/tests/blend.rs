@@ -124,6 +124,16 @@ fn max_corner_deviation() {
             (0..=10000).map(|k| dist(&pieces.1.pose_at(k as f64 / 10000.0), &prev.end())).fold(f64::INFINITY, f64::min);
         assert!(deviation <= dev * (1.0 + 1e-9) && (d > 40.0 || deviation > dev * 0.9999), "{turn_deg}: {deviation}");
     }
+    // Next to an arc the first estimate is corrected by the measured deviation.
+    let line = line_abs_2d(&at(0.0, 0.0, 0.0), [100.0, 0.0, 0.0]).unwrap();
+    for (center, angle) in [([120.0, -20.0, 0.0], -200.0), ([130.0, 0.0, 0.0], 150.0), ([120.0, -20.0, 0.0], 200.0)] {
+        let arc = arc_angle_2d(&line.end(), center, Z, angle).unwrap();
+        let pieces = corner(&line, &arc, TransitionMode::MaxCornerDev, &params(40.0, 1.5, 0.0)).expect("blended");
+        let d = line.length() - pieces.0.length();
+        assert_g1(&line, &arc, &pieces, d);
+        let deviation = (0..=10000).map(|k| dist(&pieces.1.pose_at(k as f64 / 10000.0), &line.end())).fold(f64::INFINITY, f64::min);
+        assert!(deviation <= 1.5 * (1.0 + 1e-6) && deviation > 1.5 * 0.999, "{center:?}: {deviation}");
+    }
     // A deviation larger than trans_dis allows: the trim stays trans_dis.
     let prev = line_abs_2d(&at(0.0, 0.0, 0.0), [100.0, 0.0, 0.0]).unwrap();
     let next = line_abs_2d(&prev.end(), [100.0, 100.0, 0.0]).unwrap();
