@@ -131,7 +131,8 @@ fn max_corner_deviation() {
         let pieces = corner(&line, &arc, TransitionMode::MaxCornerDev, &params(40.0, 1.5, 0.0)).expect("blended");
         let d = line.length() - pieces.0.length();
         assert_g1(&line, &arc, &pieces, d);
-        let deviation = (0..=10000).map(|k| dist(&pieces.1.pose_at(k as f64 / 10000.0), &line.end())).fold(f64::INFINITY, f64::min);
+        let deviation =
+            (0..=10000).map(|k| dist(&pieces.1.pose_at(k as f64 / 10000.0), &line.end())).fold(f64::INFINITY, f64::min);
         assert!(deviation <= 1.5 * (1.0 + 1e-6) && deviation > 1.5 * 0.999, "{center:?}: {deviation}");
     }
     // A deviation larger than trans_dis allows: the trim stays trans_dis.
