@@ -107,7 +107,6 @@ fn junctions_that_are_not_blended() {
     // A blend is not blended again.
     let (_, blend, _) = corner(&a, &b, TransitionMode::CornerDist, &p).unwrap();
     assert!(corner(&blend, &b, TransitionMode::CornerDist, &p).is_none());
-    assert!(blend.sub(0.0, 0.5).is_none());
 }
 
 #[test]
@@ -236,4 +235,23 @@ fn parameters_and_modes() {
         Err(GroupError::CmdInvalidTransVel)
     );
     let _ = SQRT_2;
+}
+
+#[test]
+fn a_blend_cut_short_keeps_its_curve() {
+    // Segment::sub on a blend (a stop inside a rounded corner): the same points, fractions rescaled.
+    let a = line_abs_2d(&at(0.0, 0.0, 0.0), [100.0, 0.0, 0.0]).unwrap();
+    let b = line_abs_3d(&a.end(), [130.0, 80.0, 40.0]).unwrap();
+    let (_, blend, _) = corner(&a, &b, TransitionMode::CornerDist, &params(30.0, 0.0, 0.0)).unwrap();
+    let (u0, u1) = (0.2, 0.7);
+    let part = blend.sub(u0, u1);
+    assert!(matches!(part, Segment::Blend(_)));
+    assert_eq!((part.start(), part.end()), (blend.pose_at(u0), blend.pose_at(u1)));
+    assert!((part.length() - (u1 - u0) * blend.length()).abs() < 1e-9);
+    for k in 0..=50 {
+        let v = k as f64 / 50.0;
+        let (p, q) = (part.pose_at(v), blend.pose_at(u0 + v * (u1 - u0)));
+        assert!(close(&p, &q, 1e-9), "{v}: {p:?} {q:?}");
+        assert!(close(&part.direction_at(v), &blend.direction_at(u0 + v * (u1 - u0)), 1e-9));
+    }
 }
