@@ -145,11 +145,10 @@ pub fn corner(
         if !(d > 0.0 && d < len_min) {
             return None;
         }
-        let (a, blend, b) = build(prev, next, d)?;
-        let Segment::Blend(curve) = blend else { unreachable!() };
-        let value = measure(&curve, joint);
+        let (a, blend, b) = build(prev, next, d);
+        let value = measure(&blend, joint);
         if value <= limit * (1.0 + 1e-9) {
-            return Some((a, blend, b));
+            return Some((a, Segment::Blend(blend), b));
         }
         // Both measures go with d (deviation) or against it (curvature) about linearly.
         d *= match mode {
@@ -165,15 +164,15 @@ type Measure = fn(&Blend, [f64; 3]) -> f64;
 
 /// The blend for trim `d`: control points d·⅔ along the tangents from both ends, which
 /// between two lines is the quadratic Bézier with the corner as control point.
-fn build(prev: &Segment, next: &Segment, d: f64) -> Option<(Segment, Segment, Segment)> {
-    let a = prev.sub(0.0, 1.0 - d / prev.length())?;
-    let b = next.sub(d / next.length(), 1.0)?;
+fn build(prev: &Segment, next: &Segment, d: f64) -> (Segment, Blend, Segment) {
+    let a = prev.sub(0.0, 1.0 - d / prev.length());
+    let b = next.sub(d / next.length(), 1.0);
     let (p0, p3) = (a.end(), b.start());
     let inner = [
         add3(xyz(&p0), scale3(a.direction_at(1.0), 2.0 / 3.0 * d)),
         diff3(xyz(&p3), scale3(b.direction_at(0.0), 2.0 / 3.0 * d)),
     ];
-    Some((a, Segment::Blend(Blend::new(p0, p3, inner)), b))
+    (a, Blend::new(p0, p3, inner), b)
 }
 
 /// Sample count of the measures, refined by golden-section search around the best sample.

@@ -139,7 +139,8 @@ pub fn circle_abs(
 }
 
 /// CircleRel (HMPL 8.5.4): as [`circle_abs`] to the start plus `delta` (in MCS; the
-/// center stays absolute).
+/// center stays absolute). In another system the caller computes the target there
+/// ([`crate::frames::Frame::relative_target`]) and calls [`circle_abs`].
 pub fn circle_rel(
     start: &Pose,
     center: [f64; 3],

@@ -1,8 +1,8 @@
 //! The group interpolator of HMPL chapter 8, free of the controller around it: the
-//! segments a group command makes (`segment.rs`), and, with later modules, their
-//! construction from the commands, corner transitions, coordinate frames and the planning
-//! of the path velocity. Everything here is computed from its inputs alone, never from a
-//! clock, so the kernel can run it in its cycle.
+//! segments a group command makes (`segment.rs`), their construction from the commands
+//! (`commands.rs`), corner transitions (`blend.rs`), coordinate systems (`frames.rs`) and
+//! the planning of the path velocity. Everything here is computed from its inputs alone,
+//! never from a clock, so the kernel can run it in its cycle.
 
 pub mod blend;
 pub mod commands;

@@ -145,27 +145,33 @@ impl Segment {
         (cross > 1e-12 * speed.powi(3) && speed > 0.0).then(|| speed.powi(3) / cross)
     }
 
-    /// The part of the segment between fractions `u0 < u1`, as a segment of the same
-    /// kind (a corner blend trims its neighbours with it); `None` for a blend.
-    pub fn sub(&self, u0: f64, u1: f64) -> Option<Segment> {
+    /// The part of the segment between fractions `u0 < u1`, as a segment of the same kind
+    /// (a corner blend trims its neighbours with it; a stop may cut the path short).
+    pub fn sub(&self, u0: f64, u1: f64) -> Segment {
         let (s, e) = (self.pose_at(u0), self.pose_at(u1));
         match self {
-            Segment::Line(_) => Some(Segment::Line(Line { start: s, end: e })),
+            Segment::Line(_) => Segment::Line(Line { start: s, end: e }),
             Segment::Arc(a) => {
                 let (t0, t1) = (a.tau(u0), a.tau(u1));
-                let center = add3(a.center, scale3(a.normal, a.rise * t0));
-                Some(Segment::Arc(Arc {
+                Segment::Arc(Arc {
                     start: s,
                     end: e,
-                    center,
+                    center: add3(a.center, scale3(a.normal, a.rise * t0)),
                     normal: a.normal,
                     radius: a.radius + a.radius_change * t0,
                     radius_change: a.radius_change * (t1 - t0),
                     sweep: a.sweep * (t1 - t0),
                     rise: a.rise * (t1 - t0),
-                }))
+                })
             }
-            Segment::Blend(_) => None,
+            Segment::Blend(b) => {
+                // The cubic on [t0, t1] is the cubic with the same ends and end tangents
+                // scaled to the shorter parameter range.
+                let (t0, t1) = (b.tau(u0), b.tau(u1));
+                let (d0, d1) = (b.derivatives(t0).0, b.derivatives(t1).0);
+                let k = (t1 - t0) / 3.0;
+                Segment::Blend(Blend::new(s, e, [add3(xyz(&s), scale3(d0, k)), diff3(xyz(&e), scale3(d1, k))]))
+            }
         }
     }
 }
