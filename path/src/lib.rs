@@ -4,6 +4,8 @@
 //! of the path velocity. Everything here is computed from its inputs alone, never from a
 //! clock, so the kernel can run it in its cycle.
 
+pub mod planner;
 pub mod segment;
 
+pub use planner::{BufferMode, Limits, LookAhead, Motion, Planner, Profile, Sample};
 pub use segment::{Pose, Segment};

@@ -97,7 +97,8 @@ mod tests {
 
     #[test]
     fn a_line_is_straight_and_proportional() {
-        let l = Segment::Line(Line { start: [100.0, 200.0, 0.0, 0.0, 0.0, 0.0], end: [200.0, 300.0, 0.0, 0.0, 0.0, 90.0] });
+        let l =
+            Segment::Line(Line { start: [100.0, 200.0, 0.0, 0.0, 0.0, 0.0], end: [200.0, 300.0, 0.0, 0.0, 0.0, 90.0] });
         assert!((l.length() - 100.0 * 2f64.sqrt()).abs() < 1e-12);
         assert_eq!(l.angular_length(), 90.0);
         assert_eq!(l.pose_at(0.5), [150.0, 250.0, 0.0, 0.0, 0.0, 45.0]);
