@@ -35,9 +35,21 @@ impl Trapezoid {
     /// `acc` and `dec` allow (an exit out of reach becomes the nearest reachable one).
     pub(crate) fn plan(v0: f64, dist: f64, cruise: f64, exit: f64, acc: f64, dec: f64) -> Trapezoid {
         let dist = dist.max(0.0);
+        let (mut acc, mut dec) = (acc, dec);
+        // The state is planned again every cycle, so a segment's end is approached from a
+        // rounded distance; an exit missed by rounding is met by braking or accelerating a
+        // hair (1e-9) harder, instead of a velocity step at the junction.
+        let slack = |rate: f64| 2.0 * rate * dist * (1.0 + 1e-9) + 1e-12;
+        let (down, up) = (v0 * v0 - exit * exit, exit * exit - v0 * v0);
+        if down > 2.0 * dec * dist && down <= slack(dec) && dist > 0.0 {
+            dec = down / (2.0 * dist);
+        } else if up > 2.0 * acc * dist && up <= slack(acc) && dist > 0.0 {
+            acc = up / (2.0 * dist);
+        }
         let lo = brake_to(v0, dist, dec);
         let hi = (v0 * v0 + 2.0 * acc * dist).sqrt();
-        let ve = exit.max(lo).min(hi);
+        let ve =
+            if down > 0.0 && down <= slack(dec) || up > 0.0 && up <= slack(acc) { exit } else { exit.max(lo).min(hi) };
         let mut vm = cruise.max(0.0);
         if ramp(v0, vm, acc, dec) + ramp(vm, ve, acc, dec) > dist {
             // No room to reach the cruise velocity: a peak below it or a valley above it.
