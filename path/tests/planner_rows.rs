@@ -228,7 +228,7 @@ fn a_segment_pushed_after_the_group_came_to_rest_starts_from_rest() {
 fn a_push_while_the_tail_brakes_raises_its_exit_only_as_far_as_reachable() {
     let mut p = Planner::new(PERIOD);
     p.push(line(xy(0.0, 0.0), xy(50.0, 0.0)), motion(100.0, BufferMode::Low), &Limits::NONE).unwrap();
-    // Run until it brakes for its end (0.5 mm before it at 5000 mm/s^2 from 100 mm/s... ).
+    // Run until it brakes for its end (1 mm before it, at 5000 mm/s^2 from 100 mm/s).
     let mut samples = Vec::new();
     while p.step().path_vel >= 99.0 {}
     for _ in 0..5 {
@@ -240,7 +240,8 @@ fn a_push_while_the_tail_brakes_raises_its_exit_only_as_far_as_reachable() {
     samples.extend(run(&mut p, 100_000));
     assert_accelerations_within(&samples, 5000.0);
     let js = junction_speeds(&samples);
-    assert!(js[0] > 0.0, "blended after all: {}", js[0]);
+    // Blended after all: the tail keeps at least the speed it had when the push came.
+    assert!(js[0] >= braking, "junction at {}, braking from {braking}", js[0]);
     assert_eq!(samples.last().unwrap().0.pose, xy(100.0, 0.0));
 }
 
