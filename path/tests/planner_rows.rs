@@ -185,8 +185,8 @@ fn blending_modes_set_the_junction_velocity_by_table_8_1_4_1() {
 
 #[test]
 fn a_corner_is_slowed_so_the_smoothed_velocity_step_stays_within_max_acc() {
-    // SEAMS corner rule: a 90 deg corner at BM_HIGH with X and Y limited to 2000 mm/s^2 and
-    // Ts 50 ms: the step v*sqrt(2)... per coordinate v must fit in (2000 - 0) * ... below.
+    // The corner rule (docs/decisions.md): a 90 deg corner at BM_HIGH, X and Y limited to
+    // 2000 mm/s^2, Ts 50 ms. X's velocity steps from v to 0 and Y's from 0 to v.
     let mut p = Planner::new(PERIOD);
     let limits = Limits {
         max_vel: [f64::INFINITY; 6],
