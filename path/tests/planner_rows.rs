@@ -370,3 +370,26 @@ fn look_ahead_keeps_speed_through_shallow_corners_and_brakes_for_the_end() {
     assert!(js[98] < 100.0);
     assert_eq!(samples.last().unwrap().0.pose, pose);
 }
+
+#[test]
+fn each_command_s_own_buffer_mode_sets_the_junction_at_its_end() {
+    // HMPL 8.1.6 example 2 with the half circle straightened (it leaves p1 tangentially):
+    // path 1 at 150 mm/s with BM_PREV, path 2 at 100 with BM_NEXT, path 3 at 50 with BM_PREV,
+    // queued at once. The junction speed is planned "at the end position of each path": p1
+    // at path 1's 150 (BM_PREV), p2 at path 3's 50 (path 2's BM_NEXT); path 3 ends at rest,
+    // as nothing follows it.
+    let mut p = Planner::new(PERIOD);
+    let profile = |vel: f64, acc: f64| Profile { vel, acc, dec: acc, smooth_ms: 50.0 };
+    let with = |lin: Profile, buffer| Motion { lin, ang: profile(360.0, 1800.0), buffer };
+    p.push(line(xy(0.0, 0.0), xy(100.0, 0.0)), with(profile(150.0, 1000.0), BufferMode::Prev), &Limits::NONE).unwrap();
+    p.push(line(xy(100.0, 0.0), xy(257.0, 0.0)), with(profile(100.0, 5000.0), BufferMode::Next), &Limits::NONE)
+        .unwrap();
+    p.push(line(xy(257.0, 0.0), xy(357.0, 0.0)), with(profile(50.0, 250.0), BufferMode::Prev), &Limits::NONE).unwrap();
+    let samples = run(&mut p, 100_000);
+    let js = junction_speeds(&samples);
+    assert_eq!(js.len(), 2);
+    assert!((js[0] - 150.0).abs() <= 5.0, "p1 at {}", js[0]);
+    assert!((js[1] - 50.0).abs() <= 1.0, "p2 at {}", js[1]);
+    let end = samples.last().unwrap().0;
+    assert_eq!((end.pose, end.path_vel), (xy(357.0, 0.0), 0.0));
+}
