@@ -314,5 +314,6 @@ fn ten_thousand_random_sequences_keep_every_constraint() {
         failures.len(),
         failures[..failures.len().min(20)].join("\n")
     );
+    println!("{SEQUENCES} sequences, {cycles} cycles of {} ms", PERIOD * 1000.0);
     assert!(cycles > 1_000_000, "the sequences ran ({cycles} cycles)");
 }

@@ -199,7 +199,7 @@ pub(crate) fn junction_cap(prev: &Entry, next: &Entry, look_ahead: &LookAhead, p
             cap = cap.min(room / d);
         }
     }
-    // And within the path's own acceleration (SEAMS: the corner rule), for the translation
+    // And within the path's own acceleration (docs/decisions.md), for the translation
     // and the rotation; look-ahead also within its corner acceleration (table 8.1.4.2 (b)).
     let norm = |r: std::ops::Range<usize>| r.map(|i| dg[i] * dg[i]).sum::<f64>().sqrt();
     let (dt, dr) = (norm(0..3), norm(3..6));

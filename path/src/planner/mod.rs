@@ -322,6 +322,10 @@ impl Planner {
         }
         let p = if coordinate < 3 { motion.lin } else { motion.ang };
         let (max_vel, max_acc) = (limits.max_vel[coordinate], limits.max_acc[coordinate]);
+        if !self.jog.active {
+            // A stop's hold is for the path; the jog starts from rest at once.
+            self.hold = 0;
+        }
         self.jog.active = true;
         self.jog.target[coordinate] = velocity.clamp(-max_vel, max_vel);
         self.jog.acc[coordinate] = p.acc.min(max_acc);

@@ -1,0 +1,71 @@
+//! The planner never allocates after `new` (ARCHITECTURE invariant: the RT thread never
+//! allocates in steady state): pushing, stepping, halting, aborting, stopping and jogging
+//! are counted by a global allocator. The only test in this binary, so nothing else
+//! allocates meanwhile.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use path::segment::Line;
+use path::{BufferMode, Limits, Motion, Planner, Profile, Segment};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn nothing_allocates_after_new() {
+    let mut p = Planner::new(0.001);
+    let motion = |buffer| Motion {
+        lin: Profile { vel: 100.0, acc: 5000.0, dec: 5000.0, smooth_ms: 10.0 },
+        ang: Profile { vel: 360.0, acc: 1800.0, dec: 1800.0, smooth_ms: 10.0 },
+        buffer,
+    };
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let modes = [BufferMode::LookAhead, BufferMode::Low, BufferMode::Buff, BufferMode::High];
+    for i in 0..512 {
+        let s = p.end_pose();
+        let e = [s[0] + 1.0, s[1] + if i % 2 == 0 { 0.5 } else { -0.5 }, 0.0, 0.0, 0.0, i as f64];
+        p.push(Segment::Line(Line { start: s, end: e }), motion(modes[i % 4]), &Limits::NONE).unwrap();
+    }
+    for _ in 0..2000 {
+        p.step();
+    }
+    p.halt();
+    for _ in 0..200 {
+        p.step();
+    }
+    p.resume();
+    p.set_velocity_scale(30.0);
+    for _ in 0..200 {
+        p.step();
+    }
+    let at = p.stopping_pose();
+    p.push(Segment::Line(Line { start: at, end: [0.0; 6] }), motion(BufferMode::Abort), &Limits::NONE).unwrap();
+    for _ in 0..200 {
+        p.step();
+    }
+    p.stop();
+    while p.step().moving {}
+    p.jog(2, 10.0, motion(BufferMode::Buff), &Limits::NONE);
+    for _ in 0..100 {
+        p.step();
+    }
+    p.jog(2, 0.0, motion(BufferMode::Buff), &Limits::NONE);
+    while p.step().moving {}
+    assert_eq!(ALLOCATIONS.load(Ordering::Relaxed), before, "the planner allocated");
+    assert_eq!(p.commands(), 0);
+}
