@@ -138,22 +138,16 @@ impl Axes for SimAxes {
     }
 
     fn stop(&mut self, axes: AxisSet, decelerate: bool) {
-        for m in self.touching(axes) {
+        for m in self.moves.iter_mut().filter(|m| m.axes.overlaps(axes)) {
             m.stopping = true;
             m.braking = decelerate && m.velocity > 0.0;
             if !m.braking {
                 m.velocity = 0.0;
+                for a in m.axes.iter().filter(|_| !m.continuous) {
+                    self.dropped[a] = m.delta[a].abs() - m.offset(a).abs();
+                }
             }
         }
-        let dropped: Vec<(usize, i64)> = self
-            .moves
-            .iter()
-            .filter(|m| m.stopping && !m.braking)
-            .flat_map(|m| {
-                m.axes.iter().map(move |a| (a, if m.continuous { 0 } else { m.delta[a].abs() - m.offset(a).abs() }))
-            })
-            .collect();
-        dropped.into_iter().for_each(|(a, n)| self.dropped[a] = n);
         self.moves.retain(|m| !m.stopping || m.braking);
     }
 

@@ -206,6 +206,7 @@ fn axis_ownership() {
             break;
         }
         waited += 1;
+        assert!(waited < 10_000, "B never started");
         assert_eq!(bench.plc.word(Reg::R(100)), 0, "B has not started");
         bench.cycle(RUN);
     }
