@@ -493,3 +493,32 @@ fn speed_is_read_at_the_start_of_a_step() {
     bench.until(RUN, |b, _| b.wr0() == 2);
     assert_eq!(bench.frequency(0), 4000);
 }
+
+/// FUN147 operands: Gp 0..1; SR and WR in R0-R3839, R5000-R8071 or D0-D3999, WR+0..WR+8
+/// in one area.
+#[test]
+fn operands() {
+    use fun147::OperandError;
+    assert_eq!(Fun147::new(2, SR, WR).unwrap_err(), OperandError::Group(2));
+    assert_eq!(Fun147::new(0, Reg::D(4060), WR).unwrap_err(), OperandError::Table(Reg::D(4060)));
+    assert_eq!(Fun147::new(0, SR, Reg::R(3832)).unwrap_err(), OperandError::Work(Reg::R(3832)));
+    assert_eq!(Fun147::new(0, SR, Reg::D(3992)).unwrap_err(), OperandError::Work(Reg::D(3992)));
+    assert!(Fun147::new(1, Reg::R(8000), Reg::R(3830)).is_ok());
+    assert!(Fun147::new(0, SR, Reg::D(3991)).is_ok());
+}
+
+/// An EN that falls and rises again while a decelerating stop (M1991 ON) is under way starts
+/// the next step once the axes are at rest, not before and not never.
+#[test]
+fn en_again_during_a_decelerating_stop() {
+    let mut bench = Bench::new(HOLD3);
+    bench.plc.set_relay(Relay::M(1991), true);
+    bench.cycles(RUN, 20);
+    bench.cycles(OFF, 10);
+    assert_eq!(bench.wr0(), 1);
+    let out = bench.cycle(RUN);
+    assert!(out.act && bench.frequency(0) > 0, "still decelerating");
+    let at = bench.until(RUN, |b, _| b.wr0() == 2);
+    assert!((80..=95).contains(&at), "a 0.1 s ramp less the 11 cycles already braked: {at}");
+    assert_eq!(bench.frequency(0), 1000);
+}
