@@ -132,6 +132,11 @@ impl<'a> Token<'a> {
         Token { text: trimmed.trim_end(), column: line[..start].chars().count() + 1 }
     }
 
+    /// The byte offset of the token in its line.
+    fn column_byte(self, line: &str) -> usize {
+        line.char_indices().nth(self.column - 1).map_or(line.len(), |(i, _)| i)
+    }
+
     fn error(self, line: usize, kind: AsmErrorKind) -> AsmError {
         AsmError { line, column: self.column, kind }
     }
@@ -153,13 +158,6 @@ fn first_word<'a>(line: &'a str, text: Token<'a>) -> (Token<'a>, Token<'a>) {
     let start = text.column_byte(line);
     let end = text.text.find(char::is_whitespace).unwrap_or(text.text.len());
     (Token::at(line, start, &text.text[..end]), Token::at(line, start + end, &text.text[end..]))
-}
-
-impl Token<'_> {
-    /// The byte offset of the token in its line.
-    fn column_byte(self, line: &str) -> usize {
-        line.char_indices().nth(self.column - 1).map_or(line.len(), |(i, _)| i)
-    }
 }
 
 /// The comma-separated operands of `rest`.

@@ -185,7 +185,8 @@ impl Fun147 {
         self.en_before = inputs.en;
         if inputs.abt || !inputs.en {
             self.start_pending = false;
-            if self.state != State::Idle {
+            // A stop under way is left to end (the axes are told once).
+            if !matches!(self.state, State::Idle | State::Stopping) {
                 self.halt(plc, axes, decelerate);
             }
             if inputs.abt {
@@ -391,7 +392,7 @@ impl Fun147 {
     }
 
     /// WR+1, the group's vector speed and the status of the axes held this cycle.
-    fn show(&mut self, plc: &mut impl Plc, axes: &impl Axes, shown: AxisSet) -> Outputs {
+    fn show(&self, plc: &mut impl Plc, axes: &impl Axes, shown: AxisSet) -> Outputs {
         let n =
             if plc.word(self.sr) == crate::image::MAGIC { plc.word(self.sr.offset(1).unwrap_or(self.sr)) } else { 0 };
         let act = matches!(self.state, State::Moving | State::Stopping);

@@ -1,7 +1,7 @@
 //! The instruction, cycle by cycle over the reference axes: one test per behaviour of the
 //! FUN147 page (explanation items, interface signals, WR tables, derived commands).
 
-use fun147::axes::Axes;
+use fun147::axes::{Axes, AxisSet};
 use fun147::instr::flags;
 use fun147::{Fun147, Inputs, MemPlc, Outputs, Plc, Reg, Relay, SimAxes, assemble};
 
@@ -97,7 +97,7 @@ fn abort_restarts_at_step_1() {
     bench.cycles(RUN, 5);
     assert_eq!(bench.wr0(), 2);
     let out = bench.cycle(ABORT);
-    assert!(!out.act && bench.axes.is_done(fun147::AxisSet(1)));
+    assert!(!out.act && bench.axes.is_done(AxisSet(1)));
     bench.cycle(OFF);
     bench.cycle(RUN);
     assert_eq!(bench.wr0(), 1);
@@ -212,7 +212,7 @@ fn axis_ownership() {
     }
     assert!((99..=101).contains(&waited), "B starts when A's 100 pulses are out: {waited}");
     assert!(!bench.plc.relay(Relay::M(1992)) && !bench.plc.relay(Relay::M(1993)));
-    assert_eq!(bench.fun.owned(), fun147::AxisSet::NONE);
+    assert_eq!(bench.fun.owned(), AxisSet::NONE);
 }
 
 /// FUN147 expl. 2: two independent two-axis groups, Gp0 on Ps0/Ps1 and Gp1 on Ps2/Ps3, at
@@ -521,4 +521,56 @@ fn en_again_during_a_decelerating_stop() {
     let at = bench.until(RUN, |b, _| b.wr0() == 2);
     assert!((80..=95).contains(&at), "a 0.1 s ramp less the 11 cycles already braked: {at}");
     assert_eq!(bench.frequency(0), 1000);
+}
+
+/// Axes that count the stops they are told.
+struct CountingStops(SimAxes, usize);
+
+impl Axes for CountingStops {
+    fn start_line(&mut self, targets: [Option<i64>; 4], speed_hz: f64) {
+        self.0.start_line(targets, speed_hz)
+    }
+    fn start_continuous(&mut self, ratio: [i64; 4], speed_hz: f64) {
+        self.0.start_continuous(ratio, speed_hz)
+    }
+    fn pause(&mut self, axes: AxisSet, decelerate: bool) {
+        self.0.pause(axes, decelerate)
+    }
+    fn resume(&mut self, axes: AxisSet) {
+        self.0.resume(axes)
+    }
+    fn stop(&mut self, axes: AxisSet, decelerate: bool) {
+        self.1 += 1;
+        self.0.stop(axes, decelerate)
+    }
+    fn is_done(&self, axes: AxisSet) -> bool {
+        self.0.is_done(axes)
+    }
+    fn position(&self) -> [i64; 4] {
+        self.0.position()
+    }
+    fn remaining(&self) -> [i64; 4] {
+        self.0.remaining()
+    }
+    fn frequency(&self) -> [f64; 4] {
+        self.0.frequency()
+    }
+}
+
+/// EN held at 0 (or ABT held) through a decelerating stop tells the axes to stop once: the
+/// interpolator plans one deceleration, not one a cycle.
+#[test]
+fn a_held_stop_is_told_once() {
+    for stop in [OFF, ABORT] {
+        let mut bench = Bench::new(HOLD3);
+        bench.plc.set_relay(Relay::M(1991), true);
+        let mut axes = CountingStops(SimAxes::new(), 0);
+        for i in 0..300 {
+            let inputs = if i < 20 { RUN } else { stop };
+            bench.fun.step(&mut bench.plc, &mut axes, inputs, PERIOD);
+            axes.0.advance(PERIOD);
+        }
+        assert_eq!(axes.1, 1);
+        assert!(bench.plc.relay(Relay::M(1992)), "at rest and free");
+    }
 }
