@@ -236,7 +236,7 @@ impl Fun147 {
         self.steps = steps;
         let mut named = 0;
         for k in 1..=steps {
-            named |= read_step(plc, self.sr, k, steps)?.named_axes();
+            named |= read_step(plc, self.sr, k, steps)?.named_axes().0;
         }
         if self.gp == 1 && named & 0b0011 != 0 {
             return Err(ErrorCode::IllegalCommand);

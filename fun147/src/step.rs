@@ -1,6 +1,7 @@
 //! One step of a FUN147 program as its derived text commands describe it (FUN147 derived
 //! command table): SPD, LIN/LINE, WAIT/EXT, GOTO.
 
+use crate::axes::AxisSet;
 use crate::plc::{Reg, Relay};
 
 /// A 32-bit operand: a constant, or the register pair DRn/DDn (low word at n).
@@ -109,8 +110,8 @@ pub struct Step {
 }
 
 impl Step {
-    /// The axes (bit i = Psi) whose travel operand is not blank.
-    pub fn named_axes(&self) -> u8 {
-        (0..4).filter(|&i| self.motion.travel[i] != Travel::Blank).fold(0, |set, i| set | 1 << i)
+    /// The axes whose travel operand is not blank.
+    pub fn named_axes(&self) -> AxisSet {
+        AxisSet((0..4).filter(|&i| self.motion.travel[i] != Travel::Blank).fold(0, |set, i| set | 1 << i))
     }
 }
