@@ -74,7 +74,7 @@ pub enum AsmErrorKind {
         expected: &'static str,
     },
     /// A constant outside its range; the code FUN147 would report.
-    #[error("{0}")]
+    #[error("FUN147 error {0}")]
     Value(ErrorCode),
     /// A command given twice in one step (SPD, LIN/LINE, WAIT/EXT, GOTO).
     #[error("a second {0} in one step")]

@@ -188,3 +188,12 @@ fn assembler_forms() {
     assert_eq!(&program.to_words()[2..4], &[0x930F, 0x550A]);
     assert!(assemble("001 SPD 1\n LIN ADR,1,,,,Ps\n WAIT TIME,65536\n").is_err());
 }
+
+/// What a user reads: where, and the manual's code.
+#[test]
+fn error_messages() {
+    let e = assemble("001 SPD 0\n LIN ADR,1,,,,Ps").unwrap_err();
+    assert_eq!(e.to_string(), "line 1, column 9: FUN147 error 31: speed setting value error");
+    let e = assemble("001 SPD 1\n LIN ADR,1,,,Ps").unwrap_err();
+    assert_eq!(e.to_string(), "line 2, column 2: LIN takes six operands: ADR|ABS, X, Y, Z, W, Ut|Ps");
+}
