@@ -40,6 +40,60 @@ const SCRIPTS: &[(&str, &[&str])] = &[
     ),
     ("ch07_gantry.lua", &["gantry pair 0", "drives R 52.000 L 48.000 -> linear 50.000 yaw 2.000", "chapter 7 done"]),
     (
+        "ch08_arcs.lua",
+        &[
+            "Arc2D via (100,100) to (200,0)   ends at (200.000, 0.000)",
+            "ArcAngle2D about (10,10) by 45   ends at (10.000, -4.142)",
+            "Circle2D (100,0) to (200,0), 1   ends at (200.000, 0.000)",
+            "ArcCW2D about (50,0) to (100,0)  ends at (100.000, 0.000)",
+            "ArcCCW2D about (50,0) to (0,0)   ends at (0.000, 0.000)",
+            "ArcCW2D with radii 10 and 30: 0x82000280",
+            "last group error 0x82000280; chapter 8 arcs done",
+        ],
+    ),
+    (
+        "ch08_blending.lua",
+        &[
+            "3 paths queued: 3 commands",
+            "example 2 back at (0.000, 0.000)",
+            "rounded rectangle queued as 8 segments",
+            "example 3-2 ends at (20.000, 0.000), transition mode 2",
+            "chapter 8 blending done",
+        ],
+    ),
+    (
+        "ch08_coordinates.lua",
+        &[
+            "5-1: PCS (10.000, 10.000) is MCS (400.000, 214.142)",
+            "5-3: arrow 1 ends at MCS (500.000, 364.142)",
+            "5-3: arrow 2 ends at MCS (700.000, -35.858)",
+            "5-3: arrow 3 ends at MCS (900.000, -435.858)",
+            "PCS reset to {0, 0, 0, 0, 0, 0}; coord sys 1",
+            "chapter 8 coordinates done",
+        ],
+    ),
+    (
+        "ch08_group_line.lua",
+        &[
+            "group of axis 0: 0, of axis 2: -1; enabled true",
+            "vel 100 acc 5000 dec 5000 smooth 200 ms",
+            "moving true",
+            "at (100.000, 100.000)",
+            "2 commands queued",
+            "LineRel2D ends at (200.000, 300.000)",
+            "MoveAbs on a grouped axis: 0x830000E6",
+            "after UngrpAllAxes: group of axis 0 -1; chapter 8 lines done",
+        ],
+    ),
+    (
+        "ch08_helix.lua",
+        &[
+            "three circles: Y reached 100.0, Z reached 100.0",
+            "helix ends at (0.000, 0.000, 100.000)",
+            "chapter 8 helix done",
+        ],
+    ),
+    (
         "ch18_errors.lua",
         &[
             "MoveAbs on a disabled axis   0x83020078",
@@ -86,13 +140,38 @@ fn chapter_7_gantry() {
 }
 
 #[test]
-fn chapter_18_errors() {
+fn chapter_8_arcs() {
     check(SCRIPTS[4].0, SCRIPTS[4].1);
 }
 
 #[test]
-fn chapter_20_homing() {
+fn chapter_8_blending() {
     check(SCRIPTS[5].0, SCRIPTS[5].1);
+}
+
+#[test]
+fn chapter_8_coordinates() {
+    check(SCRIPTS[6].0, SCRIPTS[6].1);
+}
+
+#[test]
+fn chapter_8_group_line() {
+    check(SCRIPTS[7].0, SCRIPTS[7].1);
+}
+
+#[test]
+fn chapter_8_helix() {
+    check(SCRIPTS[8].0, SCRIPTS[8].1);
+}
+
+#[test]
+fn chapter_18_errors() {
+    check(SCRIPTS[9].0, SCRIPTS[9].1);
+}
+
+#[test]
+fn chapter_20_homing() {
+    check(SCRIPTS[10].0, SCRIPTS[10].1);
 }
 
 #[test]

@@ -97,11 +97,19 @@ fn membership_and_enable_follow_the_manual() {
     assert_eq!(group_id(&rig, 3), -1, "HMPL 8.3.5: -1 for an ungrouped axis");
     assert_eq!(rig.group(Command::AddAxisToGrp, &[int(3)]), 0, "HMPL 8.3.1");
     assert_eq!(group_id(&rig, 3), 0, "HMPL 8.3.5");
-    assert_eq!(rig.group(Command::AddAxisToGrp, &[int(3)]), code(GroupError::CmdAxisDuplicated), "table 18.1.3.1 0x0028");
+    assert_eq!(
+        rig.group(Command::AddAxisToGrp, &[int(3)]),
+        code(GroupError::CmdAxisDuplicated),
+        "table 18.1.3.1 0x0028"
+    );
     for a in [0, 1, 2, 4, 5, 6, 7, 8] {
         assert_eq!(rig.group(Command::AddAxisToGrp, &[int(a)]), 0, "HMPL 8.3.1: up to 9 axes");
     }
-    assert_eq!(rig.group(Command::AddAxisToGrp, &[int(9)]), code(GroupError::CmdGrpSizeFull), "HMPL 8.3.1: a 10th axis");
+    assert_eq!(
+        rig.group(Command::AddAxisToGrp, &[int(9)]),
+        code(GroupError::CmdGrpSizeFull),
+        "HMPL 8.3.1: a 10th axis"
+    );
     assert_eq!(rig.snapshot().axis_count, 9);
     assert_eq!(rig.group(Command::RemoveAxisFromGrp, &[]), 0, "HMPL 8.3.2");
     assert_eq!(group_id(&rig, 8), -1, "HMPL 8.3.2 removes the axis added last");
@@ -152,7 +160,11 @@ fn defaults_and_ranges_of_the_settings() {
     assert_eq!(rig.snapshot().lin_profile, [100.0, 5000.0, 5000.0, 50.0], "a refused profile changes nothing");
     assert_eq!(rig.group(Command::SetGrpKin, &[int(1)]), 0, "HMPL 8.3.9");
     for kin in [2, 3, 4] {
-        assert_eq!(rig.group(Command::SetGrpKin, &[int(kin)]), code(GroupError::CmdInvalidKinSetting), "table 8.1.3.1 {kin}");
+        assert_eq!(
+            rig.group(Command::SetGrpKin, &[int(kin)]),
+            code(GroupError::CmdInvalidKinSetting),
+            "table 8.1.3.1 {kin}"
+        );
     }
     assert_eq!(rig.group(Command::SetGrpBufferMode, &[int(7)]), code(GroupError::CmdBlendModeUnknown), "HMPL 8.3.23");
     assert_eq!(rig.group(Command::SetGrpTransMode, &[int(5)]), code(GroupError::CmdTransModeUnknown), "HMPL 8.3.25");
@@ -166,11 +178,19 @@ fn defaults_and_ranges_of_the_settings() {
         code(GroupError::CmdInvalidTransDis),
         "table 8.3.26.1: trans_dis > 0"
     );
-    assert_eq!(rig.group(Command::SetGrpLookAheadPrm, &[int(3), num(1.0)]), code(GroupError::CmdLookaheadInvalidParam), "HMPL 8.3.34");
+    assert_eq!(
+        rig.group(Command::SetGrpLookAheadPrm, &[int(3), num(1.0)]),
+        code(GroupError::CmdLookaheadInvalidParam),
+        "HMPL 8.3.34"
+    );
     assert_eq!(rig.group(Command::SetGrpQueueSize, &[int(11)]), code(GroupError::CmdInvalidQueueSize), "HMPL 8.3.35");
     assert_eq!(rig.group(Command::SetGrpQueueSize, &[int(3)]), 0);
     assert_eq!(rig.snapshot().queue_size, 8);
-    assert_eq!(rig.group(Command::SetGrpCoordSys, &[int(0x8)]), code(GroupError::CmdCoordSysUnknown), "CS_GLOBAL is not supported");
+    assert_eq!(
+        rig.group(Command::SetGrpCoordSys, &[int(0x8)]),
+        code(GroupError::CmdCoordSysUnknown),
+        "CS_GLOBAL is not supported"
+    );
     let last = ipc::messages::Snapshot::default().group_last_err.len();
     assert!(last > 0);
     let mut s = ipc::messages::Snapshot::default();
@@ -221,14 +241,23 @@ fn a_line_moves_both_axes_together_at_the_path_speed() {
     assert_ne!(rig.snapshot().motion_status & group_motion_status::IN_POSITION, 0, "HMPL 8.4.3");
 }
 
+/// (start, command, arguments after the group, end, reference).
+type ArcRow = ([f64; 2], Command, Vec<Value>, [f64; 2], &'static str);
+
 #[test]
 fn arcs_and_circles_end_where_the_manual_says() {
     let s2 = 10.0 * 2f64.sqrt();
     // (start, command, args, end, reference)
-    let rows: Vec<([f64; 2], Command, Vec<Value>, [f64; 2], &str)> = vec![
+    let rows: Vec<ArcRow> = vec![
         ([0.0, 0.0], Command::Arc2D, vec![num(100.0), num(100.0), num(200.0), num(0.0)], [200.0, 0.0], "HMPL 8.2.13"),
         ([0.0, 0.0], Command::ArcAngle2D, vec![num(10.0), num(10.0), num(45.0)], [10.0, 10.0 - s2], "HMPL 8.2.16"),
-        ([0.0, 0.0], Command::Circle2D, vec![num(100.0), num(0.0), num(200.0), num(0.0), int(1)], [200.0, 0.0], "HMPL 8.2.17"),
+        (
+            [0.0, 0.0],
+            Command::Circle2D,
+            vec![num(100.0), num(0.0), num(200.0), num(0.0), int(1)],
+            [200.0, 0.0],
+            "HMPL 8.2.17",
+        ),
         ([0.0, 0.0], Command::ArcCW2D, vec![num(10.0), num(0.0), num(20.0), num(0.0)], [20.0, 0.0], "HMPL 8.2.14"),
         ([0.0, 0.0], Command::ArcCCW2D, vec![num(10.0), num(0.0), num(20.0), num(0.0)], [20.0, 0.0], "HMPL 8.2.15"),
     ];
@@ -285,7 +314,11 @@ fn the_queue_takes_512_and_refuses_the_513th_keeping_all() {
         accepted += 1;
     }
     assert_eq!(rig.snapshot().cmd_num, 512, "HMPL 8.3.27");
-    assert_eq!(rig.group(Command::LineAbs2D, &[num(5.0), num(5.0)]), code(GroupError::CmdQueueFull), "HMPL 8.1: 0x82II0078");
+    assert_eq!(
+        rig.group(Command::LineAbs2D, &[num(5.0), num(5.0)]),
+        code(GroupError::CmdQueueFull),
+        "HMPL 8.1: 0x82II0078"
+    );
     assert_eq!(rig.snapshot().cmd_num, accepted, "nothing queued is lost");
     assert_eq!(rig.group(Command::SetGrpQueueSize, &[int(3)]), code(GroupError::CmdQueueIsNotEmpty), "0x008C");
     rig.cycles(200);

@@ -1,7 +1,7 @@
 //! HMPL ch. 8: axis groups. Every command needs EtherCAT in Op, like the axes' motion.
 
-use api::{ErrorCode, GroupError};
 use api::call::Doubles;
+use api::{ErrorCode, GroupError};
 use ipc::messages::Reply;
 
 use super::{Outcome, axis::motion, now};

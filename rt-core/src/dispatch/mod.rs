@@ -277,8 +277,8 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
 }
 
 fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
-    use CommandCall as C;
     use crate::motion::group::motion::PathCommand as P;
+    use CommandCall as C;
     use path::planner::Profile;
     match *call {
         // HMPL 5.2: motion.
@@ -379,9 +379,13 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::SetGrpKin { group_id, kin_type } => groups::group(m, |k| k.set_grp_kin(group_id, kin_type)),
         C::SetGrpVel { group_id, vel } => groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.vel = vel)),
         C::SetGrpAcc { group_id, acc } => groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.acc = acc)),
-        C::SetGrpAccTime { group_id, acc_time } => groups::group(m, |k| k.set_group(group_id, |s| s.set_acc_time(acc_time))),
+        C::SetGrpAccTime { group_id, acc_time } => {
+            groups::group(m, |k| k.set_group(group_id, |s| s.set_acc_time(acc_time)))
+        }
         C::SetGrpDec { group_id, dec } => groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.dec = dec)),
-        C::SetGrpDecTime { group_id, dec_time } => groups::group(m, |k| k.set_group(group_id, |s| s.set_dec_time(dec_time))),
+        C::SetGrpDecTime { group_id, dec_time } => {
+            groups::group(m, |k| k.set_group(group_id, |s| s.set_dec_time(dec_time)))
+        }
         C::SetGrpSMTime { group_id, smooth_time } => {
             groups::group(m, |k| k.set_group_value(group_id, |s| s.lin.smooth_ms = smooth_time))
         }
@@ -396,41 +400,103 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::SetGrpVelScale { group_id, vel_scale } => {
             groups::group(m, |k| k.set_group_value(group_id, |s| s.vel_scale = vel_scale))
         }
-        C::GetGrpCoordTrans { group_id, coord_sys } => groups::six_out(reply, m.kernel.grp_coord_trans(group_id, coord_sys)),
+        C::GetGrpCoordTrans { group_id, coord_sys } => {
+            groups::six_out(reply, m.kernel.grp_coord_trans(group_id, coord_sys))
+        }
         C::SetGrpCoordTrans { group_id, coord_sys, ref trans_param } => {
             groups::group(m, |k| k.set_grp_coord_trans(group_id, coord_sys, trans_param))
         }
-        C::GetGrpPoseCmd { group_id, coord_sys } => groups::six_out(reply, m.kernel.grp_pose(group_id, coord_sys, false)),
+        C::GetGrpPoseCmd { group_id, coord_sys } => {
+            groups::six_out(reply, m.kernel.grp_pose(group_id, coord_sys, false))
+        }
         C::GetGrpPoseFb { group_id, coord_sys } => groups::six_out(reply, m.kernel.grp_pose(group_id, coord_sys, true)),
         C::SetGrpLookAheadPrm { group_id, prm_id, value } => {
             groups::group(m, |k| k.set_group(group_id, |s| s.set_look_ahead(prm_id, value)))
         }
         C::SetGrpQueueSize { group_id, queue_size } => groups::group(m, |k| k.set_grp_queue_size(group_id, queue_size)),
         // HMPL 8.5: advanced group motion.
-        C::LineAbs { group_id, ref target_pos, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
-            match groups::six(target_pos) {
-                Ok(target) => groups::advanced(m, group_id, P::LineAbs { target: target.map(Some) }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
-                Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
-            }
-        }
-        C::LineRel { group_id, ref relative_dist, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
-            match groups::six(relative_dist) {
-                Ok(distance) => groups::advanced(m, group_id, P::LineRel { distance }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
-                Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
-            }
-        }
-        C::CircleAbs { group_id, ref center_pos, ref normal_vector, turns, ref target_pos, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
-            match (groups::three(center_pos), groups::three(normal_vector), groups::six(target_pos)) {
-                (Ok(center), Ok(normal), Ok(target)) => groups::advanced(m, group_id, P::Circle { center, normal, turns, target, relative: false }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
-                (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
-            }
-        }
-        C::CircleRel { group_id, ref center_pos, ref normal_vector, turns, ref relative_dist, ref motion_profile, coord_sys, buff_mode, trans_mode, ref trans_par } => {
-            match (groups::three(center_pos), groups::three(normal_vector), groups::six(relative_dist)) {
-                (Ok(center), Ok(normal), Ok(target)) => groups::advanced(m, group_id, P::Circle { center, normal, turns, target, relative: true }, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par),
-                (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
-            }
-        }
+        C::LineAbs {
+            group_id,
+            ref target_pos,
+            ref motion_profile,
+            coord_sys,
+            buff_mode,
+            trans_mode,
+            ref trans_par,
+        } => match groups::six(target_pos) {
+            Ok(target) => groups::advanced(
+                m,
+                group_id,
+                P::LineAbs { target: target.map(Some) },
+                motion_profile,
+                [coord_sys, buff_mode, trans_mode],
+                trans_par,
+            ),
+            Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
+        },
+        C::LineRel {
+            group_id,
+            ref relative_dist,
+            ref motion_profile,
+            coord_sys,
+            buff_mode,
+            trans_mode,
+            ref trans_par,
+        } => match groups::six(relative_dist) {
+            Ok(distance) => groups::advanced(
+                m,
+                group_id,
+                P::LineRel { distance },
+                motion_profile,
+                [coord_sys, buff_mode, trans_mode],
+                trans_par,
+            ),
+            Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
+        },
+        C::CircleAbs {
+            group_id,
+            ref center_pos,
+            ref normal_vector,
+            turns,
+            ref target_pos,
+            ref motion_profile,
+            coord_sys,
+            buff_mode,
+            trans_mode,
+            ref trans_par,
+        } => match (groups::three(center_pos), groups::three(normal_vector), groups::six(target_pos)) {
+            (Ok(center), Ok(normal), Ok(target)) => groups::advanced(
+                m,
+                group_id,
+                P::Circle { center, normal, turns, target, relative: false },
+                motion_profile,
+                [coord_sys, buff_mode, trans_mode],
+                trans_par,
+            ),
+            (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
+        },
+        C::CircleRel {
+            group_id,
+            ref center_pos,
+            ref normal_vector,
+            turns,
+            ref relative_dist,
+            ref motion_profile,
+            coord_sys,
+            buff_mode,
+            trans_mode,
+            ref trans_par,
+        } => match (groups::three(center_pos), groups::three(normal_vector), groups::six(relative_dist)) {
+            (Ok(center), Ok(normal), Ok(target)) => groups::advanced(
+                m,
+                group_id,
+                P::Circle { center, normal, turns, target, relative: true },
+                motion_profile,
+                [coord_sys, buff_mode, trans_mode],
+                trans_par,
+            ),
+            (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
+        },
         // HMPL ch. 20: homing.
         C::MoveHome { axis_id } => axis::move_home(m, axis_id),
         C::SetHomeMethod { axis_id, method } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_method(method))),

@@ -313,7 +313,13 @@ mod tests {
             ("8.3.1", Torque { per_mille: 0.0 }, "AddAxisToGrp", |s| s.join_group(2), Err(CmdInvalidControlMode)),
             ("20.2", Group { id: 1, synced: false }, "MoveHome", |s| s.start_homing(run()), Err(CmdInvalidGrouped)),
             ("6.2", Group { id: 1, synced: false }, "EnableGear", |s| s.link_gear(MASTER), Err(CmdInvalidGrouped)),
-            ("5.3.41", Group { id: 1, synced: true }, "SetOpMode 10", |s| s.set_torque_mode(true), Err(CmdInvalidGrouped)),
+            (
+                "5.3.41",
+                Group { id: 1, synced: true },
+                "SetOpMode 10",
+                |s| s.set_torque_mode(true),
+                Err(CmdInvalidGrouped),
+            ),
             // Operation mode and torque, HMPL 5.3.41 and 5.2.7.
             ("5.3.41", Profile, "SetOpMode 10", |s| s.set_torque_mode(true), Ok(Torque { per_mille: 0.0 })),
             (

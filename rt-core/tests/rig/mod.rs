@@ -33,7 +33,8 @@ impl Rig {
     pub fn with_axes(n: usize) -> Self {
         let mut config = MachineConfig::default();
         let first = config.axes[0].clone();
-        config.axes = (0..n).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
+        config.axes =
+            (0..n).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
         Self::with_config(config, FaultReaction::None)
     }
 

@@ -12,7 +12,11 @@ use crate::motion::Kernel;
 
 impl Kernel {
     /// Runs `f` on group `group` and records its refusal as the group's last error.
-    fn on_group<T>(&mut self, group: i64, f: impl FnOnce(&mut Kernel, usize) -> Result<T, GroupError>) -> Result<T, ErrorCode> {
+    fn on_group<T>(
+        &mut self,
+        group: i64,
+        f: impl FnOnce(&mut Kernel, usize) -> Result<T, GroupError>,
+    ) -> Result<T, ErrorCode> {
         let g = self.group_id(group)?;
         f(self, g as usize).map_err(|e| self.refuse_group(g, e))
     }
@@ -185,6 +189,10 @@ impl Kernel {
             k.check_moves(g)?;
             let dir = usize::try_from(carte_dir).ok().filter(|&d| d < k.groups[g].coordinates());
             let dir = dir.ok_or(GroupError::CmdLinInvalidParam)?;
+            // A jog moves the group off its path: not while path commands are queued.
+            if k.groups[g].planner.commands() > 0 {
+                return Err(GroupError::CmdInvalidMoving);
+            }
             // HMPL 8.3.6, 8.3.7: the linear and the angular velocity limits.
             let limit = if dir < 3 { 5000.0 } else { 7200.0 };
             if velocity.abs() > limit {
@@ -229,7 +237,11 @@ impl Kernel {
     }
 
     /// A setting that cannot fail once its argument is in range.
-    pub fn set_group_value(&mut self, group: i64, f: impl FnOnce(&mut settings::GroupSettings)) -> Result<(), ErrorCode> {
+    pub fn set_group_value(
+        &mut self,
+        group: i64,
+        f: impl FnOnce(&mut settings::GroupSettings),
+    ) -> Result<(), ErrorCode> {
         self.set_group(group, |s| {
             f(s);
             Ok(())

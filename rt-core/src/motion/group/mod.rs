@@ -133,14 +133,22 @@ impl Group {
         self.count.min(COORDINATES)
     }
 
-    fn samples(&self, smooth_ms: f64) -> usize {
-        (smooth_ms / 1000.0 / self.period_s).round() as usize + 1
+    /// The smooth time of the group's S-curve, ms: the longer of the linear and the
+    /// angular profile's (HMPL 8.3.6, 8.3.7); one moving average smooths all coordinates.
+    fn smooth_ms(&self) -> f64 {
+        self.settings.lin.smooth_ms.max(self.settings.ang.smooth_ms)
+    }
+
+    /// The moving average's window for the group's smooth time: the planner holds every
+    /// full stop for ceil(Ts / cycle) cycles, so a window this long comes to rest there.
+    fn samples(&self) -> usize {
+        (self.smooth_ms() / 1000.0 / self.period_s).ceil() as usize + 1
     }
 
     /// Stands still at `pose`: the interpolator, the smoothing and the command.
     fn rest_at(&mut self, pose: Pose) {
         self.planner.rest_at(pose);
-        let len = self.samples(self.settings.lin.smooth_ms);
+        let len = self.samples();
         for (smoother, &p) in self.smoothers.iter_mut().zip(&pose) {
             smoother.reset(p, len);
         }
@@ -150,7 +158,7 @@ impl Group {
 
     /// One cycle of the interpolator, smoothed: the pose the axes take.
     fn step(&mut self) -> &Kinematics6 {
-        let len = self.samples(self.settings.lin.smooth_ms);
+        let len = self.samples();
         if !self.is_moving() && self.smoothers[0].window() != len {
             // A new smooth time takes effect at rest (docs/decisions.md, "Groups").
             let pose = self.pose_cmd.pos;
@@ -161,8 +169,8 @@ impl Group {
         self.sample = self.planner.step();
         let raw = self.sample.pose;
         let previous = self.pose_cmd;
-        for i in 0..COORDINATES {
-            let k = self.smoothers[i].push(Kinematics { pos: raw[i], vel: 0.0, acc: 0.0 });
+        for (i, (smoother, &raw)) in self.smoothers.iter_mut().zip(&raw).enumerate() {
+            let k = smoother.push(Kinematics { pos: raw, vel: 0.0, acc: 0.0 });
             self.pose_cmd.pos[i] = k.pos;
             self.pose_cmd.vel[i] = (k.pos - previous.pos[i]) / self.period_s;
             self.pose_cmd.acc[i] = (self.pose_cmd.vel[i] - previous.vel[i]) / self.period_s;

@@ -4,8 +4,8 @@
 //! group's interpolator. The coordinate systems (HMPL 8.1.2) are applied here, so the
 //! interpolator only ever sees MCS.
 
-use api::{ErrorCode, GroupError};
 use api::call::Doubles;
+use api::{ErrorCode, GroupError};
 use path::blend::{self, TransitionMode, TransitionParams};
 use path::commands;
 use path::frames::{CoordSys, Frame};
@@ -96,12 +96,21 @@ pub struct Advanced {
 impl Advanced {
     /// `motion_profile` (4 numbers, ranges checked with the arguments), `coord_sys`,
     /// `buff_mode`, `trans_mode`, `trans_par` (4 numbers; empty or 0 with TM_NONE).
-    pub fn new(profile: &[f64], coord_sys: i64, buff_mode: i64, trans_mode: i64, trans: &[f64]) -> Result<Self, GroupError> {
+    pub fn new(
+        profile: &[f64],
+        coord_sys: i64,
+        buff_mode: i64,
+        trans_mode: i64,
+        trans: &[f64],
+    ) -> Result<Self, GroupError> {
         let trans_mode = TransitionMode::try_from(trans_mode)?;
         let trans = match trans {
-            [trans_vel, trans_dis, trans_dev, trans_curv, ..] => {
-                TransitionParams { trans_vel: *trans_vel, trans_dis: *trans_dis, trans_dev: *trans_dev, trans_curv: *trans_curv }
-            }
+            [trans_vel, trans_dis, trans_dev, trans_curv, ..] => TransitionParams {
+                trans_vel: *trans_vel,
+                trans_dis: *trans_dis,
+                trans_dev: *trans_dev,
+                trans_curv: *trans_curv,
+            },
             _ if trans_mode == TransitionMode::None => TransitionParams::default(),
             _ => return Err(GroupError::CmdInvalidTransVel),
         };
@@ -128,7 +137,12 @@ impl Kernel {
     /// Queues a path command (HMPL 8.2.9 to 8.2.17, 8.5). Refused unless the group is
     /// enabled and out of error stop; a full queue refuses it with 0x82II0078 and keeps
     /// everything queued.
-    pub fn move_group(&mut self, group: i64, command: PathCommand, advanced: Option<Advanced>) -> Result<(), ErrorCode> {
+    pub fn move_group(
+        &mut self,
+        group: i64,
+        command: PathCommand,
+        advanced: Option<Advanced>,
+    ) -> Result<(), ErrorCode> {
         let g = self.group_id(group)?;
         self.queue_path(g as usize, command, advanced).map_err(|e| self.refuse_group(g, e))
     }
@@ -141,11 +155,18 @@ impl Kernel {
         }
         let limits = self.groups[g].limits(&self.axes);
         let grp = &mut self.groups[g];
-        let (motion, coord_sys, trans_mode, trans) = match advanced {
-            Some(a) => (Motion { lin: a.profile, ang: grp.settings.ang, buffer: a.buffer }, a.coord_sys, a.trans_mode, a.trans),
+        let (mut motion, coord_sys, trans_mode, trans) = match advanced {
+            Some(a) => {
+                (Motion { lin: a.profile, ang: grp.settings.ang, buffer: a.buffer }, a.coord_sys, a.trans_mode, a.trans)
+            }
             None => (grp.settings.motion(), grp.coord_sys, grp.trans_mode, grp.trans),
         };
-        let start = if motion.buffer == BufferMode::Abort { grp.planner.stopping_pose() } else { grp.planner.end_pose() };
+        // One moving average smooths the whole path: its smooth time is the group's, which
+        // the planner's full stops must last (docs/decisions.md, "Groups").
+        let smooth_ms = grp.smooth_ms();
+        (motion.lin.smooth_ms, motion.ang.smooth_ms) = (smooth_ms, smooth_ms);
+        let start =
+            if motion.buffer == BufferMode::Abort { grp.planner.stopping_pose() } else { grp.planner.end_pose() };
         let frame = grp.frames.frame(coord_sys);
         let mut segment = command.segment(&start, &frame)?;
         // Cartesian kinematics: a coordinate the group has no axis for stays where it is.
@@ -200,7 +221,11 @@ impl Kernel {
 
     /// HMPL 8.3.26: the transition parameters, in the ranges of table 8.3.26.1 that do not
     /// depend on the segments.
-    pub fn set_grp_trans_prm(&mut self, group: i64, [trans_vel, trans_dis, trans_dev, trans_curv]: [f64; 4]) -> Result<(), ErrorCode> {
+    pub fn set_grp_trans_prm(
+        &mut self,
+        group: i64,
+        [trans_vel, trans_dis, trans_dev, trans_curv]: [f64; 4],
+    ) -> Result<(), ErrorCode> {
         let g = self.group_id(group)?;
         let trans = TransitionParams { trans_vel, trans_dis, trans_dev, trans_curv };
         match trans.validate() {
@@ -223,7 +248,9 @@ impl Kernel {
     pub fn set_grp_coord_trans(&mut self, group: i64, coord_sys: i64, params: &Doubles) -> Result<(), ErrorCode> {
         let g = self.group_id(group)?;
         let result = match params.len() {
-            6.. => self.groups[g as usize].frames.set(coord_sys, &std::array::from_fn(|i| params.get(i).unwrap_or(0.0))),
+            6.. => {
+                self.groups[g as usize].frames.set(coord_sys, &std::array::from_fn(|i| params.get(i).unwrap_or(0.0)))
+            }
             _ => Err(GroupError::CmdCoordInvalidParam),
         };
         result.map_err(|e| self.refuse_group(g, e))

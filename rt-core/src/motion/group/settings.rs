@@ -117,7 +117,12 @@ pub fn admit(quantity: Quantity, index: usize, value: f64) -> Result<(), GroupEr
         Quantity::PathVelScale => within(0.0, 100.0),
         Quantity::GroupJogVelocity => within(-ANG_MAX_VEL, ANG_MAX_VEL),
         Quantity::MotionProfile => {
-            let q = [Quantity::PathVelocity, Quantity::PathAcceleration, Quantity::PathDeceleration, Quantity::PathSmoothTime];
+            let q = [
+                Quantity::PathVelocity,
+                Quantity::PathAcceleration,
+                Quantity::PathDeceleration,
+                Quantity::PathSmoothTime,
+            ];
             return q.get(index).map_or(Err(GroupError::CmdLinInvalidParam), |&q| admit(q, 0, value));
         }
         Quantity::TransitionParameter | Quantity::LookAheadParameter => value >= 0.0 && value.is_finite(),
