@@ -46,7 +46,11 @@ fn sweep() -> Vec<(String, bool)> {
             if !matches!(arg.ty, ArgType::Double | ArgType::Doubles) || arg.quantity.is_none() {
                 continue;
             }
-            for (value, refused) in out.iter().map(|&v| (v, true)).chain(edges.iter().map(|&v| (v, false))) {
+            // A group's numbers are not bound to the drive's counts (HMPL ch. 8: mm and deg
+            // of the path): the values one count past them may be in range there.
+            let group_bound = arg.quantity.is_some_and(|q| q.is_group_bound());
+            let out = out.iter().filter(|v| !group_bound || v.abs() != past);
+            for (value, refused) in out.map(|&v| (v, true)).chain(edges.iter().map(|&v| (v, false))) {
                 let args: Vec<String> = spec
                     .args
                     .iter()

@@ -3,7 +3,10 @@
 //!   `MoveAbs` through the profile generator and the filter chain after it (plan + first
 //!   sample, smoothing on);
 //! - one kernel cycle (read drives, plan, limits, status, write drives) per axis, with
-//!   every axis moving, for 1 to 64 axes. The drives' own simulation is not timed.
+//!   every axis moving, for 1 to 64 axes. The drives' own simulation is not timed;
+//! - groups (HMPL ch. 8): one kernel cycle with 4 groups of 2 axes each running a polygon
+//!   of short segments with look-ahead, their queues kept full (512), beside the same
+//!   8 axes with no group; and queuing one segment with look-ahead onto a full queue.
 //!
 //! `cargo bench -p rt-core --bench kernel`
 
@@ -17,6 +20,7 @@ use rt_core::ecat::Network;
 use rt_core::motion::Kernel;
 use rt_core::motion::filter::FilterChain;
 use rt_core::motion::generator::{Generator, Move, Profile};
+use rt_core::motion::group::motion::PathCommand;
 use rt_core::profile::{Limits, Trapezoid};
 
 const PERIOD_S: f64 = 1e-3;
@@ -97,5 +101,89 @@ fn kernel_cycle(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, planning, kernel_cycle);
+/// A point of a polygon of 1 mm segments on a circle of radius 50 about (50, 0), per group.
+fn polygon_point(k: usize) -> [f64; 2] {
+    let angle = k as f64 * 1.0 / 50.0;
+    [50.0 - 50.0 * angle.cos(), 50.0 * angle.sin()]
+}
+
+/// `machine(8)` with axes 2g and 2g+1 in group g (g = 0..3), look-ahead on, each queue full.
+fn grouped_machine() -> (Network, Kernel, u64, [usize; 4]) {
+    let (network, mut kernel, cycle) = machine(8);
+    let mut next = [0; 4];
+    for g in 0..4i64 {
+        kernel.add_axis_to_grp(g, 2 * g).unwrap();
+        kernel.add_axis_to_grp(g, 2 * g + 1).unwrap();
+        kernel.enable_group(g).unwrap();
+        kernel.set_group(g, |s| s.set_buffer_mode(6)).unwrap();
+        fill(&mut kernel, g, &mut next[g as usize]);
+    }
+    (network, kernel, cycle, next)
+}
+
+/// Queues polygon points until group `g`'s queue is full.
+fn fill(kernel: &mut Kernel, g: i64, next: &mut usize) {
+    while kernel.groups()[g as usize].commands() < 512 {
+        *next += 1;
+        kernel.move_group(g, PathCommand::line_abs(polygon_point(*next)), None).unwrap();
+    }
+}
+
+fn groups(c: &mut Criterion) {
+    let mut group = c.benchmark_group("groups");
+    group.bench_function("kernel_cycle_8_axes_no_group", |b| {
+        let (mut network, mut kernel, mut cycle) = machine(8);
+        b.iter_custom(|iters| {
+            let mut timed = Duration::ZERO;
+            for _ in 0..iters {
+                cycle += 1;
+                network.exchange(PERIOD_S);
+                let start = Instant::now();
+                kernel.step(cycle, &mut network);
+                timed += start.elapsed();
+            }
+            timed
+        })
+    });
+    group.bench_function("kernel_cycle_4_groups_full_queues", |b| {
+        let (mut network, mut kernel, mut cycle, mut next) = grouped_machine();
+        b.iter_custom(|iters| {
+            let mut timed = Duration::ZERO;
+            for _ in 0..iters {
+                cycle += 1;
+                for g in 0..4 {
+                    fill(&mut kernel, g as i64, &mut next[g]);
+                }
+                network.exchange(PERIOD_S);
+                let start = Instant::now();
+                kernel.step(cycle, &mut network);
+                timed += start.elapsed();
+            }
+            timed
+        })
+    });
+    group.bench_function("queue_one_segment_look_ahead_onto_511", |b| {
+        let (mut network, mut kernel, mut cycle, mut next) = grouped_machine();
+        b.iter_custom(|iters| {
+            let mut timed = Duration::ZERO;
+            for _ in 0..iters {
+                // One cycle frees a place; the timed push fills it again.
+                while kernel.groups()[0].commands() == 512 {
+                    cycle += 1;
+                    network.exchange(PERIOD_S);
+                    kernel.step(cycle, &mut network);
+                }
+                next[0] += 1;
+                let command = PathCommand::line_abs(polygon_point(next[0]));
+                let start = Instant::now();
+                kernel.move_group(0, command, None).unwrap();
+                timed += start.elapsed();
+            }
+            timed
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, planning, kernel_cycle, groups);
 criterion_main!(benches);

@@ -388,6 +388,10 @@ fn pcs_of_example_5_1_maps_targets_and_poses() {
     // A Z the group has no axis for cannot be reached.
     let z = [num(0.0), num(0.0), num(5.0)];
     assert_eq!(rig.group(Command::LineAbs3D, &z), code(GroupError::CmdInvalidPos), "table 18.1.3.1 0x00D2");
+    // Nor a target past an axis' drive counts (2^31 counts of 0.1 µm: 214748 mm).
+    let far = [num(0.0), num(1e6)];
+    assert_eq!(rig.group(Command::LineAbs2D, &far), code(GroupError::CmdInvalidPos), "past the counts");
+    assert_eq!(rig.machine.kernel.axis_snapshot(1).last_err, 0, "the group's error, not the axis'");
 }
 
 #[test]
@@ -405,4 +409,36 @@ fn the_commanding_tasks_fault_stops_its_group_only() {
     rig.till_in_pos(5000);
     assert!(rig.pose()[0] < 500.0, "the commanding task's fault stops its group short of the target");
     assert_eq!(rig.snapshot().cmd_num, 0);
+}
+
+#[test]
+fn a_software_limit_stops_the_axis_and_the_group_leaves_sync() {
+    let mut rig = xy();
+    assert_eq!(rig.call(0, Command::SetSWRL, &[1], &[50.0]), 0);
+    assert_eq!(rig.group(Command::LineAbs2D, &[num(100.0), num(100.0)]), 0);
+    rig.cycles(3000);
+    let s = rig.snapshot();
+    assert_ne!(s.fault_status & group_fault_status::ERROR_STOP, 0, "table 8.1.1.4 bit 0");
+    assert_ne!(s.fault_status & group_fault_status::SOFTWARE_LIMIT, 0, "table 8.1.1.4 bit 2");
+    let mut snapshot = ipc::messages::Snapshot::default();
+    rig.machine.kernel.fill(&mut snapshot);
+    assert_eq!(snapshot.group_last_err[0] as i64, code(GroupError::AxisSwl), "table 18.1.3.1 0x03FC");
+    let y = rig.machine.kernel.axes()[1].pos_fb();
+    assert!(y <= 50.0, "the axis stopped at its limit: {y}");
+    assert!(rig.machine.kernel.axes()[1].is_error_stop());
+    assert!(!rig.moving(0) && !rig.moving(1), "both axes came to rest on their own");
+}
+
+/// DXMC alarm 0x001F applies to groups: one task commands a group's axes in a cycle.
+#[test]
+fn one_task_per_group_and_cycle() {
+    let mut rig = xy();
+    rig.enable(2);
+    assert_eq!(rig.call_values(0, Command::LineAbs2D, &[int(G), num(10.0), num(0.0)]).0, 0);
+    let busy = rig.call_values(1, Command::LineAbs2D, &[int(G), num(20.0), num(0.0)]).0;
+    assert_eq!(busy, 0x1000_001F, "task 1, the same group's axis 0, the same cycle");
+    assert_eq!(rig.call(1, Command::MoveAbs, &[2], &[5.0]), 0, "another axis in the same cycle");
+    rig.cycle();
+    assert_eq!(rig.call_values(1, Command::LineAbs2D, &[int(G), num(20.0), num(0.0)]).0, 0, "the next cycle");
+    assert_eq!(rig.machine.kernel.groups()[0].commander(), Some(1), "the last commander owns the group's motion");
 }

@@ -22,7 +22,8 @@ CircleAbs(gid, center2, norm_y, 1, end_pos, fast, CS_MCS, BM_BUFF, TM_NONE, 0)  
 CircleAbs(gid, center2, norm_x, 1, end_pos, fast, CS_MCS, BM_BUFF, TM_NONE, 0)   -- full circle in YZ
 local highest_y, highest_z = 0, 0
 Till(function()
-  highest_y = math.max(highest_y, GetPosFb(1)); highest_z = math.max(highest_z, GetPosFb(2))
+  local _, p = GetGrpPoseCmd(gid, CS_MCS)
+  highest_y = math.max(highest_y, p[2]); highest_z = math.max(highest_z, p[3])
   return IsGrpInPos(gid)
 end)
 Print("three circles: Y reached %.1f, Z reached %.1f, back at (%.3f, %.3f, %.3f)",

@@ -30,6 +30,12 @@ impl Axis {
         }
     }
 
+    /// Whether a value of `quantity` is in the axis' range, recording nothing (a group's
+    /// command checks its axes' targets so, and records its own error).
+    pub fn accepts(&self, quantity: Quantity, value: f64) -> bool {
+        self.in_range(quantity, value)
+    }
+
     fn in_range(&self, quantity: Quantity, v: f64) -> bool {
         let s = &self.settings;
         // One count, in units: the least length, speed and acceleration a drive can carry.

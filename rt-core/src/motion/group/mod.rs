@@ -117,6 +117,11 @@ impl Group {
         self.commander
     }
 
+    /// Commands in the buffer, the one under way included (HMPL 8.3.27).
+    pub fn commands(&self) -> usize {
+        self.planner.commands()
+    }
+
     /// StopAll (HMPL 2.8): an enabled group stops along its path.
     pub fn stop(&mut self) {
         if self.state == GroupState::Standby {
@@ -133,10 +138,10 @@ impl Group {
         self.count.min(COORDINATES)
     }
 
-    /// The smooth time of the group's S-curve, ms: the longer of the linear and the
-    /// angular profile's (HMPL 8.3.6, 8.3.7); one moving average smooths all coordinates.
+    /// The smooth time of the group's S-curve, ms: the linear (TCP) profile's (HMPL 8.3.6,
+    /// 8.3.19); one moving average smooths all coordinates (docs/decisions.md, "Groups").
     fn smooth_ms(&self) -> f64 {
-        self.settings.lin.smooth_ms.max(self.settings.ang.smooth_ms)
+        self.settings.lin.smooth_ms
     }
 
     /// The moving average's window for the group's smooth time: the planner holds every

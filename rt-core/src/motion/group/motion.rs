@@ -5,7 +5,7 @@
 //! interpolator only ever sees MCS.
 
 use api::call::Doubles;
-use api::{ErrorCode, GroupError};
+use api::{ErrorCode, GroupError, Quantity};
 use path::blend::{self, TransitionMode, TransitionParams};
 use path::commands;
 use path::frames::{CoordSys, Frame};
@@ -169,9 +169,14 @@ impl Kernel {
             if motion.buffer == BufferMode::Abort { grp.planner.stopping_pose() } else { grp.planner.end_pose() };
         let frame = grp.frames.frame(coord_sys);
         let mut segment = command.segment(&start, &frame)?;
-        // Cartesian kinematics: a coordinate the group has no axis for stays where it is.
+        // Cartesian kinematics: a coordinate the group has no axis for stays where it is, and
+        // each axis' end is a target it can reach (its drive's counts).
         let end = segment.end();
         if (grp.coordinates()..COORDINATES).any(|i| (end[i] - start[i]).abs() > 1e-9) {
+            return Err(GroupError::CmdInvalidPos);
+        }
+        let axes = &self.axes;
+        if grp.axes().iter().zip(&end).any(|(&a, &p)| !axes[a as usize].accepts(Quantity::Target, p)) {
             return Err(GroupError::CmdInvalidPos);
         }
         let room = grp.planner.queue_size() - grp.planner.commands();

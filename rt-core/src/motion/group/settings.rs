@@ -16,6 +16,8 @@ const ANG_MAX_ACC: f64 = 72000.0;
 pub const MAX_SMOOTH_MS: f64 = 500.0;
 /// A path coordinate's magnitude limit: far beyond any machine, short of losing precision.
 const MAX_COORDINATE: f64 = 1e9;
+/// The longest acceleration or deceleration time, ms: a minute, as an axis' (HMPL 5.3.5).
+const MAX_TIME_MS: f64 = 60_000.0;
 /// HMPL 8.3.35: the queue holds 2^n commands, n = 0..10; 512 by default (HMPL 8.1).
 pub const DEFAULT_QUEUE_SIZE: usize = 512;
 const MAX_QUEUE_EXPONENT: i64 = 10;
@@ -111,7 +113,7 @@ pub fn admit(quantity: Quantity, index: usize, value: f64) -> Result<(), GroupEr
         Quantity::PathVelocity => within(0.0, LIN_MAX_VEL),
         Quantity::PathAcceleration | Quantity::PathDeceleration => above(LIN_MAX_ACC),
         Quantity::PathSmoothTime | Quantity::AngularSmoothTime => within(0.0, MAX_SMOOTH_MS),
-        Quantity::PathAccTime | Quantity::PathDecTime => value > 0.0 && value.is_finite(),
+        Quantity::PathAccTime | Quantity::PathDecTime => value > 0.0 && value <= MAX_TIME_MS,
         Quantity::AngularVelocity => within(0.0, ANG_MAX_VEL),
         Quantity::AngularAcceleration | Quantity::AngularDeceleration => above(ANG_MAX_ACC),
         Quantity::PathVelScale => within(0.0, 100.0),
@@ -125,7 +127,9 @@ pub fn admit(quantity: Quantity, index: usize, value: f64) -> Result<(), GroupEr
             ];
             return q.get(index).map_or(Err(GroupError::CmdLinInvalidParam), |&q| admit(q, 0, value));
         }
-        Quantity::TransitionParameter | Quantity::LookAheadParameter => value >= 0.0 && value.is_finite(),
+        // A length on the path no longer than the coordinates reach; the mode's own ranges
+        // (table 8.3.26.1) are checked with the mode.
+        Quantity::TransitionParameter | Quantity::LookAheadParameter => within(0.0, MAX_COORDINATE),
         _ => true,
     };
     match (ok, quantity.error()) {
@@ -160,6 +164,11 @@ mod tests {
             (Quantity::PathVelScale, 100.0, Ok(()), "HMPL 8.3.28 0..100"),
             (Quantity::PathVelScale, 100.5, Err(GroupError::CmdInvalidVelScale), "HMPL 8.3.28"),
             (Quantity::PathCoordinate, f64::INFINITY, Err(GroupError::CmdInvalidPos), "table 18.1.3.1 0x00D2"),
+            (Quantity::PathAccTime, 60_000.0, Ok(()), "a minute, as an axis' (HMPL 5.3.5)"),
+            (Quantity::PathAccTime, 60_001.0, Err(GroupError::CmdInvalidLinAcc), "HMPL 8.3.14"),
+            (Quantity::PathDecTime, 0.0, Err(GroupError::CmdInvalidLinDec), "HMPL 8.3.17 ms > 0"),
+            (Quantity::TransitionParameter, 1e30, Err(GroupError::CmdInvalidTransVel), "table 8.3.26.1"),
+            (Quantity::LookAheadParameter, -1.0, Err(GroupError::CmdLookaheadInvalidParam), "HMPL 8.3.34"),
         ];
         for (q, v, want, reference) in rows {
             assert_eq!(admit(*q, 0, *v), *want, "{q:?} {v} ({reference})");
