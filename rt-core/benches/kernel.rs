@@ -151,8 +151,8 @@ fn groups(c: &mut Criterion) {
             let mut timed = Duration::ZERO;
             for _ in 0..iters {
                 cycle += 1;
-                for g in 0..4 {
-                    fill(&mut kernel, g as i64, &mut next[g]);
+                for (g, next) in next.iter_mut().enumerate() {
+                    fill(&mut kernel, g as i64, next);
                 }
                 network.exchange(PERIOD_S);
                 let start = Instant::now();
