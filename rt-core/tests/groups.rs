@@ -134,6 +134,7 @@ fn a_grouped_axis_refuses_its_own_motion() {
     let refused = ErrorCode::axis(0, AxisError::CmdInvalidGrouped).code() as i64;
     assert_eq!(rig.call(0, Command::MoveAbs, &[0], &[10.0]), refused, "HMPL 3.2: 0x83II00E6");
     assert_eq!(rig.call(0, Command::MoveHome, &[0], &[]), refused);
+    assert_eq!(rig.call(0, Command::SetPos, &[0], &[5.0]), refused, "HMPL 5.3.19: not while grouped");
     let s = rig.machine.kernel.axis_snapshot(0);
     assert_ne!(s.motion_status & ipc::messages::motion_status::GROUP, 0, "table 5.1.1.5 bit 4");
 }

@@ -501,6 +501,8 @@ impl Axis {
     pub(in crate::motion) fn set_pos(&mut self, pos: f64) -> Result<(), AxisError> {
         let refused = if self.is_gear_slave() {
             Some(AxisError::CmdInvalidInSync)
+        } else if self.source.group().is_some() {
+            Some(AxisError::CmdInvalidGrouped)
         } else if self.error_stop {
             Some(AxisError::CmdInvalidErrorState)
         } else if self.is_moving() {
