@@ -1,5 +1,6 @@
 //! The RT thread's invariant: after start-up, a cycle never calls the system allocator,
-//! even while a task's commands are served, replies published and wake-ups sent.
+//! even while a task's commands are served (axis moves, a group's lines and arcs with
+//! look-ahead and corner blends), replies published and wake-ups sent.
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -22,19 +23,46 @@ use rt_core::tasks::{self, Tasks};
 #[global_allocator]
 static ALLOCATOR: RtAllocator = RtAllocator;
 
-/// A task that enables axis 0 and then moves it back and forth without pause.
+/// `command(ints..., doubles...)` as a request.
+fn request(command: Command, ints: &[i64], doubles: &[f64]) -> Request {
+    let mut request = Request::new(command.id());
+    ints.iter().for_each(|&i| request.push_int(i));
+    doubles.iter().for_each(|&d| request.push_double(d));
+    request
+}
+
+/// A task that enables axis 0 and moves it back and forth without pause, while axes 1 and
+/// 2, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
 fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
-    let mut enable = Request::new(Command::Enable.id());
-    enable.push_int(0);
-    task.call(&mut enable).unwrap();
+    for a in 0..3 {
+        task.call(&mut request(Command::Enable, &[a], &[])).unwrap();
+    }
+    while !(0..3).all(|a| task.snapshot().axes[a].motion_status & ipc::messages::motion_status::ENABLED != 0) {
+        let target = task.snapshot().cycle + 1;
+        task.wait_until_cycle(target).unwrap();
+    }
+    for setup in [
+        request(Command::AddAxisToGrp, &[0, 1], &[]),
+        request(Command::AddAxisToGrp, &[0, 2], &[]),
+        request(Command::EnableGroup, &[0], &[]),
+        request(Command::SetGrpBufferMode, &[0, 6], &[]),
+        request(Command::SetGrpTransMode, &[0, 2], &[]),
+        request(Command::SetGrpTransPrm, &[0], &[50.0, 0.2, 0.0, 0.0]),
+    ] {
+        let mut setup = setup;
+        assert_eq!(task.call(&mut setup).unwrap().rc, 0);
+    }
     let mut i = 0;
     while !stop.load(Ordering::Acquire) {
         i += 1;
-        let mut request = Request::new(Command::MoveAbs.id());
-        request.push_int(0);
-        request.push_double((i % 2) as f64);
-        task.call(&mut request).unwrap();
+        task.call(&mut request(Command::MoveAbs, &[0], &[(i % 2) as f64])).unwrap();
+        let mut path = match i % 3 {
+            0 => request(Command::LineAbs2D, &[0], &[1.0, 0.0]),
+            1 => request(Command::ArcCW2D, &[0], &[1.0, 0.5, 1.0, 1.0]),
+            _ => request(Command::LineAbs2D, &[0], &[0.0, 0.0]),
+        };
+        task.call(&mut path).unwrap();
         let target = task.snapshot().cycle + 1;
         task.wait_until_cycle(target).unwrap();
     }
@@ -74,6 +102,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let system = rt_alloc::owner_system_allocations() - system_before;
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
+    let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
 
     stop.store(true, Ordering::Release);
     run(&mut work, 50);
@@ -82,6 +111,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     ipc::remove_namespace_files(&ns);
 
     assert!(enabled, "the task's commands were applied");
+    assert!(grouped, "the group's commands were applied");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");
 }
