@@ -38,8 +38,11 @@ impl Trapezoid {
         let (mut acc, mut dec) = (acc, dec);
         // The state is planned again every cycle, so a segment's end is approached from a
         // rounded distance; an exit missed by rounding is met by braking or accelerating a
-        // hair (1e-9) harder, instead of a velocity step at the junction.
-        let slack = |rate: f64| 2.0 * rate * dist * (1.0 + 1e-9) + 1e-12;
+        // hair (1e-9) harder, instead of a velocity step at the junction. The rounding of the
+        // position (1e-12 mm, `s` up to metres) counts absolutely: over the last micrometres
+        // before a stop it is far more than 1e-9 of the distance, and missing a stop by
+        // d leaves a step of sqrt(2 dec d) (path/tests/planner_constraints.rs).
+        let slack = |rate: f64| 2.0 * rate * (dist * (1.0 + 1e-9) + 1e-12) + 1e-12;
         let (down, up) = (v0 * v0 - exit * exit, exit * exit - v0 * v0);
         if down > 2.0 * dec * dist && down <= slack(dec) && dist > 0.0 {
             dec = down / (2.0 * dist);
