@@ -24,7 +24,10 @@
 
 use std::f64::consts::TAU;
 
-use path::blend::{self, TransitionMode, TransitionParams};
+#[path = "common/group.rs"]
+mod group;
+
+use path::blend::{TransitionMode, TransitionParams};
 use path::commands;
 use path::segment::{Line, cross3, diff3, dot3, norm3, unit3, xyz};
 use path::{BufferMode, Limits, Motion, Planner, Pose, Profile, Segment};
@@ -137,36 +140,22 @@ impl Sequence {
         Motion { lin, ang, buffer: MODES[r.below(MODES.len() as u64) as usize] }
     }
 
-    fn push_raw(&mut self, segment: Segment, motion: Motion) {
-        self.planner.push(segment, motion, &self.limits).expect("room in the queue");
-        self.pushed.push(Pushed { segment, motion });
-    }
-
-    /// Queues a command's segment as the group does (rt-core `queue_path`): a corner
-    /// transition trims the tail, the blend follows at trans_vel (TM_CONST_VEL,
-    /// TM_CORNER_DIST), then the trimmed segment.
-    fn push(&mut self, mut segment: Segment, motion: Motion) {
+    /// Queues a command's segment as the group does, and keeps the checker's copy.
+    fn push(&mut self, segment: Segment, motion: Motion) {
         match segment {
             Segment::Line(_) => self.coverage.lines += 1,
             Segment::Arc(a) if a.rise.abs() >= HELIX => self.coverage.helices += 1,
             _ => self.coverage.arcs += 1,
         }
-        if motion.buffer != BufferMode::Abort
-            && let Some((prev, travelled)) = self.planner.tail()
-            && let Some((trimmed, corner, next)) = blend::corner(&prev, &segment, self.transition, &self.trans)
-            && trimmed.length() > travelled * prev.length()
-        {
-            self.planner.replace_tail(trimmed);
+        let q = group::queue(&mut self.planner, segment, motion, self.transition, &self.trans, &self.limits);
+        if let Some(trimmed) = q.trimmed_tail {
             self.pushed.last_mut().expect("the tail is known").segment = trimmed;
-            let mut blended = motion;
-            if matches!(self.transition, TransitionMode::ConstVel | TransitionMode::CornerDist) {
-                blended.lin.vel = self.trans.trans_vel.min(motion.lin.vel);
-            }
-            self.push_raw(corner, blended);
-            self.coverage.blends[self.transition as usize] += 1;
-            segment = next;
         }
-        self.push_raw(segment, motion);
+        if let Some((segment, motion)) = q.blend {
+            self.pushed.push(Pushed { segment, motion });
+            self.coverage.blends[self.transition as usize] += 1;
+        }
+        self.pushed.push(Pushed { segment: q.segment, motion });
     }
 
     /// A random unit normal of a 2-D command's plane (the coordinate system's Z axis in

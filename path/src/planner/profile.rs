@@ -129,6 +129,20 @@ mod tests {
     }
 
     #[test]
+    fn a_stop_missed_by_the_rounding_of_the_position_is_met() {
+        // Found by the checker: 0.0175 mm/s at 6012.5 mm/s² needs 2.5e-8 mm to stop; a
+        // distance short of it by 1e-15 mm (the rounding of a position of some mm) must
+        // still end at rest, not 3.5e-6 mm/s above it.
+        let (v0, dec) = (0.0175, 6012.5);
+        let p = Trapezoid::plan(v0, v0 * v0 / (2.0 * dec) - 1e-15, 100.0, 0.0, 5000.0, dec);
+        assert_eq!(p.exit(), 0.0);
+        // And an exit to accelerate to, out of reach by as little.
+        let (ve, acc) = (0.0123, 4321.0);
+        let p = Trapezoid::plan(0.0, ve * ve / (2.0 * acc) - 1e-15, 100.0, ve, acc, 5000.0);
+        assert_eq!(p.exit(), ve);
+    }
+
+    #[test]
     fn halted_it_stops_short_and_stays() {
         let p = Trapezoid::plan(100.0, 100.0, 0.0, 0.0, 1000.0, 1000.0);
         assert_eq!(p.duration(), f64::INFINITY);
