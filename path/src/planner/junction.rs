@@ -162,9 +162,7 @@ impl Entry {
             smooth: motion.lin.smooth_ms.max(motion.ang.smooth_ms) / 1000.0,
         }
     }
-}
 
-impl Entry {
     /// How fast the translation (mm) and the rotation (deg) run per unit of `s`.
     fn rates(&self) -> [f64; 2] {
         let norm = |r: std::ops::Range<usize>| r.map(|i| self.g_start[i] * self.g_start[i]).sum::<f64>().sqrt();
