@@ -184,7 +184,7 @@ fn deviation(blend: &Blend, corner: [f64; 3]) -> f64 {
 }
 
 /// The largest curvature of the blend, 1/mm.
-fn max_curvature(blend: &Blend) -> f64 {
+pub(crate) fn max_curvature(blend: &Blend) -> f64 {
     extremum(|t| {
         let (d1, d2) = blend.derivatives(t);
         norm3(cross3(d1, d2)) / norm3(d1).powi(3)

@@ -1,21 +1,35 @@
-//! The planner's constraint checker: 10 000 random sequences of segments (lines in 2-D,
-//! 3-D and 6-D with rotations, polygons approximating arcs), every buffer mode, random
-//! profiles and machine limits, velocity scale changes, halts and late pushes (BM_ABORT
-//! among them) while the path runs. Each cycle's raw pose is smoothed with a moving average
-//! over Ts as the group does (HMPL 5.1's S-curve), and the checker asserts:
+//! The planner's constraint checker: 10 000 random sequences of segments built with the
+//! group's commands (`path::commands`): lines in 2-D, 3-D and 6-D with rotations, polygons
+//! approximating arcs, real arcs (Arc2D, ArcCW2D, ArcCCW2D, ArcAngle2D, Circle2D with
+//! turns) and 3-D circles and helices (CircleAbs with any normal, turns and a target off
+//! the plane), corner transitions (HMPL 8.1.5) inserted as the group does, every buffer
+//! mode, random profiles and machine limits, velocity scale changes, halts and late pushes
+//! (BM_ABORT among them) while the path runs. Each cycle's raw pose is smoothed with the
+//! group's moving average over Ts (HMPL 5.1's S-curve, ceil(Ts / cycle) + 1 samples), and
+//! the checker asserts:
 //! - the raw translation and rotation speeds within the feeds (HMPL 8.1) times the scale,
 //!   and the path acceleration within the profiles';
 //! - every coordinate's smoothed velocity and acceleration (finite differences) within the
-//!   machine's max_vel and max_acc;
+//!   machine's max_vel and max_acc (on curves the centripetal part counts);
 //! - velocity 0 at every BM_BUFF junction and the raw pose still for Ts there, so the
 //!   smoothed path stops too (HMPL table 8.1.4.1);
+//! - every raw pose on the segment it runs on: on a line, on an arc's or helix's curve
+//!   (distance to the axis = radius, height and angle in step), on a blend's curve;
 //! - the end pose exact.
 //!
-//! Tolerances are for rounding only (relative 1e-9 plus 1e-6 absolute): the smoothed
-//! acceleration is (v[k] - v[k-N]) / (N T) with v the mean raw velocity over a cycle, which
-//! the planner bounds exactly (its trapezoids are sampled, not integrated).
+//! Tolerances are for rounding only (relative 1e-9 plus 1e-6 absolute for rates, 1e-9 mm
+//! for positions): the smoothed acceleration is (v[k] - v[k-N]) / (N T) with v the mean raw
+//! velocity over a cycle, which the planner bounds exactly (its trapezoids are sampled, not
+//! integrated).
 
-use path::segment::Line;
+use std::f64::consts::TAU;
+
+#[path = "common/group.rs"]
+mod group;
+
+use path::blend::{TransitionMode, TransitionParams};
+use path::commands;
+use path::segment::{Line, cross3, diff3, dot3, norm3, unit3, xyz};
 use path::{BufferMode, Limits, Motion, Planner, Pose, Profile, Segment};
 
 const PERIOD: f64 = 0.004;
@@ -41,18 +55,36 @@ impl Rng {
     fn chance(&mut self, p: f64) -> bool {
         self.uniform(0.0, 1.0) < p
     }
+    fn sign(&mut self) -> f64 {
+        if self.chance(0.5) { 1.0 } else { -1.0 }
+    }
+    /// A random unit vector.
+    fn direction(&mut self) -> [f64; 3] {
+        loop {
+            let v = [self.uniform(-1.0, 1.0), self.uniform(-1.0, 1.0), self.uniform(-1.0, 1.0)];
+            if (0.1..=1.0).contains(&norm3(v)) {
+                return unit3(v);
+            }
+        }
+    }
 }
 
 const MODES: [BufferMode; 6] =
     [BufferMode::Buff, BufferMode::Low, BufferMode::Prev, BufferMode::Next, BufferMode::High, BufferMode::LookAhead];
 
-/// What the checker knows of a pushed segment.
+const TRANSITIONS: [TransitionMode; 5] = [
+    TransitionMode::None,
+    TransitionMode::ConstVel,
+    TransitionMode::CornerDist,
+    TransitionMode::MaxCornerDev,
+    TransitionMode::MaxCornerCurv,
+];
+
+/// What the checker knows of a queued segment.
 #[derive(Clone, Copy)]
 struct Pushed {
-    end: Pose,
+    segment: Segment,
     motion: Motion,
-    lin_len: f64,
-    ang_len: f64,
 }
 
 impl Pushed {
@@ -60,7 +92,8 @@ impl Pushed {
     /// (in either unit of the path parameter) that the feed rule allows.
     fn bounds(&self) -> (f64, f64, f64) {
         let (l, a) = (self.motion.lin, self.motion.ang);
-        let k = if self.lin_len > 1e-12 && self.ang_len > 1e-12 { self.lin_len / self.ang_len } else { 0.0 };
+        let (lin_len, ang_len) = (self.segment.length(), self.segment.angular_length());
+        let k = if lin_len > 1e-12 && ang_len > 1e-12 { lin_len / ang_len } else { 0.0 };
         let trans = l.vel.max(a.vel * k);
         let rot = a.vel.max(if k > 0.0 { l.vel / k } else { 0.0 });
         let acc = l.acc.max(l.dec).max(a.acc.max(a.dec)).max(a.acc.max(a.dec) * k);
@@ -68,12 +101,24 @@ impl Pushed {
     }
 }
 
+/// What a sequence built, to show the checker covered it.
+#[derive(Default)]
+struct Coverage {
+    lines: usize,
+    arcs: usize,
+    helices: usize,
+    blends: [usize; 5],
+}
+
 struct Sequence {
     planner: Planner,
     limits: Limits,
     smooth_ms: f64,
     dims: usize,
+    transition: TransitionMode,
+    trans: TransitionParams,
     pushed: Vec<Pushed>,
+    coverage: Coverage,
     rng: Rng,
 }
 
@@ -95,61 +140,244 @@ impl Sequence {
         Motion { lin, ang, buffer: MODES[r.below(MODES.len() as u64) as usize] }
     }
 
-    fn push(&mut self, start: Pose, end: Pose, motion: Motion) {
-        let seg = Segment::Line(Line { start, end });
-        self.planner.push(seg, motion, &self.limits).expect("room in the queue");
-        self.pushed.push(Pushed { end, motion, lin_len: seg.length(), ang_len: seg.angular_length() });
+    /// Queues a command's segment as the group does, and keeps the checker's copy.
+    fn push(&mut self, segment: Segment, motion: Motion) {
+        match segment {
+            Segment::Line(_) => self.coverage.lines += 1,
+            Segment::Arc(a) if a.rise.abs() >= HELIX => self.coverage.helices += 1,
+            _ => self.coverage.arcs += 1,
+        }
+        let q = group::queue(&mut self.planner, segment, motion, self.transition, &self.trans, &self.limits);
+        if let Some(trimmed) = q.trimmed_tail {
+            self.pushed.last_mut().expect("the tail is known").segment = trimmed;
+        }
+        if let Some((segment, motion)) = q.blend {
+            self.pushed.push(Pushed { segment, motion });
+            self.coverage.blends[self.transition as usize] += 1;
+        }
+        self.pushed.push(Pushed { segment: q.segment, motion });
     }
 
-    /// A line or a polygon approximating an arc, from the queue's end.
+    /// A random unit normal of a 2-D command's plane (the coordinate system's Z axis in
+    /// MCS): Z in a 2-D sequence, any direction in 3-D.
+    fn plane_normal(&mut self) -> [f64; 3] {
+        if self.dims == 2 || self.rng.chance(0.4) { [0.0, 0.0, self.rng.sign()] } else { self.rng.direction() }
+    }
+
+    /// A command from the queue's end (or, for BM_ABORT, from where the path stops): a line,
+    /// a polygon approximating an arc, an arc or a circle of HMPL 8.2, or a helix of 8.5.
     fn push_item(&mut self, abort: bool) {
         let mut motion = self.random_motion();
         let start = if abort { self.planner.stopping_pose() } else { self.planner.end_pose() };
         if abort {
             motion.buffer = BufferMode::Abort;
         }
-        if abort || self.rng.chance(0.6) {
-            let mut end = start;
-            let len = self.rng.uniform(0.5, 20.0);
-            let dir: Vec<f64> = (0..self.dims.min(3)).map(|_| self.rng.uniform(-1.0, 1.0)).collect();
-            let n = dir.iter().map(|d| d * d).sum::<f64>().sqrt().max(1e-9);
-            let pure_rotation = self.dims == 6 && self.rng.chance(0.15);
-            for (i, d) in dir.iter().enumerate() {
-                if !pure_rotation {
-                    end[i] += d / n * len;
-                }
-            }
-            if self.dims == 6 {
-                for v in &mut end[3..] {
-                    *v += self.rng.uniform(-30.0, 30.0);
-                }
-            }
-            self.push(start, end, motion);
-        } else {
-            let r = self.rng.uniform(2.0, 40.0);
-            let n = 8 + self.rng.below(17);
-            let sweep = self.rng.uniform(0.3, 3.0) * if self.rng.chance(0.5) { 1.0 } else { -1.0 };
-            let step = sweep / n as f64;
-            let chord = 2.0 * r * (step.abs() / 2.0).sin();
-            let mut heading = self.rng.uniform(0.0, std::f64::consts::TAU);
-            let mut p = start;
-            for _ in 0..n {
-                let mut q = p;
-                q[0] += chord * heading.cos();
-                q[1] += chord * heading.sin();
-                if self.dims == 6 {
-                    q[5] += 2.0;
-                }
-                self.push(p, q, motion);
-                p = q;
-                heading += step;
+        if self.rng.chance(0.3) {
+            self.transition = TRANSITIONS[self.rng.below(5) as usize];
+        }
+        match self.rng.below(10) {
+            _ if abort => self.push_line(start, motion),
+            0..=3 => self.push_line(start, motion),
+            4 => self.push_polygon(start, motion),
+            5..=7 => self.push_arc_2d(start, motion),
+            _ if self.dims == 2 => self.push_arc_2d(start, motion),
+            _ => self.push_circle_abs(start, motion),
+        }
+    }
+
+    fn push_line(&mut self, start: Pose, motion: Motion) {
+        let mut end = start;
+        let len = self.rng.uniform(0.5, 20.0);
+        let dir: Vec<f64> = (0..self.dims.min(3)).map(|_| self.rng.uniform(-1.0, 1.0)).collect();
+        let n = dir.iter().map(|d| d * d).sum::<f64>().sqrt().max(1e-9);
+        let pure_rotation = self.dims == 6 && self.rng.chance(0.15);
+        for (i, d) in dir.iter().enumerate() {
+            if !pure_rotation {
+                end[i] += d / n * len;
             }
         }
+        if self.dims == 6 {
+            for v in &mut end[3..] {
+                *v += self.rng.uniform(-30.0, 30.0);
+            }
+        }
+        self.push(commands::line_abs(&start, &end).expect("a finite target"), motion);
+    }
+
+    fn push_polygon(&mut self, start: Pose, motion: Motion) {
+        let r = self.rng.uniform(2.0, 40.0);
+        let n = 8 + self.rng.below(17);
+        let sweep = self.rng.uniform(0.3, 3.0) * self.rng.sign();
+        let step = sweep / n as f64;
+        let chord = 2.0 * r * (step.abs() / 2.0).sin();
+        let mut heading = self.rng.uniform(0.0, TAU);
+        let mut p = start;
+        for _ in 0..n {
+            let mut q = p;
+            q[0] += chord * heading.cos();
+            q[1] += chord * heading.sin();
+            if self.dims == 6 {
+                q[5] += 2.0;
+            }
+            self.push(Segment::Line(Line { start: p, end: q }), motion);
+            p = q;
+            heading += step;
+        }
+    }
+
+    /// Arc2D, ArcCW2D, ArcCCW2D, ArcAngle2D or Circle2D in a plane through the start.
+    fn push_arc_2d(&mut self, start: Pose, motion: Motion) {
+        let n = self.plane_normal();
+        let r = self.rng.uniform(1.0, 15.0);
+        let p0 = xyz(&start);
+        // The start's radial direction, in the plane.
+        let u0 = unit3(cross3(n, self.rng.direction()));
+        let center: [f64; 3] = std::array::from_fn(|i| p0[i] - r * u0[i]);
+        let v0 = cross3(n, u0);
+        let at = |angle: f64| -> [f64; 3] {
+            let (s, c) = angle.sin_cos();
+            std::array::from_fn(|i| center[i] + r * (c * u0[i] + s * v0[i]))
+        };
+        // Short enough that a sequence takes a few seconds at most.
+        let most = (25.0 / r).min(2.0 * TAU);
+        let segment = match self.rng.below(5) {
+            0 => {
+                let angle = self.rng.uniform(0.1, (TAU - 0.1).min(most)) * self.rng.sign();
+                commands::arc_2d(&start, at(angle / 2.0), at(angle))
+            }
+            1 => commands::arc_cw_2d(&start, center, at(self.rng.uniform(0.0, TAU)), n),
+            2 => commands::arc_ccw_2d(&start, center, at(self.rng.uniform(0.0, TAU)), n),
+            3 => commands::arc_angle_2d(&start, center, n, self.rng.uniform(5.0, most.to_degrees()) * self.rng.sign()),
+            _ => {
+                let turns = self.rng.below(5) as i64 - 2;
+                let end = if r < 3.0 { at(self.rng.uniform(0.0, TAU)) } else { p0 };
+                commands::circle_2d(&start, center, end, n, turns)
+            }
+        };
+        self.push(segment.expect("a valid arc"), motion);
+    }
+
+    /// CircleAbs: about any axis, with turns, to a target off the start's plane (a helix)
+    /// that in 6-D also turns A, B, C; the center need not lie in the start's plane.
+    fn push_circle_abs(&mut self, start: Pose, motion: Motion) {
+        let n = self.rng.direction();
+        let r = self.rng.uniform(1.0, 10.0);
+        let p0 = xyz(&start);
+        let u0 = unit3(cross3(n, self.rng.direction()));
+        let lift = self.rng.uniform(-10.0, 10.0);
+        let center: [f64; 3] = std::array::from_fn(|i| p0[i] - r * u0[i] + lift * n[i]);
+        let (s, c) = self.rng.uniform(0.0, TAU).sin_cos();
+        let v0 = cross3(n, u0);
+        let rise = if self.rng.chance(0.25) { 0.0 } else { self.rng.uniform(1.0, 10.0) * self.rng.sign() };
+        let mut target = start;
+        for i in 0..3 {
+            target[i] = p0[i] - r * u0[i] + r * (c * u0[i] + s * v0[i]) + rise * n[i];
+        }
+        if self.dims == 6 {
+            for v in &mut target[3..] {
+                *v += self.rng.uniform(-45.0, 45.0);
+            }
+        }
+        let turns = if r < 3.0 { self.rng.below(5) as i64 - 2 } else { self.rng.sign() as i64 };
+        self.push(commands::circle_abs(&start, center, n, turns, &target).expect("a valid circle"), motion);
     }
 }
 
-/// Runs one random sequence; returns the number of cycles, or the violation.
-fn check(seed: u64) -> Result<usize, String> {
+/// A smaller rise is a flat arc's rounding (the helices here rise 1 mm or more).
+const HELIX: f64 = 1e-6;
+
+/// How far `pose` lies off `segment`'s geometry (mm, deg for A, B, C).
+fn off_geometry(segment: &Segment, pose: &Pose) -> f64 {
+    let (s, e) = (segment.start(), segment.end());
+    // A, B, C between their ends.
+    let rotation = (3..6).map(|i| (pose[i] - pose[i].clamp(s[i].min(e[i]), s[i].max(e[i]))).abs()).fold(0.0, f64::max);
+    let p = xyz(pose);
+    let translation = match segment {
+        Segment::Line(_) => {
+            let d: [f64; 6] = std::array::from_fn(|i| e[i] - s[i]);
+            let dd = d.iter().map(|x| x * x).sum::<f64>();
+            let u = if dd > 0.0 {
+                ((0..6).map(|i| (pose[i] - s[i]) * d[i]).sum::<f64>() / dd).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            return (0..6).map(|i| (pose[i] - s[i] - u * d[i]).powi(2)).sum::<f64>().sqrt();
+        }
+        Segment::Arc(a) => {
+            // Height along the axis and distance from it; on a helix the height sets the
+            // angle fraction, whose angle the point must have.
+            let q = diff3(p, a.center);
+            let h = dot3(q, a.normal);
+            let w: [f64; 3] = std::array::from_fn(|i| q[i] - h * a.normal[i]);
+            let rho = norm3(w);
+            let (r0, r1) = (a.radius, a.radius + a.radius_change);
+            let off_radius = rho - rho.clamp(r0.min(r1), r0.max(r1));
+            if a.rise.abs() < HELIX {
+                off_radius.abs().max(h.abs() - a.rise.abs())
+            } else {
+                let tau = h / a.rise;
+                let e1 = unit3(diff3(xyz(&s), a.center));
+                let e2 = cross3(a.normal, e1);
+                let angle = dot3(w, e2).atan2(dot3(w, e1));
+                let miss = (angle - a.sweep * tau).rem_euclid(TAU);
+                let ends = (tau - tau.clamp(0.0, 1.0)).abs() * a.rise.abs();
+                off_radius.abs().max(rho * miss.min(TAU - miss)).max(ends)
+            }
+        }
+        Segment::Blend(b) => {
+            // A blend next to an arc may pass close to itself, even loop: a finer search
+            // where the coarse one finds no point of the curve there.
+            let coarse = nearest_on_cubic(&b.ctrl, p, 32);
+            if coarse > 1e-9 { nearest_on_cubic(&b.ctrl, p, 4096) } else { coarse }
+        }
+    };
+    translation.max(rotation)
+}
+
+/// The distance from `p` to the cubic Bézier curve with control points `ctrl`: `n` + 1
+/// samples, each local minimum refined by Newton's method on (B(t) - p)·B'(t) = 0.
+fn nearest_on_cubic(ctrl: &[[f64; 3]; 4], p: [f64; 3], n: usize) -> f64 {
+    let [p0, p1, p2, p3] = *ctrl;
+    let point = |t: f64| -> [f64; 3] {
+        let u = 1.0 - t;
+        let w = [u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t];
+        std::array::from_fn(|i| w[0] * p0[i] + w[1] * p1[i] + w[2] * p2[i] + w[3] * p3[i])
+    };
+    let derivatives = |t: f64| -> ([f64; 3], [f64; 3]) {
+        let u = 1.0 - t;
+        let d1 = std::array::from_fn(|i| {
+            3.0 * (u * u * (p1[i] - p0[i]) + 2.0 * u * t * (p2[i] - p1[i]) + t * t * (p3[i] - p2[i]))
+        });
+        let d2 = std::array::from_fn(|i| 6.0 * (u * (p2[i] - 2.0 * p1[i] + p0[i]) + t * (p3[i] - 2.0 * p2[i] + p1[i])));
+        (d1, d2)
+    };
+    let dist = |t: f64| norm3(diff3(point(t), p));
+    let sample = |k: usize| dist(k as f64 / n as f64);
+    let mut best = f64::INFINITY;
+    let (mut before, mut here) = (f64::INFINITY, sample(0));
+    for k in 0..=n {
+        let after = if k < n { sample(k + 1) } else { f64::INFINITY };
+        if here <= before && here <= after {
+            let (lo, hi) = (k.saturating_sub(1) as f64 / n as f64, (k + 1).min(n) as f64 / n as f64);
+            let mut t = k as f64 / n as f64;
+            for _ in 0..16 {
+                let q = diff3(point(t), p);
+                let (d1, d2) = derivatives(t);
+                let slope = dot3(d1, d1) + dot3(q, d2);
+                if slope <= 0.0 {
+                    break;
+                }
+                t = (t - dot3(q, d1) / slope).clamp(lo, hi);
+            }
+            best = best.min(here).min(dist(t));
+        }
+        (before, here) = (here, after);
+    }
+    best
+}
+
+/// Runs one random sequence; returns the number of cycles and what it built, or the violation.
+fn check(seed: u64) -> Result<(usize, Coverage), String> {
     let mut rng = Rng(seed);
     let dims = [2, 3, 6][rng.below(3) as usize];
     let smooth_ms = [0.0, 4.0, 12.0, 24.0, 48.0][rng.below(5) as usize];
@@ -160,12 +388,21 @@ fn check(seed: u64) -> Result<usize, String> {
         std::array::from_fn(
             |i| if i < 3 { pick(&mut rng, 2000.0, 30_000.0) } else { pick(&mut rng, 1000.0, 20_000.0) },
         );
+    let trans = TransitionParams {
+        trans_vel: rng.uniform(5.0, 400.0),
+        trans_dis: rng.uniform(0.1, 6.0),
+        trans_dev: rng.uniform(0.005, 0.5),
+        trans_curv: rng.uniform(0.02, 2.0),
+    };
     let mut seq = Sequence {
         planner: Planner::new(PERIOD),
         limits: Limits { max_vel, max_acc },
         smooth_ms,
         dims,
+        transition: TransitionMode::None,
+        trans,
         pushed: Vec::new(),
+        coverage: Coverage::default(),
         rng,
     };
     for _ in 0..1 + seq.rng.below(6) {
@@ -178,8 +415,10 @@ fn check(seed: u64) -> Result<usize, String> {
         if rng.chance(0.3) { Some((rng.below(400), rng.uniform(0.0, 100.0), rng.uniform(20.0, 100.0))) } else { None };
     let late_push = if rng.chance(0.4) { Some((rng.below(600), rng.chance(0.3))) } else { None };
 
-    let hold = (smooth_ms / 1000.0 / PERIOD).round() as usize;
-    let n = hold.max(1);
+    // The planner holds a full stop for ceil(Ts / cycle) cycles; the group averages one
+    // sample more (rt-core `Group::samples`).
+    let hold = (smooth_ms / 1000.0 / PERIOD - 1e-9).ceil().max(0.0) as usize;
+    let n = hold + 1;
     let mut poses: Vec<Pose> = vec![[0.0; 6]; n + 2];
     let mut smoothed_vel = [0.0f64; 6];
     let mut finished = 0usize;
@@ -208,11 +447,13 @@ fn check(seed: u64) -> Result<usize, String> {
         if let Some((at, abort)) = late_push
             && c == at
         {
+            let before = seq.pushed.len();
             seq.push_item(abort);
             if abort {
                 // The checker's copy of the queue: what was kept, then the new segment.
                 let kept = seq.planner.commands() - 1;
                 let new = *seq.pushed.last().unwrap();
+                assert_eq!(seq.pushed.len(), before + 1, "BM_ABORT is never blended");
                 seq.pushed.truncate(finished + kept);
                 seq.pushed.push(new);
             }
@@ -240,6 +481,14 @@ fn check(seed: u64) -> Result<usize, String> {
                 hold_check = None;
             }
         }
+        // On the running segment's geometry.
+        if commands > 0 {
+            let running = &seq.pushed[finished].segment;
+            let off = off_geometry(running, &s.pose);
+            if off > 1e-9 {
+                return Err(format!("cycle {cycle}: pose {:?} is {off} off its segment {running:?}", s.pose));
+            }
+        }
         // Raw speeds within the feeds of the running segment and its neighbours.
         let recent_scale = if cycle < scale_high.1 + 2000 { scale_high.0.max(scale) } else { scale };
         let last = *poses.last().unwrap();
@@ -259,14 +508,14 @@ fn check(seed: u64) -> Result<usize, String> {
                 "cycle {cycle}: speed {trans} mm/s, {rot} deg/s above {bt}, {br} x {recent_scale} (finished {finished}, push {late_push:?}, {:?})",
                 seq.pushed[lo.saturating_sub(2)..(hi + 2).min(seq.pushed.len())]
                     .iter()
-                    .map(|p| (p.motion.buffer, p.bounds().0, p.lin_len))
+                    .map(|p| (p.motion.buffer, p.bounds().0, p.segment.length()))
                     .collect::<Vec<_>>()
             ));
         }
         if s.path_acc.abs() > tol(ba) {
             return Err(format!("cycle {cycle}: path acceleration {} above {ba}", s.path_acc));
         }
-        // The group's moving average over N cycles, and its finite differences.
+        // The group's moving average over n samples, and its finite differences.
         poses.push(s.pose);
         let k = poses.len() - 1;
         for i in 0..6 {
@@ -281,9 +530,9 @@ fn check(seed: u64) -> Result<usize, String> {
             }
             if cycle > 0 && a.abs() > tol(seq.limits.max_acc[i]) {
                 return Err(format!(
-                    "cycle {cycle}: coordinate {i} smoothed acceleration {a} above {} (n {n}, halt {halt_at:?}, scale {scale_at:?}, push {late_push:?}, finished {finished}, modes {:?})",
+                    "cycle {cycle}: coordinate {i} smoothed acceleration {a} above {} (n {n}, halt {halt_at:?}, scale {scale_at:?}, push {late_push:?}, finished {finished}, segments {:?})",
                     seq.limits.max_acc[i],
-                    seq.pushed.iter().map(|p| p.motion.buffer).collect::<Vec<_>>()
+                    seq.pushed.iter().map(|p| (p.motion.buffer, kind(&p.segment))).collect::<Vec<_>>()
                 ));
             }
         }
@@ -291,20 +540,41 @@ fn check(seed: u64) -> Result<usize, String> {
             && scale_at.is_none_or(|(at, _, _)| c > at + 150)
             && late_push.is_none_or(|(at, _)| c > at);
         if events_done && !s.moving && commands == 0 {
-            let end = seq.pushed.last().unwrap().end;
-            return if s.pose == end { Ok(cycle) } else { Err(format!("ended at {:?}, not {:?}", s.pose, end)) };
+            let end = seq.pushed.last().unwrap().segment.end();
+            return if s.pose == end {
+                Ok((cycle, seq.coverage))
+            } else {
+                Err(format!("ended at {:?}, not {:?}", s.pose, end))
+            };
         }
     }
     Err("did not finish in 200 000 cycles".into())
 }
 
+fn kind(segment: &Segment) -> &'static str {
+    match segment {
+        Segment::Line(_) => "line",
+        Segment::Arc(a) if a.rise.abs() >= HELIX => "helix",
+        Segment::Arc(_) => "arc",
+        Segment::Blend(_) => "blend",
+    }
+}
+
 #[test]
 fn ten_thousand_random_sequences_keep_every_constraint() {
     let mut cycles = 0;
+    let mut total = Coverage::default();
     let mut failures = Vec::new();
     for seed in 0..SEQUENCES {
         match check(seed) {
-            Ok(n) => cycles += n,
+            Ok((n, c)) => {
+                cycles += n;
+                (total.lines, total.arcs, total.helices) =
+                    (total.lines + c.lines, total.arcs + c.arcs, total.helices + c.helices);
+                for (t, b) in total.blends.iter_mut().zip(c.blends) {
+                    *t += b;
+                }
+            }
             Err(e) => failures.push(format!("seed {seed}: {e}")),
         }
     }
@@ -314,6 +584,15 @@ fn ten_thousand_random_sequences_keep_every_constraint() {
         failures.len(),
         failures[..failures.len().min(20)].join("\n")
     );
-    println!("{SEQUENCES} sequences, {cycles} cycles of {} ms", PERIOD * 1000.0);
+    println!(
+        "{SEQUENCES} sequences, {cycles} cycles of {} ms: {} lines, {} arcs, {} helices, blends by mode {:?}",
+        PERIOD * 1000.0,
+        total.lines,
+        total.arcs,
+        total.helices,
+        total.blends
+    );
     assert!(cycles > 1_000_000, "the sequences ran ({cycles} cycles)");
+    assert!(total.arcs > 5000 && total.helices > 1000, "arcs and helices were checked");
+    assert!(total.blends[1..].iter().all(|&b| b > 500), "every transition mode blended corners: {:?}", total.blends);
 }

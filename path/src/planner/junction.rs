@@ -62,10 +62,15 @@ fn move_time(d: f64, p: &Profile) -> f64 {
     }
 }
 
-/// The radius of curvature where smallest, from a few samples (arcs and helices have one
-/// radius; a corner blend's is smallest in its middle, which is sampled).
+/// The radius of curvature where smallest: an arc's or helix's at an end (one radius, or
+/// one drifting linearly); a corner blend's from a search along it, since next to an arc
+/// its tightest point lies anywhere, not in its middle (path/tests/planner_constraints.rs).
 fn min_radius(segment: &Segment) -> Option<f64> {
-    [0.0, 0.25, 0.5, 0.75, 1.0].iter().filter_map(|&u| segment.radius_at(u)).reduce(f64::min)
+    match segment {
+        Segment::Line(_) => None,
+        Segment::Arc(_) => [0.0, 1.0].iter().filter_map(|&u| segment.radius_at(u)).reduce(f64::min),
+        Segment::Blend(b) => Some(1.0 / crate::blend::max_curvature(b)).filter(|r| r.is_finite()),
+    }
 }
 
 impl Entry {
@@ -157,6 +162,12 @@ impl Entry {
             smooth: motion.lin.smooth_ms.max(motion.ang.smooth_ms) / 1000.0,
         }
     }
+
+    /// How fast the translation (mm) and the rotation (deg) run per unit of `s`.
+    fn rates(&self) -> [f64; 2] {
+        let norm = |r: std::ops::Range<usize>| r.map(|i| self.g_start[i] * self.g_start[i]).sum::<f64>().sqrt();
+        [norm(0..3), norm(3..6)]
+    }
 }
 
 /// Look-ahead's bound on a curve of radius `r`: HMPL table 8.1.4.2 (c) the arc velocity
@@ -178,6 +189,19 @@ pub(crate) fn junction_cap(prev: &Entry, next: &Entry, look_ahead: &LookAhead, p
         BufferMode::High => prev.vel.max(next.vel),
     };
     let mut cap = by_mode.min(prev.vcap).min(next.vcap);
+    // The feed a mode carries over is one segment's; on the other the same velocity along
+    // `s` may translate or rotate faster (another ratio of rotation to translation, or `s`
+    // in deg against mm). Neither part may run faster than the faster of the two feeds in
+    // that part, on either side of the junction.
+    let (rates_prev, rates_next) = (prev.rates(), next.rates());
+    for part in 0..2 {
+        let fastest = (prev.vel * rates_prev[part]).max(next.vel * rates_next[part]);
+        for rate in [rates_prev[part], rates_next[part]] {
+            if rate > EPS {
+                cap = cap.min(fastest / rate);
+            }
+        }
+    }
     if cap <= 0.0 {
         return 0.0;
     }

@@ -227,16 +227,21 @@ impl Planner {
         Ok(())
     }
 
-    /// The last queued segment and the fraction of it already travelled.
+    /// The last queued segment and the fraction of it the path passes whatever comes next:
+    /// up to where a stop begun now would end, if that is on it (the path could not slow
+    /// down for a shorter tail any sooner).
     pub fn tail(&self) -> Option<(crate::Segment, f64)> {
         let e = self.queue.last()?;
-        let travelled = if self.queue.len() == 1 && e.full > 0.0 { self.s / e.full } else { 0.0 };
-        Some((e.segment, travelled))
+        let passed = match self.stop_point() {
+            Some((k, s)) if k + 1 == self.queue.len() => s,
+            _ => 0.0,
+        };
+        Some((e.segment, if e.full > 0.0 { passed / e.full } else { 0.0 }))
     }
 
     /// Replaces the last segment by `segment` (the same start, shortened for a corner blend)
-    /// and plans again. The group replaces only a tail the path has not passed the new end
-    /// of, and pushes the blend in the same cycle.
+    /// and plans again. The group replaces only a tail whose new end lies beyond what
+    /// [`Planner::tail`] says the path passes, and pushes the blend in the same cycle.
     pub fn replace_tail(&mut self, segment: crate::Segment) {
         let Some(old) = self.queue.last().copied() else { return };
         let mut entry = Entry::new(segment, old.motion, &old.limits, &self.look_ahead, self.period);

@@ -38,8 +38,11 @@ impl Trapezoid {
         let (mut acc, mut dec) = (acc, dec);
         // The state is planned again every cycle, so a segment's end is approached from a
         // rounded distance; an exit missed by rounding is met by braking or accelerating a
-        // hair (1e-9) harder, instead of a velocity step at the junction.
-        let slack = |rate: f64| 2.0 * rate * dist * (1.0 + 1e-9) + 1e-12;
+        // hair (1e-9) harder, instead of a velocity step at the junction. The rounding of the
+        // position (1e-12 mm, `s` up to metres) counts absolutely: over the last micrometres
+        // before a stop it is far more than 1e-9 of the distance, and missing a stop by
+        // d leaves a step of sqrt(2 dec d) (path/tests/planner_constraints.rs).
+        let slack = |rate: f64| 2.0 * rate * (dist * (1.0 + 1e-9) + 1e-12) + 1e-12;
         let (down, up) = (v0 * v0 - exit * exit, exit * exit - v0 * v0);
         if down > 2.0 * dec * dist && down <= slack(dec) && dist > 0.0 {
             dec = down / (2.0 * dist);
@@ -123,6 +126,20 @@ mod tests {
         // And a raised exit above what acceleration allows.
         let p = Trapezoid::plan(0.0, 1.0, 1000.0, 1000.0, 1000.0, 1000.0);
         assert!((p.exit() - 2000f64.sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_stop_missed_by_the_rounding_of_the_position_is_met() {
+        // Found by the checker: 0.0175 mm/s at 6012.5 mm/s² needs 2.5e-8 mm to stop; a
+        // distance short of it by 1e-15 mm (the rounding of a position of some mm) must
+        // still end at rest, not 3.5e-6 mm/s above it.
+        let (v0, dec) = (0.0175, 6012.5);
+        let p = Trapezoid::plan(v0, v0 * v0 / (2.0 * dec) - 1e-15, 100.0, 0.0, 5000.0, dec);
+        assert_eq!(p.exit(), 0.0);
+        // And an exit to accelerate to, out of reach by as little.
+        let (ve, acc) = (0.0123, 4321.0);
+        let p = Trapezoid::plan(0.0, ve * ve / (2.0 * acc) - 1e-15, 100.0, ve, acc, 5000.0);
+        assert_eq!(p.exit(), ve);
     }
 
     #[test]
