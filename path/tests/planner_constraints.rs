@@ -24,9 +24,6 @@
 
 use std::f64::consts::TAU;
 
-#[path = "common/group.rs"]
-mod group;
-
 use path::blend::{TransitionMode, TransitionParams};
 use path::commands;
 use path::segment::{Line, cross3, diff3, dot3, norm3, unit3, xyz};
@@ -147,7 +144,10 @@ impl Sequence {
             Segment::Arc(a) if a.rise.abs() >= HELIX => self.coverage.helices += 1,
             _ => self.coverage.arcs += 1,
         }
-        let q = group::queue(&mut self.planner, segment, motion, self.transition, &self.trans, &self.limits);
+        let q = self
+            .planner
+            .push_with_transition(segment, motion, self.transition, &self.trans, &self.limits)
+            .expect("room in the queue");
         if let Some(trimmed) = q.trimmed_tail {
             self.pushed.last_mut().expect("the tail is known").segment = trimmed;
         }

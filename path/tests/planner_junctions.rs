@@ -1,9 +1,6 @@
 //! The planner's fixes the constraint checker (`planner_constraints.rs`) led to, each with
 //! the case it was found by and a second one the fix was not written for.
 
-#[path = "common/group.rs"]
-mod group;
-
 use path::blend::{TransitionMode, TransitionParams};
 use path::commands::{arc_ccw_2d, circle_2d, line_abs, line_abs_2d};
 use path::{BufferMode, Limits, Motion, Planner, Pose, Profile, Sample, Segment};
@@ -54,8 +51,8 @@ fn assert_blend_within_centripetal_cap(prev: Segment, next: Segment, trans_dis: 
     let mut p = Planner::new(PERIOD);
     let m = motion(2000.0, BufferMode::Low);
     let params = trans(4000.0, trans_dis);
-    group::queue(&mut p, prev, m, TransitionMode::CornerDist, &params, &limits);
-    let q = group::queue(&mut p, next, m, TransitionMode::CornerDist, &params, &limits);
+    p.push_with_transition(prev, m, TransitionMode::CornerDist, &params, &limits).unwrap();
+    let q = p.push_with_transition(next, m, TransitionMode::CornerDist, &params, &limits).unwrap();
     let (blend, _) = q.blend.expect("the corner is blended");
     let r = tightest(&blend);
     let quarters = [0.0, 0.25, 0.5, 0.75, 1.0].iter().filter_map(|&u| blend.radius_at(u)).fold(f64::INFINITY, f64::min);
@@ -159,7 +156,7 @@ fn assert_late_corner_keeps_the_deceleration(
         samples.push(p.step());
     }
     let m = motion(200.0, BufferMode::Buff);
-    group::queue(p, segment, m, TransitionMode::ConstVel, &params, &Limits::NONE);
+    p.push_with_transition(segment, m, TransitionMode::ConstVel, &params, &Limits::NONE).unwrap();
     samples.extend(run(p).into_iter().map(|(s, _)| s));
     for w in samples.windows(2) {
         let dv = (w[1].path_vel - w[0].path_vel).abs();
@@ -190,4 +187,31 @@ fn a_corner_is_not_blended_into_a_queued_tail_the_path_cannot_slow_down_for() {
     p.push(line_abs_2d(&xy(100.0, 0.0), [104.0, 0.0, 0.0]).unwrap(), low, &Limits::NONE).unwrap();
     let next = line_abs_2d(&xy(104.0, 0.0), [104.0, 50.0, 0.0]).unwrap();
     assert_late_corner_keeps_the_deceleration(&mut p, 98.5, next, trans(1.0, 2.0));
+}
+
+/// HMPL 8.1: a full queue refuses a command with nothing lost. A corner needs two places
+/// (the blend and the segment): with one left the segment is queued unblended; with none,
+/// the command is refused and the queue, its tail included, stays as it was.
+#[test]
+fn a_corner_is_blended_only_where_the_queue_has_room_for_it() {
+    let mut p = Planner::new(PERIOD);
+    p.set_queue_size(4).unwrap();
+    let m = motion(100.0, BufferMode::Low);
+    let params = trans(50.0, 5.0);
+    let square = [xy(100.0, 0.0), xy(100.0, 100.0), xy(0.0, 100.0), xy(0.0, 0.0)];
+    let mut start = xy(0.0, 0.0);
+    let mut blends = Vec::new();
+    for (i, &end) in square.iter().enumerate() {
+        let segment = line_abs(&start, &end).unwrap();
+        let result = p.push_with_transition(segment, m, TransitionMode::CornerDist, &params, &Limits::NONE);
+        if i < 3 {
+            blends.push(result.expect("room").blend.is_some());
+        } else {
+            assert_eq!(result, Err(api::GroupError::CmdQueueFull), "the fifth place does not exist");
+        }
+        start = end;
+    }
+    assert_eq!(blends, [false, true, false], "first line: no corner; second: blended; third: one place left");
+    assert_eq!(p.commands(), 4);
+    assert_eq!(p.end_pose(), xy(0.0, 100.0), "the refused command left the tail whole");
 }

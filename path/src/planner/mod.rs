@@ -15,6 +15,8 @@ mod queue;
 
 use api::GroupError;
 
+use crate::blend::{self, TransitionMode, TransitionParams};
+
 use crate::segment::Pose;
 use junction::{Entry, junction_cap};
 use profile::{Trapezoid, brake_to};
@@ -117,6 +119,17 @@ pub struct Sample {
     pub moving: bool,
 }
 
+/// What one command queued with its corner transition (`push_with_transition`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Queued {
+    /// The tail as the blend trimmed it.
+    pub trimmed_tail: Option<crate::Segment>,
+    /// The blend and its motion.
+    pub blend: Option<(crate::Segment, Motion)>,
+    /// The command's own segment, trimmed where blended.
+    pub segment: crate::Segment,
+}
+
 /// JogGroup (HMPL 8.2.7): each MCS coordinate at its own signed velocity.
 #[derive(Clone, Copy, Default)]
 struct Jog {
@@ -199,6 +212,43 @@ impl Planner {
     /// Where the queued path ends: the next segment's start.
     pub fn end_pose(&self) -> Pose {
         self.queue.last().map_or(self.rest_pose, end_of)
+    }
+
+    /// Queues a command's segment after the corner transition of HMPL 8.1.5 where there is
+    /// one: the tail is trimmed where the path can still slow down for it (`tail`), the
+    /// blend follows (at `trans_vel` with TM_CONST_VEL and TM_CORNER_DIST), then the
+    /// segment, trimmed. A junction `blend::corner` does not blend, and BM_ABORT, queue the
+    /// segment as it is. Room for both is checked first: a full queue refuses with nothing
+    /// changed (`CmdQueueFull`).
+    pub fn push_with_transition(
+        &mut self,
+        segment: crate::Segment,
+        motion: Motion,
+        mode: TransitionMode,
+        trans: &TransitionParams,
+        limits: &Limits,
+    ) -> Result<Queued, GroupError> {
+        let room = self.queue_size() - self.commands();
+        if room == 0 {
+            return Err(GroupError::CmdQueueFull);
+        }
+        let mut queued = Queued { trimmed_tail: None, blend: None, segment };
+        if motion.buffer != BufferMode::Abort
+            && room >= 2
+            && let Some((prev, travelled)) = self.tail()
+            && let Some((trimmed, corner, next)) = blend::corner(&prev, &segment, mode, trans)
+            && trimmed.length() > travelled * prev.length()
+        {
+            self.replace_tail(trimmed);
+            let mut blended = motion;
+            if matches!(mode, TransitionMode::ConstVel | TransitionMode::CornerDist) {
+                blended.lin.vel = trans.trans_vel.min(motion.lin.vel);
+            }
+            self.push(corner, blended, limits)?;
+            (queued.trimmed_tail, queued.blend, queued.segment) = (Some(trimmed), Some((corner, blended)), next);
+        }
+        self.push(queued.segment, motion, limits)?;
+        Ok(queued)
     }
 
     /// Queues a segment (HMPL 8.1: one command, one segment). With BM_ABORT the motion under

@@ -1,12 +1,12 @@
 //! Path commands of HMPL 8.2.9 to 8.2.17 and 8.5: each is made a segment in MCS from
 //! where the queued path ends (or, with BM_ABORT, from where the motion under way can
-//! stop), with the corner transition of table 8.1.5.1 before it, and queued on the
-//! group's interpolator. The coordinate systems (HMPL 8.1.2) are applied here, so the
+//! stop) and queued on the group's interpolator with the corner transition of table
+//! 8.1.5.1 before it (`Planner::push_with_transition`). The coordinate systems (HMPL 8.1.2) are applied here, so the
 //! interpolator only ever sees MCS.
 
 use api::call::Doubles;
 use api::{ErrorCode, GroupError, Quantity};
-use path::blend::{self, TransitionMode, TransitionParams};
+use path::blend::{TransitionMode, TransitionParams};
 use path::commands;
 use path::frames::{CoordSys, Frame};
 use path::planner::{BufferMode, Motion, Profile};
@@ -168,7 +168,7 @@ impl Kernel {
         let start =
             if motion.buffer == BufferMode::Abort { grp.planner.stopping_pose() } else { grp.planner.end_pose() };
         let frame = grp.frames.frame(coord_sys);
-        let mut segment = command.segment(&start, &frame)?;
+        let segment = command.segment(&start, &frame)?;
         // Cartesian kinematics: a coordinate the group has no axis for stays where it is, and
         // each axis' end is a target it can reach (its drive's counts).
         let end = segment.end();
@@ -179,25 +179,7 @@ impl Kernel {
         if grp.axes().iter().zip(&end).any(|(&a, &p)| !axes[a as usize].accepts(Quantity::Target, p)) {
             return Err(GroupError::CmdInvalidPos);
         }
-        let room = grp.planner.queue_size() - grp.planner.commands();
-        if room == 0 {
-            return Err(GroupError::CmdQueueFull);
-        }
-        if motion.buffer != BufferMode::Abort
-            && room >= 2
-            && let Some((prev, travelled)) = grp.planner.tail()
-            && let Some((trimmed, corner, next)) = blend::corner(&prev, &segment, trans_mode, &trans)
-            && trimmed.length() > travelled * prev.length()
-        {
-            grp.planner.replace_tail(trimmed);
-            let mut blended = motion;
-            if matches!(trans_mode, TransitionMode::ConstVel | TransitionMode::CornerDist) {
-                blended.lin.vel = trans.trans_vel.min(motion.lin.vel);
-            }
-            grp.planner.push(corner, blended, &limits)?;
-            segment = next;
-        }
-        grp.planner.push(segment, motion, &limits)
+        grp.planner.push_with_transition(segment, motion, trans_mode, &trans, &limits).map(drop)
     }
 
     /// HMPL 8.3.21: the coordinate system of later targets.
