@@ -295,7 +295,8 @@ impl Axes for GroupAxes<'_> {
     }
 
     fn is_done(&self, _axes: AxisSet) -> bool {
-        !self.motion.paused && !self.is_moving()
+        // A move the axes refused never ran: the step is not done, the box fails.
+        !self.motion.fault && !self.motion.paused && !self.is_moving()
     }
 
     fn position(&self) -> [i64; 4] {
