@@ -4,9 +4,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::OnceLock;
 
 use common::serve::serve;
 use common::*;
@@ -199,29 +197,6 @@ fn hostile_calls_give_clear_errors() {
     }
 }
 
-/// The virtualenv's python with pymodbus (as tests/drl.rs installs it).
-fn python() -> &'static Path {
-    static PYTHON: OnceLock<PathBuf> = OnceLock::new();
-    PYTHON.get_or_init(|| {
-        let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join("pymodbus-venv-f147");
-        let python = venv.join("bin/python");
-        let requirements = repo_path("tests/python/requirements.txt");
-        let marker = venv.join("installed.txt");
-        let wanted = std::fs::read_to_string(&requirements).expect("requirements");
-        if std::fs::read_to_string(&marker).ok().as_deref() != Some(wanted.as_str()) {
-            let _ = std::fs::remove_dir_all(&venv);
-            let ok = |c: &mut Command| c.status().map(|s| s.success()).unwrap_or(false);
-            assert!(ok(Command::new("python3").args(["-m", "venv"]).arg(&venv)), "python3 -m venv failed");
-            assert!(
-                ok(Command::new(&python).args(["-m", "pip", "install", "-q", "-r"]).arg(&requirements)),
-                "pip install failed"
-            );
-            std::fs::write(&marker, wanted).expect("marker");
-        }
-        python
-    })
-}
-
 /// docs/fun147.md, "Modbus": pymodbus copies a table into R2000, sets EN's relay, and
 /// reads WR+0, DN (WR+1 B14), D4062 and the positions back; D4000 and past S999 are
 /// exception 02.
@@ -249,7 +224,7 @@ fn a_modbus_client_loads_and_starts_a_table() {
     let server = serve(&unique_ns("f147-modbus"), dir.path(), &["--config", machine.to_str().unwrap()]);
     // The program has declared the box once R1000 holds the table.
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    let output = Command::new(python())
+    let output = Command::new(pymodbus_python())
         .arg(repo_path("tests/python/fun147_client.py"))
         .arg(server.port.to_string())
         .output()

@@ -5,9 +5,8 @@ register image, starts the box by its EN relay and reads the status back (docs/f
 usage: fun147_client.py PORT
 """
 import sys
-import time
 
-from pymodbus.client import ModbusTcpClient
+from drl_client import connect, read, until
 
 R0, D0, M0 = 0x3000, 0x4B00, 0x5B20
 SR, WR = R0 + 2000, D0 + 0
@@ -17,30 +16,13 @@ def d(n):
     return D0 + n
 
 
-def read(c, address, count=1):
-    r = c.read_holding_registers(address, count=count, slave=1)
-    assert not r.isError(), f"read 0x{address:04X}: {r}"
-    return r.registers if count > 1 else r.registers[0]
-
-
-def until(what, f, timeout=20.0):
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        value = f()
-        if value:
-            return value
-        time.sleep(0.01)
-    raise AssertionError(f"timed out waiting for {what}")
-
-
 def relay_word(n):
     return M0 + n // 16, 1 << (n % 16)
 
 
 def main():
     port = int(sys.argv[1])
-    c = ModbusTcpClient("127.0.0.1", port=port, timeout=5)
-    assert c.connect(), "cannot connect"
+    c = connect(port)
     # The table the Lua program assembled at R1000 (one step: SPD 4000, LIN ADR 1500,-700):
     # copied word for word to R2000, 10 words a request (DXMC 8.2).
     table = read(c, R0 + 1000, 2) + read(c, R0 + 1002, 10) + read(c, R0 + 1012, 5)
@@ -67,4 +49,5 @@ def main():
     c.close()
 
 
-main()
+if __name__ == "__main__":
+    main()
