@@ -222,8 +222,8 @@ fn a_modbus_client_loads_and_starts_a_table() {
     )
     .unwrap();
     let server = serve(&unique_ns("f147-modbus"), dir.path(), &["--config", machine.to_str().unwrap()]);
-    // The program has declared the box once R1000 holds the table.
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    // The client waits for the table at R1000; the box sees EN's rising edge whenever it
+    // is declared.
     let output = Command::new(pymodbus_python())
         .arg(repo_path("tests/python/fun147_client.py"))
         .arg(server.port.to_string())

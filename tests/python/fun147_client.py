@@ -25,6 +25,7 @@ def main():
     c = connect(port)
     # The table the Lua program assembled at R1000 (one step: SPD 4000, LIN ADR 1500,-700):
     # copied word for word to R2000, 10 words a request (DXMC 8.2).
+    until("the table at R1000", lambda: read(c, R0 + 1000) == 0xA55C)
     table = read(c, R0 + 1000, 2) + read(c, R0 + 1002, 10) + read(c, R0 + 1012, 5)
     assert table[0] == 0xA55C and table[1] == 1, table
     for i in range(0, len(table), 10):
