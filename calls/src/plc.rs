@@ -10,10 +10,11 @@ use ipc::plc_image::{PlcImage, WordArea};
 pub struct SharedPlc<'a>(pub &'a PlcImage);
 
 fn word_of(reg: Reg) -> Option<(WordArea, usize)> {
-    reg.is_valid().then(|| match reg {
+    let word = match reg {
         Reg::R(n) => (WordArea::R, n as usize),
         Reg::D(n) => (WordArea::D, n as usize),
-    })
+    };
+    reg.is_valid().then_some(word)
 }
 
 impl Plc for SharedPlc<'_> {

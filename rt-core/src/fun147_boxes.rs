@@ -63,22 +63,13 @@ struct PlcBox {
     motion: Motion,
 }
 
-enum Pending {
-    None,
-    Declare(PlcBox),
-    Free,
-}
-
 /// The boxes and what MHSPO/MHSPOFree asked for since the last cycle.
+#[derive(Default)]
 pub struct Boxes {
     slots: [Option<PlcBox>; BOXES],
-    pending: [Pending; BOXES],
-}
-
-impl Default for Boxes {
-    fn default() -> Self {
-        Boxes { slots: [None, None], pending: [Pending::None, Pending::None] }
-    }
+    /// MHSPO's new box, or MHSPOFree (`None` with `freeing`), for the next cycle.
+    declared: [Option<PlcBox>; BOXES],
+    freeing: [bool; BOXES],
 }
 
 impl Boxes {
@@ -87,7 +78,8 @@ impl Boxes {
     pub fn declare(&mut self, gp: i64, sr: Reg, wr: Reg, contacts: Contacts) -> Result<(), OperandError> {
         let gp = u8::try_from(gp).unwrap_or(u8::MAX);
         let instr = Fun147::new(gp, sr, wr)?;
-        self.pending[gp as usize] = Pending::Declare(PlcBox { instr, contacts, motion: Motion::default() });
+        self.declared[gp as usize] = Some(PlcBox { instr, contacts, motion: Motion::default() });
+        self.freeing[gp as usize] = true;
         Ok(())
     }
 
@@ -97,7 +89,8 @@ impl Boxes {
         if gp as usize >= BOXES {
             return Err(OperandError::Group(gp));
         }
-        self.pending[gp as usize] = Pending::Free;
+        self.declared[gp as usize] = None;
+        self.freeing[gp as usize] = true;
         Ok(())
     }
 
@@ -105,21 +98,16 @@ impl Boxes {
     pub fn holds_group(&self, group: i64) -> bool {
         (0..BOXES).any(|gp| {
             box_group(gp) as i64 == group
-                && (self.slots[gp].is_some() || matches!(self.pending[gp], Pending::Declare(_)))
-                && !matches!(self.pending[gp], Pending::Free)
+                && (self.declared[gp].is_some() || (self.slots[gp].is_some() && !self.freeing[gp]))
         })
     }
 
     /// One cycle of every box, before `Kernel::step`.
     pub fn step(&mut self, kernel: &mut Kernel, plc: &mut impl Plc, period_s: f64) {
         for gp in 0..BOXES {
-            match std::mem::replace(&mut self.pending[gp], Pending::None) {
-                Pending::None => {}
-                Pending::Declare(new) => {
-                    self.remove(gp, kernel, plc);
-                    self.slots[gp] = Some(new);
-                }
-                Pending::Free => self.remove(gp, kernel, plc),
+            if std::mem::take(&mut self.freeing[gp]) {
+                self.remove(gp, kernel, plc);
+                self.slots[gp] = self.declared[gp].take();
             }
             let Some(b) = &mut self.slots[gp] else { continue };
             let inputs =

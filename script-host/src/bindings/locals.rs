@@ -386,6 +386,19 @@ fn printf_arg<'a>(v: &Value, string: Option<&'a [u8]>) -> Arg<'a> {
     }
 }
 
+/// A command's return code (its first value).
+fn core_rc(lua: &Lua, host: &Host, call: &CommandCall) -> mlua::Result<i64> {
+    Ok(round_trip(lua, host, call)?.values[0] as i64)
+}
+
+/// SetupGroup failed with `rc` after adding `added` axes: they are removed again.
+fn undo_setup(lua: &Lua, host: &Host, group_id: i64, added: usize, rc: i64) -> mlua::Result<i64> {
+    for _ in 0..added {
+        core_rc(lua, host, &CommandCall::RemoveAxisFromGrp { group_id })?;
+    }
+    Ok(rc)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -408,17 +421,4 @@ mod tests {
         assert!((2090..=2101).contains(&sent), "{sent} events in 2 s");
         assert_eq!(Throttle::default().take(5), Ok(()), "the first event goes at once");
     }
-}
-
-/// A command's return code (its first value).
-fn core_rc(lua: &Lua, host: &Host, call: &CommandCall) -> mlua::Result<i64> {
-    Ok(round_trip(lua, host, call)?.values[0] as i64)
-}
-
-/// SetupGroup failed with `rc` after adding `added` axes: they are removed again.
-fn undo_setup(lua: &Lua, host: &Host, group_id: i64, added: usize, rc: i64) -> mlua::Result<i64> {
-    for _ in 0..added {
-        core_rc(lua, host, &CommandCall::RemoveAxisFromGrp { group_id })?;
-    }
-    Ok(rc)
 }
