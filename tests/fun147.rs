@@ -120,6 +120,20 @@ fn en_off_stops_and_frees_the_axes() {
     );
 }
 
+/// An axis that stops following under a running box (disabled: its group goes to Group
+/// Error Stop) ends the step with ERR and 90, not with DN; the axes go free.
+#[test]
+fn an_axis_disabled_under_a_box_gives_90_not_dn() {
+    let source = prelude(ONE_STEP)
+        + "SetPlcRelay(\"M100\", true)\n\
+           Sleep(300)\n\
+           Disable(1)\n\
+           Till(function() return GetPlcRelay(\"M111\") end)\n\
+           Print(\"ERR D4060 %d DN %s ACT %s Ready %s grouped %d\", GetPlcReg(\"D4060\"), tostring(GetPlcRelay(\"M112\")), \
+                 tostring(GetPlcRelay(\"M110\")), tostring(GetPlcRelay(\"M1992\")), GetGroupID(0))\n";
+    expect_lines(&run_lua("f147-disable", &source), &["ERR D4060 90 DN false ACT false Ready true grouped -1"]);
+}
+
 /// FUN147 error table: SR+0 other than 0xA55C gives ERR and 34 in D4060, kept until it
 /// is written 0; WR+1 B13.
 #[test]
