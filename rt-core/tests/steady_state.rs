@@ -1,5 +1,6 @@
 //! The RT thread's invariant: after start-up, a cycle never calls the system allocator,
-//! even while a task's commands are served, replies published and wake-ups sent.
+//! even while a task's commands are served, replies published and wake-ups sent, and a
+//! FUN147 box runs its step table on the group interpolator.
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -8,12 +9,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use api::Command;
+use calls::plc::SharedPlc;
+use fun147::{Plc, Reg, Relay};
 use ipc::messages::Request;
+use ipc::shared::SharedData;
+use ipc::shm::Region;
 use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
 use rt_core::MachineConfig;
 use rt_core::config::TaskConfig;
 use rt_core::cycle::CycleWork;
 use rt_core::ecat::Network;
+use rt_core::fun147_boxes::Contacts;
 use rt_core::machine::Machine;
 use rt_core::motion::Kernel;
 use rt_core::rt_alloc::{self, RtAllocator};
@@ -63,17 +69,32 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     ipc::claim_namespace(&ns).unwrap();
     let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());
 
+    // A Gp1 box moving Ps2/Ps3 back and forth without end (GOTO 1).
+    let shared = Region::<SharedData>::open(&ns, "shared").unwrap();
+    let table = "001 SPD 20000\n LIN ADR,,,500,500,Ps\n002 SPD 20000\n LIN ADR,,,-500,-500,Ps\n GOTO 1";
+    fun147::assemble(table).unwrap().write(&mut SharedPlc(shared.plc()), Reg::R(2000)).unwrap();
+    let m = |n| Relay::M(n);
+    let contacts = Contacts { en: m(100), pau: m(101), abt: m(102), act: m(110), err: m(111), dn: m(112) };
+    let machine = work.machine_mut();
+    machine.boxes.declare(1, Reg::R(2000), Reg::D(0), contacts).unwrap();
+    for axis in [2, 3] {
+        machine.kernel.enable(axis).unwrap();
+    }
+
     let stop = Arc::new(AtomicBool::new(false));
     let task = {
         let (ns, stop) = (ns.clone(), stop.clone());
         std::thread::spawn(move || busy_task(ns, stop))
     };
     run(&mut work, 500);
+    SharedPlc(shared.plc()).set_relay(Relay::M(100), true);
     let (system_before, pool_before) = (rt_alloc::owner_system_allocations(), rt_alloc::pool_allocations());
     run(&mut work, 3000);
     let system = rt_alloc::owner_system_allocations() - system_before;
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
+    let plc = SharedPlc(shared.plc());
+    let (box_running, box_error) = (plc.relay(Relay::M(110)), plc.word(Reg::D(4061)));
 
     stop.store(true, Ordering::Release);
     run(&mut work, 50);
@@ -82,6 +103,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     ipc::remove_namespace_files(&ns);
 
     assert!(enabled, "the task's commands were applied");
+    assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");
 }
