@@ -120,14 +120,25 @@ fn en_off_stops_and_frees_the_axes() {
     );
 }
 
-/// An axis that stops following under a running box (disabled: its group goes to Group
-/// Error Stop) ends the step with ERR and 90, not with DN; the axes go free.
+/// Axes that stop following under a running box (one disabled: its group goes to Group
+/// Error Stop; or StopAll, HMPL 2.8, ending the move short) end the step with ERR and 90,
+/// not with DN; the axes go free.
 #[test]
 fn an_axis_disabled_under_a_box_gives_90_not_dn() {
+    box_interrupted_by("Disable(1)");
+}
+
+#[test]
+fn stop_all_under_a_box_gives_90_not_dn() {
+    box_interrupted_by("StopAll()");
+}
+
+fn box_interrupted_by(call: &str) {
     let source = prelude(ONE_STEP)
         + "SetPlcRelay(\"M100\", true)\n\
-           Sleep(300)\n\
-           Disable(1)\n\
+           Sleep(300)\n"
+        + call
+        + "\n\
            Till(function() return GetPlcRelay(\"M111\") end)\n\
            Print(\"ERR D4060 %d DN %s ACT %s Ready %s grouped %d\", GetPlcReg(\"D4060\"), tostring(GetPlcRelay(\"M112\")), \
                  tostring(GetPlcRelay(\"M110\")), tostring(GetPlcRelay(\"M1992\")), GetGroupID(0))\n";

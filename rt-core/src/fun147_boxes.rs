@@ -53,6 +53,8 @@ struct Motion {
     paused: bool,
     /// Paused at once: resuming queues the rest of the line again.
     cut: bool,
+    /// The box stopped the move (EN = 0, ABT, EXT, an error): what is left was dropped.
+    stopped: bool,
     /// The axes failed under the box this cycle.
     fault: bool,
 }
@@ -162,10 +164,16 @@ impl GroupAxes<'_> {
     }
 
     /// A group the box set up must stay enabled and out of error stop (an axis disabled,
-    /// faulted or at a software limit puts it into Group Error Stop; a script may have
-    /// changed it).
+    /// faulted or at a software limit puts it into Group Error Stop), and its move may end
+    /// short only when the box stops it (not by StopAll, HMPL 2.8).
     fn watch(&mut self) {
-        if self.motion.grouped != AxisSet::NONE && self.state() != Some(GroupState::Standby) {
+        let m = *self.motion;
+        if m.grouped == AxisSet::NONE {
+            return;
+        }
+        let moving = m.target.iter().any(Option::is_some) && !m.stopped && !m.paused;
+        let short = m.continuous || self.remaining() != [0; 4];
+        if self.state() != Some(GroupState::Standby) || (moving && short && !self.is_moving()) {
             self.motion.fault = true;
         }
     }
@@ -230,7 +238,7 @@ impl GroupAxes<'_> {
             return;
         }
         *self.motion = Motion { target, continuous, speed: speed_hz / PULSES_PER_UNIT, ..*self.motion };
-        (self.motion.paused, self.motion.cut) = (false, false);
+        (self.motion.paused, self.motion.cut, self.motion.stopped) = (false, false, false);
         if self.queue().is_err() {
             self.motion.fault = true;
         }
@@ -271,7 +279,7 @@ impl Axes for GroupAxes<'_> {
     }
 
     fn stop(&mut self, _axes: AxisSet, decelerate: bool) {
-        (self.motion.paused, self.motion.cut) = (false, false);
+        (self.motion.paused, self.motion.cut, self.motion.stopped) = (false, false, true);
         if self.motion.continuous {
             self.motion.target = [None; 4];
         }
