@@ -145,6 +145,21 @@ fn box_interrupted_by(call: &str) {
     expect_lines(&run_lua("f147-disable", &source), &["ERR D4060 90 DN false ACT false Ready true grouped -1"]);
 }
 
+/// FUN147 expl. 2: Gp0 on Ps0/Ps1 and Gp1 on Ps2/Ps3 run side by side, each through its
+/// own group (14, 15), each with its own D4062/D4063.
+#[test]
+fn two_boxes_run_side_by_side() {
+    let source = prelude("001 SPD 8000\n LIN ADR,800,-600,,,Ps")
+        + "MHSPOLoad(\"R3000\", \"001 SPD 6000\\n LIN ADR,,,-300,400,Ps\")\n\
+           assert(MHSPO(1, \"R3000\", \"D20\", \"M200\", \"M201\", \"M202\", \"M210\", \"M211\", \"M212\") == 0)\n\
+           SetPlcRelay(\"M100\", true) SetPlcRelay(\"M200\", true)\n\
+           Sleep(20)\n\
+           Print(\"groups %d %d %d %d\", GetGroupID(0), GetGroupID(1), GetGroupID(2), GetGroupID(3))\n\
+           Till(function() return GetPlcRelay(\"M112\") and GetPlcRelay(\"M212\") end)\n\
+           Print(\"done %d %d at %d %d %d %d\", GetPlcReg(\"D4062\"), GetPlcReg(\"D4063\"), ps(0), ps(1), ps(2), ps(3))\n";
+    expect_lines(&run_lua("f147-two", &source), &["groups 14 14 15 15", "done 1 1 at 800 -600 -300 400"]);
+}
+
 /// FUN147 error table: SR+0 other than 0xA55C gives ERR and 34 in D4060, kept until it
 /// is written 0; WR+1 B13.
 #[test]
