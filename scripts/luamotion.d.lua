@@ -864,6 +864,32 @@ function StopTask(task_id) end
 ---HMPL 16.5 (command (round trip to the core))
 function StopAllTask() end
 
+--- Declares the FUN147 box of group `gp` (Gp, 0 or 1): its step table at `sr` (SR), its
+--- working registers WR+0..WR+8 at `wr` ("R2000", "D0": R0-R3839, R5000-R8071,
+--- D0-D3999), the relays it reads every cycle (EN, PAU, ABT) and writes (ACT, ERR, DN):
+--- "X0"-"X255", "Y0"-"Y255", "M0"-"M2001", "S0"-"S999". Psi is axis i, one pulse 0.001
+--- axis unit; box Gp moves through group 14 + Gp. Declaring a group's box again
+--- replaces it (stopped first). 0, or 0x138F for an operand that does not exist.
+---Fatek FUN147 (command (round trip to the core))
+---@param gp integer
+---@param sr string
+---@param wr string
+---@param en string
+---@param pau string
+---@param abt string
+---@param act string
+---@param err string
+---@param dn string
+---@return integer
+function MHSPO(gp, sr, wr, en, pau, abt, act, err, dn) end
+
+--- Stops the box of group `gp` at once, frees its axes and removes it. 0, or 0x138F
+--- for a `gp` other than 0 and 1.
+---Fatek FUN147 (command (round trip to the core))
+---@param gp integer
+---@return integer
+function MHSPOFree(gp) end
+
 --- The profile velocity.
 ---HMPL 5.3.1 (query (local snapshot))
 ---@param axis_id integer
@@ -1550,6 +1576,51 @@ function SaveUserTable(start_idx, num_data) end
 ---@param num_data integer
 ---@return integer
 function LoadUserTable(start_idx, num_data) end
+
+--- Assembles a FUN147 step table (`001 SPD 5000`, `LIN ADR,500,400,,,Ut`, `WAIT TIME,100`,
+--- `GOTO NEXT`, `MEND`, `;` comments) and writes it at `sr` (0xA55C, N, 15 words a
+--- step). A text error is a Lua error with its line and column; nothing is written then.
+---Fatek FUN147 (script process)
+---@param sr string
+---@param text string
+---@return integer
+function MHSPOLoad(sr, text) end
+
+--- The step table at `sr` as text; a Lua error naming the FUN147 code (34, 35, 36, …)
+--- when `sr` holds no valid table.
+---Fatek FUN147 (script process)
+---@param sr string
+---@return string
+function MHSPOText(sr) end
+
+--- A register: "R1000", "D4062" the 16-bit word 0..65535; "DR1000", "DD100" the signed
+--- 32-bit value of n (low word) and n+1 (high word). A Lua error for an address that
+--- does not exist.
+---Fatek FUN147 (script process)
+---@param addr string
+---@return integer
+function GetPlcReg(addr) end
+
+--- Writes a register: a word 0..65535 (or -32768..-1 as its two's complement), a double
+--- word (DR, DD) -2^31..2^31-1. 0; a Lua error for an address or value that does not fit.
+---Fatek FUN147 (script process)
+---@param addr string
+---@param value integer
+---@return integer
+function SetPlcReg(addr, value) end
+
+--- A relay: "X0"-"X255", "Y0"-"Y255", "M0"-"M2001", "S0"-"S999".
+---Fatek FUN147 (script process)
+---@param addr string
+---@return boolean
+function GetPlcRelay(addr) end
+
+--- Writes a relay (X too: the simulation has no input terminals). 0.
+---Fatek FUN147 (script process)
+---@param addr string
+---@param on boolean|number
+---@return integer
+function SetPlcRelay(addr, on) end
 
 PI = 3.141592653589793 -- HMPL 23.1
 SQRT2 = 1.4142135623730951 -- HMPL 23.1

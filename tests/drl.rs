@@ -5,9 +5,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::sync::OnceLock;
 use std::time::Duration;
 
 use common::serve::serve;
@@ -44,32 +42,8 @@ while true do
 end
 ";
 
-/// The virtualenv's python, with pymodbus installed once per build directory.
-fn python() -> &'static Path {
-    static PYTHON: OnceLock<PathBuf> = OnceLock::new();
-    PYTHON.get_or_init(|| {
-        let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join("pymodbus-venv");
-        let python = venv.join("bin/python");
-        let requirements = common::repo_path("tests/python/requirements.txt");
-        let marker = venv.join("installed.txt");
-        let wanted = std::fs::read_to_string(&requirements).expect("requirements");
-        if std::fs::read_to_string(&marker).ok().as_deref() != Some(wanted.as_str()) {
-            let _ = std::fs::remove_dir_all(&venv);
-            let ok = |c: &mut Command| c.status().map(|s| s.success()).unwrap_or(false);
-            assert!(ok(Command::new("python3").args(["-m", "venv"]).arg(&venv)), "python3 -m venv failed");
-            assert!(
-                ok(Command::new(&python).args(["-m", "pip", "install", "-q", "-r"]).arg(&requirements)),
-                "pip install -r {} failed",
-                requirements.display()
-            );
-            std::fs::write(&marker, wanted).expect("marker");
-        }
-        python
-    })
-}
-
 fn client(port: u16, args: &[&str]) -> String {
-    let output = Command::new(python())
+    let output = Command::new(common::pymodbus_python())
         .arg(common::repo_path("tests/python/drl_client.py"))
         .arg(port.to_string())
         .args(args)

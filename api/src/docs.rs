@@ -164,7 +164,7 @@ mod tests {
         for f in all() {
             assert!(names.insert(f.name), "{} declared twice", f.name);
             assert!(!f.doc.is_empty(), "{} has no doc", f.name);
-            let source = ["HMPL ", "DXMC ", "luamotion "].iter().any(|p| f.manual.starts_with(p));
+            let source = ["HMPL ", "DXMC ", "Fatek ", "luamotion "].iter().any(|p| f.manual.starts_with(p));
             assert!(source, "{}: {}", f.name, f.manual);
             assert_eq!(crate::registry::find(f.name).map(|g| g.name), Some(f.name));
         }

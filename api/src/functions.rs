@@ -284,6 +284,19 @@ declare_functions! {
     ["HMPL 16.4", ascii] fn StopTask(task_id: Int) -> Int;
     /// Stops every task, the caller too: the call never returns.
     ["HMPL 16.5", ascii] fn StopAllTask();
+
+    // Fatek FBs-PLC FUN147 (MHSPO): the step table, run by the core every cycle on the
+    // group interpolator (docs/fun147.md).
+    /// Declares the FUN147 box of group `gp` (Gp, 0 or 1): its step table at `sr` (SR), its
+    /// working registers WR+0..WR+8 at `wr` ("R2000", "D0": R0-R3839, R5000-R8071,
+    /// D0-D3999), the relays it reads every cycle (EN, PAU, ABT) and writes (ACT, ERR, DN):
+    /// "X0"-"X255", "Y0"-"Y255", "M0"-"M2001", "S0"-"S999". Psi is axis i, one pulse 0.001
+    /// axis unit; box Gp moves through group 14 + Gp. Declaring a group's box again
+    /// replaces it (stopped first). 0, or 0x138F for an operand that does not exist.
+    ["Fatek FUN147"] fn MHSPO(gp: Int, sr: Str, wr: Str, en: Str, pau: Str, abt: Str, act: Str, err: Str, dn: Str) -> Int;
+    /// Stops the box of group `gp` at once, frees its axes and removes it. 0, or 0x138F
+    /// for a `gp` other than 0 and 1.
+    ["Fatek FUN147"] fn MHSPOFree(gp: Int) -> Int;
 }
 
 declare_functions! {
@@ -547,4 +560,25 @@ declare_functions! {
     ["HMPL 11.6", ascii] fn SaveUserTable(start_idx: Int, num_data: Int) -> Int;
     /// Loads a range from the controller's disk. 0, 0x138F or 0x0138 (nothing saved).
     ["HMPL 11.7", ascii] fn LoadUserTable(start_idx: Int, num_data: Int) -> Int;
+
+    // Fatek FUN147: the PLC register image in the controller's shared memory, which the
+    // boxes and the Modbus server use too (docs/fun147.md).
+    /// Assembles a FUN147 step table (`001 SPD 5000`, `LIN ADR,500,400,,,Ut`, `WAIT TIME,100`,
+    /// `GOTO NEXT`, `MEND`, `;` comments) and writes it at `sr` (0xA55C, N, 15 words a
+    /// step). A text error is a Lua error with its line and column; nothing is written then.
+    ["Fatek FUN147"] fn MHSPOLoad(sr: Str, text: Str) -> Int;
+    /// The step table at `sr` as text; a Lua error naming the FUN147 code (34, 35, 36, …)
+    /// when `sr` holds no valid table.
+    ["Fatek FUN147"] fn MHSPOText(sr: Str) -> Str;
+    /// A register: "R1000", "D4062" the 16-bit word 0..65535; "DR1000", "DD100" the signed
+    /// 32-bit value of n (low word) and n+1 (high word). A Lua error for an address that
+    /// does not exist.
+    ["Fatek FUN147"] fn GetPlcReg(addr: Str) -> Int;
+    /// Writes a register: a word 0..65535 (or -32768..-1 as its two's complement), a double
+    /// word (DR, DD) -2^31..2^31-1. 0; a Lua error for an address or value that does not fit.
+    ["Fatek FUN147"] fn SetPlcReg(addr: Str, value: Int) -> Int;
+    /// A relay: "X0"-"X255", "Y0"-"Y255", "M0"-"M2001", "S0"-"S999".
+    ["Fatek FUN147"] fn GetPlcRelay(addr: Str) -> Bool;
+    /// Writes a relay (X too: the simulation has no input terminals). 0.
+    ["Fatek FUN147"] fn SetPlcRelay(addr: Str, on: Bool) -> Int;
 }

@@ -241,6 +241,7 @@ impl Resources {
     fn read(&self, register: Register, program: &ProgramControl) -> u16 {
         match register {
             Register::User(a) => calls::user_area::read(&self.shared, a as i64).unwrap_or(0),
+            Register::Plc(a) => calls::plc::read(self.shared.plc(), a).unwrap_or(0),
             Register::ControllerState => self.monitor.latest().map_or(0, |s| s.controller_state as u16),
             Register::TargetState => self.target as u16,
             Register::DrlId => program.current_id(),
@@ -260,6 +261,9 @@ impl Resources {
         match register {
             Register::User(a) => {
                 calls::user_area::write(&self.shared, a as i64, value);
+            }
+            Register::Plc(a) => {
+                calls::plc::write(self.shared.plc(), a, value);
             }
             Register::TargetState => {
                 if let Some(target) = ControllerState::target(value) {

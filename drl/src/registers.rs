@@ -9,6 +9,9 @@ pub const MAX_WORDS: u16 = 10;
 pub enum Register {
     /// DV 0x0000..0x2FFF or DH 0x8000..0xAFFF (A.1), by Modbus address.
     User(u16),
+    /// 0x3000..0x5BDE, in the SDV range A.1 reserves: the FUN147 register image
+    /// (docs/fun147.md, `calls::plc`), by Modbus address.
+    Plc(u16),
     /// 0x6A80: current controller state (read only).
     ControllerState,
     /// 0x6A81: target controller state, 2, 4 or 5.
@@ -44,6 +47,7 @@ impl Register {
     pub fn at(address: u16) -> Option<Self> {
         Some(match address {
             0x0000..=0x2FFF | 0x8000..=0xAFFF => Register::User(address),
+            a if calls::plc::PlcWord::at(a).is_some() => Register::Plc(a),
             0x6A80 => Register::ControllerState,
             0x6A81 => Register::TargetState,
             0x6B00 => Register::DrlId,
@@ -114,7 +118,9 @@ mod tests {
             (0x0000, Some(Register::User(0x0000))),
             (0x0050, Some(Register::User(0x0050))), // %MW3.160
             (0x2FFF, Some(Register::User(0x2FFF))),
-            (0x3000, None), // SDV, system reserved
+            (0x3000, Some(Register::Plc(0x3000))), // SDV: R0 of the FUN147 image
+            (0x5AA0, None),                        // D4000 does not exist
+            (0x5BDF, None),                        // past S999
             (0x6A80, Some(Register::ControllerState)),
             (0x6A81, Some(Register::TargetState)),
             (0x6A82, None),

@@ -36,6 +36,10 @@ pub enum ErrorCode {
     /// 60: any other word of a step that no command encodes.
     #[error("60: illegal interpolation command")]
     IllegalCommand,
+    /// 90 (luamotion's, docs/decisions.md "FUN147"): the controller's axes cannot follow:
+    /// one is missing, disabled, in error stop or in another group.
+    #[error("90: the axes cannot follow")]
+    Axes,
 }
 
 impl ErrorCode {
@@ -52,6 +56,7 @@ impl ErrorCode {
             ErrorCode::Frequency => 37,
             ErrorCode::TravelRange => 40,
             ErrorCode::IllegalCommand => 60,
+            ErrorCode::Axes => 90,
         }
     }
 }

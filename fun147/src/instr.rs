@@ -375,6 +375,18 @@ impl Fun147 {
         }
     }
 
+    /// The axes failed under the instance (the controller's own error, e.g. an axis
+    /// disabled): it stops at once, frees its axes and reports `code` as ERR.
+    pub fn fault(&mut self, plc: &mut impl Plc, axes: &mut impl Axes, code: ErrorCode) {
+        if self.state != State::Idle {
+            self.fail(plc, axes, code);
+        } else {
+            plc.set_word(self.group_reg(4060), code.code());
+            self.error = true;
+        }
+        self.start_pending = false;
+    }
+
     fn fail(&mut self, plc: &mut impl Plc, axes: &mut impl Axes, code: ErrorCode) {
         axes.stop(self.owned, false);
         // The register keeps the latest code until the user clears it (FUN147 error table).

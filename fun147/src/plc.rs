@@ -83,6 +83,17 @@ impl Relay {
         }
     }
 
+    /// Its place among all relays, X0-X255, Y0-Y255, M0-M2001, S0-S999 in that order
+    /// (the storage of an image); `None` when it does not exist.
+    pub fn index(self) -> Option<usize> {
+        self.is_valid().then(|| match self {
+            Relay::X(n) => n as usize,
+            Relay::Y(n) => 256 + n as usize,
+            Relay::M(n) => 512 + n as usize,
+            Relay::S(n) => 512 + 2002 + n as usize,
+        })
+    }
+
     /// Whether WAIT and EXT may name it: M only up to M1911, the rest being system relays
     /// (FUN147 WAIT and EXT operand tables).
     pub fn is_condition(self) -> bool {
@@ -221,12 +232,7 @@ impl MemPlc {
     }
 
     fn relay_index(relay: Relay) -> Option<usize> {
-        relay.is_valid().then(|| match relay {
-            Relay::X(n) => n as usize,
-            Relay::Y(n) => 256 + n as usize,
-            Relay::M(n) => 512 + n as usize,
-            Relay::S(n) => 512 + 2002 + n as usize,
-        })
+        relay.index()
     }
 }
 

@@ -22,6 +22,7 @@ pub mod messages;
 mod monitor;
 mod namespace;
 pub mod output;
+pub mod plc_image;
 pub mod services;
 pub mod shared;
 pub mod shm;

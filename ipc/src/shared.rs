@@ -10,6 +10,7 @@ use num_enum::{FromPrimitive, IntoPrimitive};
 
 use crate::futex;
 use crate::messages::MAX_TASKS;
+use crate::plc_image::PlcImage;
 use crate::shm::Shareable;
 
 /// HMPL ch. 11: `system_user_table[512000]`.
@@ -40,6 +41,8 @@ pub struct SharedData {
     dh: [AtomicU16; USER_AREA_WORDS],
     /// Bumped by every write to DH: the controller saves DH when it moves.
     dh_writes: AtomicU64,
+    /// The FUN147 register image (docs/fun147.md).
+    plc: PlcImage,
 }
 
 /// Words of DV and of DH: 24 KiB each (DXMC A.1). Which Modbus address names which word
@@ -72,6 +75,11 @@ pub enum Lock {
 }
 
 impl SharedData {
+    /// The FUN147 register image.
+    pub fn plc(&self) -> &PlcImage {
+        &self.plc
+    }
+
     /// Word `i` of DV (volatile); `None` past its end.
     pub fn dv_word(&self, i: usize) -> Option<u16> {
         self.dv.get(i).map(|w| w.load(Ordering::Relaxed))

@@ -124,6 +124,8 @@ impl CycleWork {
         if machine.network.start_error().is_some() {
             machine.state = ControllerState::Fail;
         }
+        // FUN147 expl. 4: the axes are Ready at power-up.
+        fun147::plc::power_up(&mut calls::plc::SharedPlc(endpoint.shared().plc()));
         CycleWork {
             machine,
             endpoint,
@@ -180,6 +182,11 @@ impl CycleWork {
         }
         if self.machine.io.emo_edge() {
             self.machine.emergency_stop();
+        }
+        {
+            let Machine { boxes, kernel, .. } = &mut self.machine;
+            let mut plc = calls::plc::SharedPlc(self.endpoint.shared().plc());
+            boxes.step(kernel, &mut plc, period as f64 * 1e-9);
         }
         self.machine.kernel.step(cycle, &mut self.machine.network);
         let machine = &mut self.machine;

@@ -11,6 +11,7 @@ pub mod cycle;
 pub mod dispatch;
 pub mod drive;
 pub mod ecat;
+pub mod fun147_boxes;
 pub mod io;
 pub mod machine;
 pub mod master;

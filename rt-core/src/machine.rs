@@ -6,6 +6,7 @@ use ipc::messages::MAX_TASKS;
 
 use crate::console::{ConsoleOrder, ControllerState};
 use crate::ecat::Network;
+use crate::fun147_boxes::Boxes;
 use crate::io::ControllerIo;
 use crate::master::PdoForces;
 use crate::motion::Kernel;
@@ -25,6 +26,8 @@ pub struct Machine {
     pub state: ControllerState,
     /// Each task's run speed, % (DXMC A.3, 0x6B03; 100 but for a DRL project).
     pub run_speed: [u32; MAX_TASKS],
+    /// The FUN147 boxes (docs/fun147.md), stepped before the kernel.
+    pub boxes: Boxes,
 }
 
 impl Machine {
@@ -39,6 +42,7 @@ impl Machine {
             cycle: 0,
             state: ControllerState::Run,
             run_speed: [100; MAX_TASKS],
+            boxes: Boxes::default(),
         }
     }
 

@@ -1,6 +1,7 @@
 //! The RT thread's invariant: after start-up, a cycle never calls the system allocator,
 //! even while a task's commands are served (axis moves, a group's lines and arcs with
-//! look-ahead and corner blends), replies published and wake-ups sent.
+//! look-ahead and corner blends), replies published and wake-ups sent, and a FUN147 box
+//! runs its step table on the group interpolator.
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -9,12 +10,18 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use api::Command;
+use calls::plc::SharedPlc;
+use fun147::{Plc, Reg, Relay};
 use ipc::messages::Request;
+use ipc::messages::motion_status::ENABLED;
+use ipc::shared::SharedData;
+use ipc::shm::Region;
 use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
 use rt_core::MachineConfig;
 use rt_core::config::TaskConfig;
 use rt_core::cycle::CycleWork;
 use rt_core::ecat::Network;
+use rt_core::fun147_boxes::Contacts;
 use rt_core::machine::Machine;
 use rt_core::motion::Kernel;
 use rt_core::rt_alloc::{self, RtAllocator};
@@ -31,20 +38,21 @@ fn request(command: Command, ints: &[i64], doubles: &[f64]) -> Request {
     request
 }
 
-/// A task that enables axis 0 and moves it back and forth without pause, while axes 1 and
-/// 2, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
+/// A task that enables axis 0 and moves it back and forth without pause, while axes 4 and
+/// 5, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
 fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
-    for a in 0..3 {
+    for a in [0, 4, 5] {
         task.call(&mut request(Command::Enable, &[a], &[])).unwrap();
     }
-    while !(0..3).all(|a| task.snapshot().axes[a].motion_status & ipc::messages::motion_status::ENABLED != 0) {
+    let enabled = |a: usize, task: &mut TaskEndpoint| task.snapshot().axes[a].motion_status & ENABLED != 0;
+    while ![0, 4, 5].iter().all(|&a| enabled(a, &mut task)) {
         let target = task.snapshot().cycle + 1;
         task.wait_until_cycle(target).unwrap();
     }
     for setup in [
-        request(Command::AddAxisToGrp, &[0, 1], &[]),
-        request(Command::AddAxisToGrp, &[0, 2], &[]),
+        request(Command::AddAxisToGrp, &[0, 4], &[]),
+        request(Command::AddAxisToGrp, &[0, 5], &[]),
         request(Command::EnableGroup, &[0], &[]),
         request(Command::SetGrpBufferMode, &[0, 6], &[]),
         request(Command::SetGrpTransMode, &[0, 2], &[]),
@@ -78,7 +86,10 @@ fn run(work: &mut CycleWork, cycles: usize) {
 #[test]
 fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     rt_alloc::claim_pool_for_this_thread();
-    let config = MachineConfig::default();
+    // Axis 0 for the task's moves, 2 and 3 for the box (Ps2, Ps3), 4 and 5 for the group.
+    let mut config = MachineConfig::default();
+    let first = config.axes[0].clone();
+    config.axes = (0..6).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
     let mut network = Network::new(&config.axes);
     network.start(config.period_ns()).unwrap();
     let kernel = Kernel::new(&config, &network);
@@ -91,18 +102,33 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     ipc::claim_namespace(&ns).unwrap();
     let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());
 
+    // A Gp1 box moving Ps2/Ps3 back and forth without end (GOTO 1).
+    let shared = Region::<SharedData>::open(&ns, "shared").unwrap();
+    let table = "001 SPD 20000\n LIN ADR,,,500,500,Ps\n002 SPD 20000\n LIN ADR,,,-500,-500,Ps\n GOTO 1";
+    fun147::assemble(table).unwrap().write(&mut SharedPlc(shared.plc()), Reg::R(2000)).unwrap();
+    let m = |n| Relay::M(n);
+    let contacts = Contacts { en: m(100), pau: m(101), abt: m(102), act: m(110), err: m(111), dn: m(112) };
+    let machine = work.machine_mut();
+    machine.boxes.declare(1, Reg::R(2000), Reg::D(0), contacts).unwrap();
+    for axis in [2, 3] {
+        machine.kernel.enable(axis).unwrap();
+    }
+
     let stop = Arc::new(AtomicBool::new(false));
     let task = {
         let (ns, stop) = (ns.clone(), stop.clone());
         std::thread::spawn(move || busy_task(ns, stop))
     };
     run(&mut work, 500);
+    SharedPlc(shared.plc()).set_relay(Relay::M(100), true);
     let (system_before, pool_before) = (rt_alloc::owner_system_allocations(), rt_alloc::pool_allocations());
     run(&mut work, 3000);
     let system = rt_alloc::owner_system_allocations() - system_before;
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
     let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
+    let plc = SharedPlc(shared.plc());
+    let (box_running, box_error) = (plc.relay(Relay::M(110)), plc.word(Reg::D(4061)));
 
     stop.store(true, Ordering::Release);
     run(&mut work, 50);
@@ -112,6 +138,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
 
     assert!(enabled, "the task's commands were applied");
     assert!(grouped, "the group's commands were applied");
+    assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");
 }

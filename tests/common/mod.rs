@@ -8,6 +8,7 @@ pub mod serve;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
@@ -134,4 +135,28 @@ pub fn eventually(timeout: Duration, mut f: impl FnMut() -> bool) -> bool {
         std::thread::sleep(Duration::from_millis(10));
     }
     f()
+}
+
+/// The virtualenv's python, with pymodbus installed once per build directory.
+pub fn pymodbus_python() -> &'static Path {
+    static PYTHON: OnceLock<PathBuf> = OnceLock::new();
+    PYTHON.get_or_init(|| {
+        let venv = Path::new(env!("CARGO_TARGET_TMPDIR")).join("pymodbus-venv");
+        let python = venv.join("bin/python");
+        let requirements = repo_path("tests/python/requirements.txt");
+        let marker = venv.join("installed.txt");
+        let wanted = std::fs::read_to_string(&requirements).expect("requirements");
+        if std::fs::read_to_string(&marker).ok().as_deref() != Some(wanted.as_str()) {
+            let _ = std::fs::remove_dir_all(&venv);
+            let ok = |c: &mut Command| c.status().map(|s| s.success()).unwrap_or(false);
+            assert!(ok(Command::new("python3").args(["-m", "venv"]).arg(&venv)), "python3 -m venv failed");
+            assert!(
+                ok(Command::new(&python).args(["-m", "pip", "install", "-q", "-r"]).arg(&requirements)),
+                "pip install -r {} failed",
+                requirements.display()
+            );
+            std::fs::write(&marker, wanted).expect("marker");
+        }
+        python
+    })
 }

@@ -101,7 +101,7 @@ def scenario(port):
 
     # Bad requests: an exception each, and the server keeps serving.
     assert exception(c.read_holding_registers(0x0000, count=11, slave=1)) == 3, "11 words"
-    assert exception(c.read_holding_registers(0x3000, count=1, slave=1)) == 2, "reserved address"
+    assert exception(c.read_holding_registers(0x6000, count=1, slave=1)) == 2, "reserved address (SDV past the FUN147 image)"
     assert exception(c.write_register(STATUS, 1, slave=1)) == 2, "read-only register"
     assert exception(c.write_register(ID_SELECT, 10000, slave=1)) == 3, "DRL id 10000"
     assert exception(c.read_input_registers(0x0000, count=1, slave=1)) == 1, "FC 04"

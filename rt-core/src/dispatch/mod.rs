@@ -7,13 +7,14 @@
 mod axis;
 mod couplings;
 mod drive_objects;
+mod fun147;
 mod groups;
 mod io;
 mod tasks;
 
 use api::alarms::{Alarm, Event as AlarmEvent};
 use api::call::{Doubles, Sink};
-use api::{ArgSpec, CommandCall, ErrorCode, Quantity, Role, SdoAbort, SystemError};
+use api::{ArgSpec, CommandCall, ErrorCode, GroupError, Quantity, Role, SdoAbort, SystemError};
 use calls::wire::{self, DecodeError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
@@ -188,6 +189,10 @@ impl Sink for RangeCheck<'_> {
             }
             Some(Quantity::Group) => {
                 self.m.kernel.group(value)?;
+                // A declared FUN147 box's group is the box's alone (docs/decisions.md, "FUN147").
+                if self.m.boxes.holds_group(value) {
+                    return Err(self.m.kernel.group_refusal(value, GroupError::CmdInvalidState).into());
+                }
                 self.group = Some(value);
             }
             _ => {}
@@ -564,5 +569,10 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::StartTaskFunc { task_id, ref func_name } => tasks::start_func(m, task_id, func_name),
         C::StopTask { task_id } => tasks::stop(m, caller, task_id),
         C::StopAllTask {} => tasks::stop_all(m),
+        // Fatek FUN147.
+        C::MHSPO { gp, ref sr, ref wr, ref en, ref pau, ref abt, ref act, ref err, ref dn } => {
+            fun147::declare(m, gp, sr, wr, [en, pau, abt, act, err, dn])
+        }
+        C::MHSPOFree { gp } => fun147::free(m, gp),
     }
 }

@@ -109,6 +109,12 @@ fn system_code(e: SystemError) -> i64 {
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
     match local {
+        Local::MHSPOLoad
+        | Local::MHSPOText
+        | Local::GetPlcReg
+        | Local::SetPlcReg
+        | Local::GetPlcRelay
+        | Local::SetPlcRelay => super::plc::local(lua, host, local),
         Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let ms = int_arg(lua, spec, &args, 0)?;

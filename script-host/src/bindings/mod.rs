@@ -5,6 +5,7 @@
 //! the system variables in `system_vars`.
 
 mod locals;
+mod plc;
 mod system_vars;
 mod timer;
 

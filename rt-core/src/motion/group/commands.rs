@@ -173,6 +173,18 @@ impl Kernel {
         })
     }
 
+    /// An immediate stop (no HMPL command; FUN147 with M1991 OFF, docs/decisions.md
+    /// "FUN147"): the interpolator and the smoothing stand still at the commanded pose and
+    /// the queue is dropped, so the axes' velocity falls to 0 within one cycle.
+    pub fn rest_group(&mut self, group: i64) -> Result<(), ErrorCode> {
+        self.on_group(group, |k, g| {
+            k.check_moves(g)?;
+            let pose = k.groups[g].pose_cmd.pos;
+            k.groups[g].rest_at(pose);
+            Ok(())
+        })
+    }
+
     /// HMPL 8.2.6: on along the halted path.
     pub fn resume_group(&mut self, group: i64) -> Result<(), ErrorCode> {
         self.on_group(group, |k, g| {
