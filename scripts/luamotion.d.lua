@@ -1622,6 +1622,79 @@ function GetPlcRelay(addr) end
 ---@return integer
 function SetPlcRelay(addr, on) end
 
+FreePort = {}
+FreePort.Eth = {}
+--- Listens on TCP `Port` (3000..10000) as session `SessionID`; one peer at a time, the
+--- next one is accepted when the last has gone. Listens on 127.0.0.1 unless
+--- `LUAMOTION_FREEPORT_BIND` names another address. 0 or 1, 3, 4, 8.
+---DXMC 8.3 FreePort (script process)
+---@param SessionID integer
+---@param Port integer
+---@param SByte any
+---@param EByte any
+---@return integer
+function FreePort.Eth.OpenAsServer(SessionID, Port, SByte, EByte) end
+
+--- Connects to `IPAddr`:`Port` (3000..10000) as session `SessionID`, waiting at most 1 s.
+--- 0 or 1, 3, 4, 8.
+---DXMC 8.3 FreePort (script process)
+---@param SessionID integer
+---@param IPAddr string
+---@param Port integer
+---@param SByte any
+---@param EByte any
+---@return integer
+function FreePort.Eth.OpenAsClient(SessionID, IPAddr, Port, SByte, EByte) end
+
+--- Sends `Msg` as one frame: a string as its bytes, a number as its Lua text, a boolean
+--- as `true`/`false`, a table as its bytes 0..255. `code, Msg`: 0 or 1 (nil, a table
+--- not of bytes), 2, 5, 6 (more than 1024 bytes), 7.
+---DXMC 8.3 FreePort (script process)
+---@param SessionID integer
+---@param Msg any
+---@return integer
+---@return any
+function FreePort.Eth.Tx(SessionID, Msg) end
+
+--- The next received frame without its start and end bytes, never waiting:
+--- `code, data, count`; `0, "", 0` when no frame is complete. 6 for a frame longer than
+--- 1024 bytes (dropped), 5 when no peer is connected and nothing is left, 2.
+---DXMC 8.3 FreePort (script process)
+---@param SessionID integer
+---@return integer
+---@return string
+---@return integer
+function FreePort.Eth.Rx(SessionID) end
+
+--- Closes the session and frees its port. 0 or 2.
+---DXMC 8.3 FreePort (script process)
+---@param SessionID integer
+---@return integer
+function FreePort.Eth.Close(SessionID) end
+
+--- Closes every session of the task. 0.
+---DXMC 8.3 FreePort (script process)
+---@return integer
+function FreePort.Eth.CloseAll() end
+
+--- Drops what was received and not yet read. 0 or 2.
+---DXMC 8.3 FreePort (script process)
+---@param SessionID integer
+---@return integer
+function FreePort.Eth.BuffClear(SessionID) end
+
+--- `0, ids`: the sessions of the task, ascending.
+---DXMC 8.3 FreePort (script process)
+---@return integer
+---@return number[]
+function FreePort.Eth.GetSessions() end
+
+--- 0 while a peer is connected, 5 when none is (yet), 2 for no such session.
+---DXMC 8.3 FreePort (script process)
+---@param SessionID integer
+---@return integer
+function FreePort.Eth.ConnectCheck(SessionID) end
+
 PI = 3.141592653589793 -- HMPL 23.1
 SQRT2 = 1.4142135623730951 -- HMPL 23.1
 SQRT1_2 = 0.7071067811865476 -- HMPL 23.1

@@ -17,6 +17,7 @@ fn lua_type(v: ValueType) -> &'static str {
         ValueType::Bytes => "integer[]",
         ValueType::Doubles => "number[]",
         ValueType::Timer => "Timer",
+        ValueType::Any => "any",
     }
 }
 
@@ -90,8 +91,21 @@ pub fn lua_meta() -> String {
     out.push_str("---@meta luamotion\n");
     out.push_str("-- Generated from the registry by `luamotion api lua`; do not edit.\n");
     out.push_str("\n---A timer for TON and TOF (HMPL 2.24).\n---@class Timer\n---@field Q boolean\n---@field ET integer\n---@field IN boolean\n");
+    let mut tables = std::collections::BTreeSet::new();
     for f in all() {
         out.push('\n');
+        // A dotted name lives in nested tables, each declared before its first function.
+        let mut prefix = f.name;
+        let mut new = Vec::new();
+        while let Some((table, _)) = prefix.rsplit_once('.') {
+            if tables.insert(table) {
+                new.push(table);
+            }
+            prefix = table;
+        }
+        for table in new.iter().rev() {
+            let _ = writeln!(out, "{table} = {{}}");
+        }
         for line in f.doc {
             let _ = writeln!(out, "---{}", line.trim_end());
         }
@@ -108,6 +122,7 @@ pub fn lua_meta() -> String {
                 ArgType::Rest => ("...", "any"),
                 ArgType::Bool => (a.name, "boolean|number"),
                 ArgType::Timer => (a.name, "Timer"),
+                ArgType::Any => (a.name, "any"),
             };
             let _ = writeln!(out, "---@param {name} {ty}");
             params.push(name);

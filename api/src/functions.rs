@@ -581,4 +581,35 @@ declare_functions! {
     ["Fatek FUN147"] fn GetPlcRelay(addr: Str) -> Bool;
     /// Writes a relay (X too: the simulation has no input terminals). 0.
     ["Fatek FUN147"] fn SetPlcRelay(addr: Str, on: Bool) -> Int;
+
+    // DXMC 8.3 FreePort: TCP sessions of the script process, framed by a start byte (none,
+    // 0..0xFF or a 1-char string) and end bytes (none, a byte, CR_LF or a string of at most
+    // 2), at most 1024 bytes of data a frame. Codes: 0 ok, 1 bad argument, 2 no such
+    // session, 3 session id in use, 4 open failed, 5 not connected, 6 frame too long,
+    // 7 send failed, 8 too many sessions (32 a task). Sessions end with the task.
+    /// Listens on TCP `Port` (3000..10000) as session `SessionID`; one peer at a time, the
+    /// next one is accepted when the last has gone. Listens on 127.0.0.1 unless
+    /// `LUAMOTION_FREEPORT_BIND` names another address. 0 or 1, 3, 4, 8.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.OpenAsServer"] fn EthOpenAsServer(SessionID: Int, Port: Int, SByte: Any, EByte: Any) -> Int;
+    /// Connects to `IPAddr`:`Port` (3000..10000) as session `SessionID`, waiting at most 1 s.
+    /// 0 or 1, 3, 4, 8.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.OpenAsClient"] fn EthOpenAsClient(SessionID: Int, IPAddr: Str, Port: Int, SByte: Any, EByte: Any) -> Int;
+    /// Sends `Msg` as one frame: a string as its bytes, a number as its Lua text, a boolean
+    /// as `true`/`false`, a table as its bytes 0..255. `code, Msg`: 0 or 1 (nil, a table
+    /// not of bytes), 2, 5, 6 (more than 1024 bytes), 7.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.Tx"] fn EthTx(SessionID: Int, Msg: Any) -> (Int, Any);
+    /// The next received frame without its start and end bytes, never waiting:
+    /// `code, data, count`; `0, "", 0` when no frame is complete. 6 for a frame longer than
+    /// 1024 bytes (dropped), 5 when no peer is connected and nothing is left, 2.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.Rx"] fn EthRx(SessionID: Int) -> (Int, Str, Int);
+    /// Closes the session and frees its port. 0 or 2.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.Close"] fn EthClose(SessionID: Int) -> Int;
+    /// Closes every session of the task. 0.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.CloseAll"] fn EthCloseAll() -> Int;
+    /// Drops what was received and not yet read. 0 or 2.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.BuffClear"] fn EthBuffClear(SessionID: Int) -> Int;
+    /// `0, ids`: the sessions of the task, ascending.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.GetSessions"] fn EthGetSessions() -> (Int, Doubles);
+    /// 0 while a peer is connected, 5 when none is (yet), 2 for no such session.
+    ["DXMC 8.3 FreePort" as "FreePort.Eth.ConnectCheck"] fn EthConnectCheck(SessionID: Int) -> Int;
 }

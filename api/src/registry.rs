@@ -42,6 +42,8 @@ pub enum ArgType {
     Bool,
     /// A timer made by `TimerInit` (HMPL's `Timer*`).
     Timer,
+    /// Any Lua value, taken as the function says (DRL `FreePort.Eth.Tx`'s message).
+    Any,
 }
 
 /// The type of one returned value.
@@ -61,6 +63,8 @@ pub enum ValueType {
     Doubles,
     /// A timer for `TON`/`TOF`.
     Timer,
+    /// Any Lua value (DRL `FreePort.Eth.Tx` returns a copy of its message).
+    Any,
 }
 
 /// What a command's argument is physically; the core checks every argument that has one
@@ -232,7 +236,8 @@ pub enum Role {
 /// One function of the registry.
 #[derive(Debug)]
 pub struct FunctionSpec {
-    /// The manual's name, which is also the Lua global.
+    /// The manual's name, which is also the Lua global; a dotted name (`FreePort.Eth.Tx`,
+    /// declared `["DXMC 8.3" as "FreePort.Eth.Tx"] fn EthTx(..)`) lives in nested tables.
     pub name: &'static str,
     /// The typed function, which tells where it runs.
     pub func: Func,
@@ -279,6 +284,7 @@ impl FunctionSpec {
             Some(ValueType::Bytes) => "uint8_t*",
             Some(ValueType::Doubles) => "double*",
             Some(ValueType::Timer) => "Timer",
+            Some(ValueType::Any) => "any",
         };
         let args: Vec<String> = self
             .args
@@ -293,6 +299,7 @@ impl FunctionSpec {
                 ArgType::Rest => "...".to_string(),
                 ArgType::Bool => format!("int {}", a.name),
                 ArgType::Timer => format!("Timer *{}", a.name),
+                ArgType::Any => format!("any {}", a.name),
             })
             .collect();
         format!("{ret} {}({})", self.name, args.join(", "))
@@ -332,7 +339,7 @@ macro_rules! declare_functions {
         $enum:ident, $table:ident => $call:ident $(<$lt:lifetime>)?;
         $(
             $(#[doc = $doc:literal])*
-            [$manual:literal $(, $ascii:ident)?]
+            [$manual:literal $(as $lua:literal)? $(, $ascii:ident)?]
             fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
         )*
     ) => {
@@ -340,7 +347,7 @@ macro_rules! declare_functions {
             $enum, $table;
             $(
                 $(#[doc = $doc])*
-                [$manual $(, $ascii)?]
+                [$manual $(as $lua)? $(, $ascii)?]
                 fn $name ( $( $arg : $aty $([$q])? $(as $role)? ),* ) $(-> $ret)? ;
             )*
         }
@@ -385,7 +392,7 @@ macro_rules! declare_functions {
         $enum:ident, $table:ident;
         $(
             $(#[doc = $doc:literal])*
-            [$manual:literal $(, $ascii:ident)?]
+            [$manual:literal $(as $lua:literal)? $(, $ascii:ident)?]
             fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
         )*
     ) => {
@@ -417,7 +424,7 @@ macro_rules! declare_functions {
 
         pub static $table: &[$crate::registry::FunctionSpec] = &[ $(
             $crate::registry::FunctionSpec {
-                name: stringify!($name),
+                name: declare_functions!(@name $name $($lua)?),
                 func: $crate::registry::Func::$enum($enum::$name),
                 manual: $manual,
                 ascii: declare_functions!(@ascii $($ascii)?),
@@ -475,6 +482,8 @@ macro_rules! declare_functions {
     (@role) => { None };
     (@quantity $q:ident) => { Some($crate::registry::Quantity::$q) };
     (@quantity) => { None };
+    (@name $name:ident $lua:literal) => { $lua };
+    (@name $name:ident) => { stringify!($name) };
     (@ascii ascii) => { true };
     (@ascii) => { false };
     (@ret) => { &[] };

@@ -115,6 +115,15 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         | Local::SetPlcReg
         | Local::GetPlcRelay
         | Local::SetPlcRelay => super::plc::local(lua, host, local),
+        Local::EthOpenAsServer
+        | Local::EthOpenAsClient
+        | Local::EthTx
+        | Local::EthRx
+        | Local::EthClose
+        | Local::EthCloseAll
+        | Local::EthBuffClear
+        | Local::EthGetSessions
+        | Local::EthConnectCheck => super::freeport::local(lua, host, local),
         Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let ms = int_arg(lua, spec, &args, 0)?;

@@ -4,6 +4,7 @@
 //! and queries are here; the functions that run in the script process are in `locals`,
 //! the system variables in `system_vars`.
 
+mod freeport;
 mod locals;
 mod plc;
 mod system_vars;
@@ -73,7 +74,23 @@ pub fn install(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
             Func::Query(q) => status_query(lua, host.clone(), q)?,
             Func::Local(l) => locals::local(lua, host.clone(), l)?,
         };
-        globals.set(spec.name, function)?;
+        // A dotted name (`FreePort.Eth.Tx`) lives in nested tables, made on first use.
+        let mut table = globals.clone();
+        let mut path = spec.name.split('.').peekable();
+        while let Some(part) = path.next() {
+            if path.peek().is_none() {
+                table.set(part, function.clone())?;
+            } else {
+                table = match table.get::<Value>(part)? {
+                    Value::Table(t) => t,
+                    _ => {
+                        let t = lua.create_table()?;
+                        table.set(part, &t)?;
+                        t
+                    }
+                };
+            }
+        }
     }
     for (name, value, _) in CONSTANTS {
         let value = match value {
