@@ -22,7 +22,7 @@ fn valid(ty: ArgType) -> &'static str {
         ArgType::Bytes => "{1, 2}",
         ArgType::Doubles => "{0, 1}",
         ArgType::Func => "function() return true end",
-        ArgType::Rest => "1",
+        ArgType::Rest | ArgType::Any => "1",
         ArgType::Bool => "true",
         ArgType::Timer => "TimerInit()",
     }
@@ -37,7 +37,7 @@ fn hostile(ty: ArgType) -> &'static [&'static str] {
         ArgType::Doubles => &["{}", "{0/0, math.huge}", "big_doubles"],
         ArgType::Bool => &["{}", "'x'"],
         ArgType::Timer => &["{}", "1"],
-        ArgType::Func | ArgType::Rest => &[],
+        ArgType::Func | ArgType::Rest | ArgType::Any => &[],
     }
 }
 
