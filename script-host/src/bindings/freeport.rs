@@ -89,8 +89,6 @@ impl Session {
             && let Ok((stream, _)) = listener.accept()
             && stream.set_nonblocking(true).is_ok()
         {
-            self.pending.clear();
-            self.overflowing = false;
             self.peer = Some(stream);
         }
         let Some(peer) = &mut self.peer else { return };
