@@ -289,3 +289,26 @@ Print("disconnect %d", Modbus_ClientDisconnect(s))
     let request = holder.join().unwrap();
     assert_eq!(request[7..], [0x03, 0x00, 0x07, 0x00, 0x02], "FC 03 at 7, 2 registers");
 }
+
+#[test]
+fn a_server_that_accepts_nothing_more_gives_the_connect_timeouts() {
+    use std::os::fd::AsRawFd;
+    let (full, port) = listener();
+    // SAFETY: listen(2) again on our own listening socket: with a backlog of 0 the kernel
+    // queues one connection and drops the SYNs after it, so a connect never completes.
+    assert_eq!(unsafe { libc::listen(full.as_raw_fd(), 0) }, 0);
+    let address = full.local_addr().unwrap();
+    let queued: Vec<TcpStream> =
+        (0..3).filter_map(|_| TcpStream::connect_timeout(&address, Duration::from_millis(300)).ok()).collect();
+    assert!(!queued.is_empty(), "the queue takes one");
+    let lines = run_program(
+        "connect-timeout",
+        &format!(
+            r#"
+Print("ascii %x", (ASCII_ClientConnect("127.0.0.1", "{port}")))
+Print("modbus %x", (Modbus_ClientConnect("127.0.0.1:{port}")))
+"#
+        ),
+    );
+    assert_lines(&lines, &["ascii 17d4", "modbus 1838"]);
+}

@@ -326,3 +326,41 @@ fn words(words: Vec<u16>) -> Vec<u8> {
 fn bits(bits: Vec<bool>) -> Vec<u8> {
     bits.chunks(8).map(|c| c.iter().enumerate().fold(0u8, |b, (i, &on)| b | (u8::from(on) << i))).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn addresses_are_ip_addresses_with_502_as_the_modbus_default() {
+        assert_eq!(socket_addr("127.0.0.1", Some("1234")), Some("127.0.0.1:1234".parse().unwrap()));
+        assert_eq!(socket_addr("10.0.0.2", None), Some("10.0.0.2:502".parse().unwrap()));
+        assert_eq!(socket_addr("10.0.0.2:1502", None), Some("10.0.0.2:1502".parse().unwrap()));
+        for (ip, port) in
+            [("localhost", Some("80")), ("127.0.0.1", Some("http")), ("127.0.0.1", Some("65536")), ("", None)]
+        {
+            assert_eq!(socket_addr(ip, port), None, "{ip} {port:?}");
+        }
+    }
+
+    /// HMPL 22.3: counts 1..=limit, and the range stays in the 16-bit address space.
+    #[test]
+    fn requests_stay_within_the_count_limit_and_the_address_space() {
+        assert_eq!(request(0, 125, 125), Some((0, 125)));
+        assert_eq!(request(65535, 1, 125), Some((65535, 1)));
+        for (start, count) in [(0, 0), (0, 126), (65535, 2), (-1, 1), (65536, 1)] {
+            assert_eq!(request(start, count, 125), None, "{start} {count}");
+        }
+    }
+
+    #[test]
+    fn write_data_is_words_and_coils_pack_from_bit_0() {
+        assert_eq!(words_arg(&[1.0, 65535.0, 9.0], 2), Some(vec![1, 65535]));
+        assert_eq!(words_arg(&[1.0], 2), None);
+        assert_eq!(words_arg(&[65536.0], 1), None);
+        assert_eq!(words_arg(&[1.5], 1), None);
+        assert_eq!(words(vec![0x1234, 7]), [0x12, 0x34, 0, 7]);
+        let on = |i: usize| i % 3 == 0;
+        assert_eq!(bits((0..10).map(on).collect()), [0x49, 0x02]);
+    }
+}
