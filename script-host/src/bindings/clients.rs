@@ -360,7 +360,7 @@ mod tests {
         assert_eq!(words_arg(&[65536.0], 1), None);
         assert_eq!(words_arg(&[1.5], 1), None);
         assert_eq!(words(vec![0x1234, 7]), [0x12, 0x34, 0, 7]);
-        let on = |i: usize| i % 3 == 0;
+        let on = |i: usize| i.is_multiple_of(3);
         assert_eq!(bits((0..10).map(on).collect()), [0x49, 0x02]);
     }
 }
