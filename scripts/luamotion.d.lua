@@ -1698,6 +1698,121 @@ function FreePort.Eth.GetSessions() end
 ---@return integer
 function FreePort.Eth.ConnectCheck(SessionID) end
 
+--- Connects to an ASCII server (`ip` an IP address, `port` a string): `rc, socket_id`.
+--- 0x17D5 failed (refused, bad address, 8 sockets open), 0x17D4 timeout.
+---HMPL 22.2.3 (script process)
+---@param ip string
+---@param port string
+---@return integer
+---@return integer
+function ASCII_ClientConnect(ip, port) end
+
+--- Receives what has arrived, up to `length` (1..512) bytes, waiting for the first:
+--- `rc, text`. 0x17DF failed (closed by the server, unknown socket, bad length),
+--- 0x17DE timeout.
+---HMPL 22.2.4 (script process)
+---@param socket_id integer
+---@param length integer
+---@return integer
+---@return string
+function ASCII_ClientRecv(socket_id, length) end
+
+--- Sends the first `length` (0..512) bytes of `buffer` (fewer if it is shorter).
+--- 0x17E9 failed, 0x17E8 timeout.
+---HMPL 22.2.5 (script process)
+---@param socket_id integer
+---@param length integer
+---@param buffer string
+---@return integer
+function ASCII_ClientSend(socket_id, length, buffer) end
+
+--- Closes the connection. 0x17D8 timeout, 0x138F unknown socket.
+---HMPL 22.2.6 (script process)
+---@param socket_id integer
+---@return integer
+function ASCII_ClientDisconnect(socket_id) end
+
+--- Connects to a Modbus TCP server at `ip` (port 502, or `"ip:port"`): `rc, socket_id`.
+--- 0x1839 failed (refused, bad address, 8 sockets open), 0x1838 timeout.
+---HMPL 22.3.1 (script process)
+---@param ip string
+---@return integer
+---@return integer
+function Modbus_ClientConnect(ip) end
+
+--- Closes the connection. 0x183C timeout, 0x138F unknown socket.
+---HMPL 22.3.2 (script process)
+---@param socket_id integer
+---@return integer
+function Modbus_ClientDisconnect(socket_id) end
+
+--- FC 03, 1..125 registers: `rc, bytes, use_length` (each register high byte first).
+--- 0x183D count out of range, 0x1840 failed (exception reply, lost connection),
+--- 0x183F timeout.
+---HMPL 22.3.3 (script process)
+---@param socket_id integer
+---@param start_addr integer
+---@param num_regs integer
+---@return integer
+---@return integer[]
+---@return integer
+function Modbus_ClientRead_HoldReg(socket_id, start_addr, num_regs) end
+
+--- FC 04, 1..125 input registers, as `Modbus_ClientRead_HoldReg`.
+---HMPL 22.3.4 (script process)
+---@param socket_id integer
+---@param start_addr integer
+---@param num_regs integer
+---@return integer
+---@return integer[]
+---@return integer
+function Modbus_ClientRead_InputReg(socket_id, start_addr, num_regs) end
+
+--- FC 01, 1..2000 coils: `rc, bytes, use_length`, eight a byte, the first in bit 0.
+---HMPL 22.3.5 (script process)
+---@param socket_id integer
+---@param start_addr integer
+---@param num_coils integer
+---@return integer
+---@return integer[]
+---@return integer
+function Modbus_ClientRead_Coils(socket_id, start_addr, num_coils) end
+
+--- FC 02, 1..2000 discrete inputs, as `Modbus_ClientRead_Coils`.
+---HMPL 22.3.6 (script process)
+---@param socket_id integer
+---@param start_addr integer
+---@param num_inputs integer
+---@return integer
+---@return integer[]
+---@return integer
+function Modbus_ClientRead_Inputs(socket_id, start_addr, num_inputs) end
+
+--- FC 16, 1..123 registers from the table `write_data` (integers 0..65535): `rc, bytes,
+--- use_length`, the reply's start address and count. 0x183D for a count out of range or
+--- a short or bad table.
+---HMPL 22.3.7 (script process)
+---@param socket_id integer
+---@param start_addr integer
+---@param num_regs integer
+---@param write_data number[]
+---@return integer
+---@return integer[]
+---@return integer
+function Modbus_ClientWrite_HoldReg(socket_id, start_addr, num_regs, write_data) end
+
+--- FC 15, 1..1968 coils: coil i is bit i % 16 of `write_data[i / 16 + 1]` (`{15}` sets
+--- four), otherwise as `Modbus_ClientWrite_HoldReg`.
+---HMPL 22.3.8 (script process)
+---@param socket_id integer
+---@param start_addr integer
+---@param num_coils integer
+---@param write_data number[]
+---@return integer
+---@return integer[]
+---@return integer
+function Modbus_ClientWrite_Coils(socket_id, start_addr, num_coils, write_data) end
+
 PI = 3.141592653589793 -- HMPL 23.1
 SQRT2 = 1.4142135623730951 -- HMPL 23.1
 SQRT1_2 = 0.7071067811865476 -- HMPL 23.1

@@ -615,4 +615,41 @@ declare_functions! {
     ["DXMC 8.3 FreePort" as "FreePort.Eth.GetSessions"] fn EthGetSessions() -> (Int, Doubles);
     /// 0 while a peer is connected, 5 when none is (yet), 2 for no such session.
     ["DXMC 8.3 FreePort" as "FreePort.Eth.ConnectCheck"] fn EthConnectCheck(SessionID: Int) -> Int;
+    // HMPL 22.2, 22.3: the task as a TCP client of an ASCII or a Modbus TCP server. Every
+    // call returns 0 or a system error code; out-parameters are further returns. A call
+    // waits at most 3 s (connect) or 2 s (the others) (docs/decisions.md).
+    /// Connects to an ASCII server (`ip` an IP address, `port` a string): `rc, socket_id`.
+    /// 0x17D5 failed (refused, bad address, 8 sockets open), 0x17D4 timeout.
+    ["HMPL 22.2.3"] fn ASCII_ClientConnect(ip: Str, port: Str) -> (Int, Int);
+    /// Receives what has arrived, up to `length` (1..512) bytes, waiting for the first:
+    /// `rc, text`. 0x17DF failed (closed by the server, unknown socket, bad length),
+    /// 0x17DE timeout.
+    ["HMPL 22.2.4"] fn ASCII_ClientRecv(socket_id: Int, length: Int) -> (Int, Str);
+    /// Sends the first `length` (0..512) bytes of `buffer` (fewer if it is shorter).
+    /// 0x17E9 failed, 0x17E8 timeout.
+    ["HMPL 22.2.5"] fn ASCII_ClientSend(socket_id: Int, length: Int, buffer: Str) -> Int;
+    /// Closes the connection. 0x17D8 timeout, 0x138F unknown socket.
+    ["HMPL 22.2.6"] fn ASCII_ClientDisconnect(socket_id: Int) -> Int;
+    /// Connects to a Modbus TCP server at `ip` (port 502, or `"ip:port"`): `rc, socket_id`.
+    /// 0x1839 failed (refused, bad address, 8 sockets open), 0x1838 timeout.
+    ["HMPL 22.3.1"] fn Modbus_ClientConnect(ip: Str) -> (Int, Int);
+    /// Closes the connection. 0x183C timeout, 0x138F unknown socket.
+    ["HMPL 22.3.2"] fn Modbus_ClientDisconnect(socket_id: Int) -> Int;
+    /// FC 03, 1..125 registers: `rc, bytes, use_length` (each register high byte first).
+    /// 0x183D count out of range, 0x1840 failed (exception reply, lost connection),
+    /// 0x183F timeout.
+    ["HMPL 22.3.3"] fn Modbus_ClientRead_HoldReg(socket_id: Int, start_addr: Int, num_regs: Int) -> (Int, Bytes, Int);
+    /// FC 04, 1..125 input registers, as `Modbus_ClientRead_HoldReg`.
+    ["HMPL 22.3.4"] fn Modbus_ClientRead_InputReg(socket_id: Int, start_addr: Int, num_regs: Int) -> (Int, Bytes, Int);
+    /// FC 01, 1..2000 coils: `rc, bytes, use_length`, eight a byte, the first in bit 0.
+    ["HMPL 22.3.5"] fn Modbus_ClientRead_Coils(socket_id: Int, start_addr: Int, num_coils: Int) -> (Int, Bytes, Int);
+    /// FC 02, 1..2000 discrete inputs, as `Modbus_ClientRead_Coils`.
+    ["HMPL 22.3.6"] fn Modbus_ClientRead_Inputs(socket_id: Int, start_addr: Int, num_inputs: Int) -> (Int, Bytes, Int);
+    /// FC 16, 1..123 registers from the table `write_data` (integers 0..65535): `rc, bytes,
+    /// use_length`, the reply's start address and count. 0x183D for a count out of range or
+    /// a short or bad table.
+    ["HMPL 22.3.7"] fn Modbus_ClientWrite_HoldReg(socket_id: Int, start_addr: Int, num_regs: Int, write_data: Doubles) -> (Int, Bytes, Int);
+    /// FC 15, 1..1968 coils: coil i is bit i % 16 of `write_data[i / 16 + 1]` (`{15}` sets
+    /// four), otherwise as `Modbus_ClientWrite_HoldReg`.
+    ["HMPL 22.3.8"] fn Modbus_ClientWrite_Coils(socket_id: Int, start_addr: Int, num_coils: Int, write_data: Doubles) -> (Int, Bytes, Int);
 }

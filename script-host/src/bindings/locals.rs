@@ -124,6 +124,18 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         | Local::EthBuffClear
         | Local::EthGetSessions
         | Local::EthConnectCheck => super::freeport::local(lua, host, local),
+        Local::ASCII_ClientConnect
+        | Local::ASCII_ClientRecv
+        | Local::ASCII_ClientSend
+        | Local::ASCII_ClientDisconnect
+        | Local::Modbus_ClientConnect
+        | Local::Modbus_ClientDisconnect
+        | Local::Modbus_ClientRead_HoldReg
+        | Local::Modbus_ClientRead_InputReg
+        | Local::Modbus_ClientRead_Coils
+        | Local::Modbus_ClientRead_Inputs
+        | Local::Modbus_ClientWrite_HoldReg
+        | Local::Modbus_ClientWrite_Coils => super::clients::local(lua, host, local),
         Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let ms = int_arg(lua, spec, &args, 0)?;

@@ -4,6 +4,7 @@
 //! and queries are here; the functions that run in the script process are in `locals`,
 //! the system variables in `system_vars`.
 
+mod clients;
 mod freeport;
 mod locals;
 mod plc;

@@ -1,0 +1,366 @@
+//! The controller as a TCP client (HMPL 22.2 ASCII, HMPL 22.3 Modbus): the sockets a task
+//! opened, kept in the Lua state's app data, and the functions on them.
+//!
+//! The I/O runs on a current-thread tokio runtime owned by the task (tokio-modbus is
+//! asynchronous); every wait is cut into short slices so the task's heartbeat goes on
+//! (the watchdog) and is bounded by the call's timeout (a silent peer never hangs it).
+
+use std::collections::BTreeMap;
+use std::future::Future;
+use std::net::{IpAddr, SocketAddr};
+use std::rc::Rc;
+use std::time::{Duration, Instant};
+
+use api::{ErrorCode, FunctionSpec, Local, SystemError};
+use mlua::{Function, Lua, MultiValue};
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::TcpStream;
+use tokio::runtime::Runtime;
+use tokio_modbus::client::{Context, Reader, Writer};
+use tokio_modbus::prelude::Client;
+
+use super::{Host, bytes_table, doubles_arg, error_here, int_arg, lua_string_arg};
+
+/// How long a connect may take (HMPL 22.2.3, 22.3.1: the manual gives no figure).
+const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
+/// How long a send, a receive, a Modbus job or a disconnect may take.
+const IO_TIMEOUT: Duration = Duration::from_secs(2);
+/// The heartbeat goes on at least this often while a call waits.
+const SLICE: Duration = Duration::from_millis(50);
+/// Open sockets of a kind per task; one more is "limit reached" (0x17D5, 0x1839).
+const MAX_SOCKETS: usize = 8;
+/// HMPL 22.2.4, 22.2.5: at most 512 bytes a call.
+const MAX_ASCII_LENGTH: i64 = 512;
+/// Modbus/TCP's registered port, for an `ip` without `:port` (HMPL 22.3.1 has no port).
+const MODBUS_PORT: u16 = 502;
+
+/// The task's client sockets; ids count up from 1 for each kind.
+struct Clients {
+    runtime: Runtime,
+    ascii: BTreeMap<i64, TcpStream>,
+    modbus: BTreeMap<i64, Context>,
+    next_id: i64,
+}
+
+impl Clients {
+    fn new() -> std::io::Result<Self> {
+        let runtime = tokio::runtime::Builder::new_current_thread().enable_io().enable_time().build()?;
+        Ok(Self { runtime, ascii: BTreeMap::new(), modbus: BTreeMap::new(), next_id: 1 })
+    }
+
+    fn id(&mut self) -> i64 {
+        self.next_id += 1;
+        self.next_id - 1
+    }
+}
+
+/// Runs `future` until it ends or `timeout` passes (`None`), beating the heartbeat between
+/// slices.
+fn wait<F: Future>(host: &Host, runtime: &Runtime, timeout: Duration, future: F) -> Option<F::Output> {
+    let deadline = Instant::now() + timeout;
+    let mut future = std::pin::pin!(future);
+    loop {
+        host.beat();
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return None;
+        }
+        if let Ok(output) = runtime.block_on(async { tokio::time::timeout(left.min(SLICE), &mut future).await }) {
+            return Some(output);
+        }
+    }
+}
+
+fn code(e: SystemError) -> i64 {
+    ErrorCode::System(e).code() as i64
+}
+
+/// Runs `body` with the task's sockets, made on first use.
+fn with_clients<R>(lua: &Lua, body: impl FnOnce(&mut Clients) -> R) -> mlua::Result<R> {
+    if lua.app_data_ref::<Clients>().is_none() {
+        let clients = Clients::new().map_err(|e| error_here(lua, format!("client sockets: {e}")))?;
+        lua.set_app_data(clients);
+    }
+    let mut clients = lua.app_data_mut::<Clients>().expect("installed above");
+    Ok(body(&mut clients))
+}
+
+fn text_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
+    Ok(lua_string_arg(lua, spec, args, i)?.to_string_lossy())
+}
+
+/// `"192.168.0.2"` with `port`, or `"192.168.0.2:1502"`: IP addresses only (no name lookup,
+/// which could block without a bound).
+fn socket_addr(ip: &str, port: Option<&str>) -> Option<SocketAddr> {
+    match port {
+        Some(port) => Some(SocketAddr::new(ip.trim().parse::<IpAddr>().ok()?, port.trim().parse().ok()?)),
+        None => {
+            ip.trim().parse::<SocketAddr>().ok().or_else(|| Some(SocketAddr::new(ip.trim().parse().ok()?, MODBUS_PORT)))
+        }
+    }
+}
+
+/// The functions of `Local` that belong here.
+pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
+    let spec = local.spec();
+    match local {
+        Local::ASCII_ClientConnect => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (ip, port) = (text_arg(lua, spec, &args, 0)?, text_arg(lua, spec, &args, 1)?);
+            with_clients(lua, |c| {
+                let Some(addr) = socket_addr(&ip, Some(&port)) else {
+                    return (code(SystemError::AsciiConnectFailed), 0);
+                };
+                if c.ascii.len() >= MAX_SOCKETS {
+                    return (code(SystemError::AsciiConnectFailed), 0);
+                }
+                match wait(&host, &c.runtime, CONNECT_TIMEOUT, TcpStream::connect(addr)) {
+                    None => (code(SystemError::AsciiConnectTimeout), 0),
+                    Some(Err(_)) => (code(SystemError::AsciiConnectFailed), 0),
+                    Some(Ok(stream)) => {
+                        let id = c.id();
+                        c.ascii.insert(id, stream);
+                        (0, id)
+                    }
+                }
+            })
+        }),
+        Local::ASCII_ClientRecv => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            let (rc, bytes) = with_clients(lua, |c| {
+                let Some(stream) = c.ascii.get_mut(&id).filter(|_| (1..=MAX_ASCII_LENGTH).contains(&length)) else {
+                    return (code(SystemError::AsciiRecvFail), Vec::new());
+                };
+                let mut buffer = vec![0; length as usize];
+                match wait(&host, &c.runtime, IO_TIMEOUT, stream.read(&mut buffer)) {
+                    None => (code(SystemError::AsciiRecvTimeout), Vec::new()),
+                    // 0 bytes: the server closed the connection.
+                    Some(Ok(0) | Err(_)) => (code(SystemError::AsciiRecvFail), Vec::new()),
+                    Some(Ok(n)) => {
+                        buffer.truncate(n);
+                        (0, buffer)
+                    }
+                }
+            })?;
+            Ok((rc, lua.create_string(bytes)?))
+        }),
+        Local::ASCII_ClientSend => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            let text = lua_string_arg(lua, spec, &args, 2)?;
+            let bytes = text.as_bytes();
+            with_clients(lua, |c| {
+                let Some(stream) = c.ascii.get_mut(&id).filter(|_| (0..=MAX_ASCII_LENGTH).contains(&length)) else {
+                    return code(SystemError::AsciiSendFail);
+                };
+                // The first `length` bytes, fewer when the string is shorter (no C buffer to overrun).
+                let bytes = &bytes[..bytes.len().min(length as usize)];
+                match wait(&host, &c.runtime, IO_TIMEOUT, stream.write_all(bytes)) {
+                    None => code(SystemError::AsciiSendTimeout),
+                    Some(Err(_)) => code(SystemError::AsciiSendFail),
+                    Some(Ok(())) => 0,
+                }
+            })
+        }),
+        Local::ASCII_ClientDisconnect => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let id = int_arg(lua, spec, &args, 0)?;
+            with_clients(lua, |c| match c.ascii.remove(&id) {
+                None => code(SystemError::HmplArgOutOfRange),
+                Some(mut stream) => match wait(&host, &c.runtime, IO_TIMEOUT, stream.shutdown()) {
+                    None => code(SystemError::AsciiDisconnectTimeout),
+                    // A peer that left already is disconnected too.
+                    Some(_) => 0,
+                },
+            })
+        }),
+        Local::Modbus_ClientConnect => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let ip = text_arg(lua, spec, &args, 0)?;
+            with_clients(lua, |c| {
+                let Some(addr) = socket_addr(&ip, None) else {
+                    return (code(SystemError::ModbusConnectFailed), 0);
+                };
+                if c.modbus.len() >= MAX_SOCKETS {
+                    return (code(SystemError::ModbusConnectFailed), 0);
+                }
+                match wait(&host, &c.runtime, CONNECT_TIMEOUT, tokio_modbus::client::tcp::connect(addr)) {
+                    None => (code(SystemError::ModbusConnectTimeout), 0),
+                    Some(Err(_)) => (code(SystemError::ModbusConnectFailed), 0),
+                    Some(Ok(context)) => {
+                        let id = c.id();
+                        c.modbus.insert(id, context);
+                        (0, id)
+                    }
+                }
+            })
+        }),
+        Local::Modbus_ClientDisconnect => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let id = int_arg(lua, spec, &args, 0)?;
+            with_clients(lua, |c| match c.modbus.remove(&id) {
+                None => code(SystemError::HmplArgOutOfRange),
+                Some(mut context) => match wait(&host, &c.runtime, IO_TIMEOUT, context.disconnect()) {
+                    None => code(SystemError::ModbusDisconnectTimeout),
+                    Some(_) => 0,
+                },
+            })
+        }),
+        Local::Modbus_ClientRead_HoldReg
+        | Local::Modbus_ClientRead_InputReg
+        | Local::Modbus_ClientRead_Coils
+        | Local::Modbus_ClientRead_Inputs => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let id = int_arg(lua, spec, &args, 0)?;
+            let (start, count) = (int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
+            let limit = match local {
+                Local::Modbus_ClientRead_HoldReg | Local::Modbus_ClientRead_InputReg => 125,
+                _ => 2000,
+            };
+            let (rc, bytes) = with_clients(lua, |c| {
+                let Some(request) = request(start, count, limit) else {
+                    return (code(SystemError::ModbusDatalengthErr), Vec::new());
+                };
+                let Some(context) = c.modbus.get_mut(&id) else {
+                    return (code(SystemError::ModbusJobFail), Vec::new());
+                };
+                let (start, count) = request;
+                let job = async {
+                    Ok(match local {
+                        Local::Modbus_ClientRead_HoldReg => words(context.read_holding_registers(start, count).await??),
+                        Local::Modbus_ClientRead_InputReg => words(context.read_input_registers(start, count).await??),
+                        Local::Modbus_ClientRead_Coils => bits(context.read_coils(start, count).await??),
+                        _ => bits(context.read_discrete_inputs(start, count).await??),
+                    })
+                };
+                job_result(wait(&host, &c.runtime, IO_TIMEOUT, job))
+            })?;
+            let length = bytes.len() as i64;
+            Ok((rc, bytes_table(lua, &bytes)?, length))
+        }),
+        Local::Modbus_ClientWrite_HoldReg | Local::Modbus_ClientWrite_Coils => {
+            lua.create_function(move |lua, args: MultiValue| {
+                host.beat();
+                let id = int_arg(lua, spec, &args, 0)?;
+                let (start, count) = (int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
+                let data = doubles_arg(lua, spec, &args, 3)?;
+                let registers = local == Local::Modbus_ClientWrite_HoldReg;
+                let (rc, bytes) = with_clients(lua, |c| {
+                    let limit = if registers { 123 } else { 1968 };
+                    let Some((start, count)) = request(start, count, limit) else {
+                        return (code(SystemError::ModbusDatalengthErr), Vec::new());
+                    };
+                    let Some(words) = words_arg(&data, if registers { count } else { count.div_ceil(16) }) else {
+                        return (code(SystemError::ModbusDatalengthErr), Vec::new());
+                    };
+                    let Some(context) = c.modbus.get_mut(&id) else {
+                        return (code(SystemError::ModbusJobFail), Vec::new());
+                    };
+                    let job = async {
+                        if registers {
+                            context.write_multiple_registers(start, &words).await??;
+                        } else {
+                            // HMPL 22.3.8: coil i is bit i % 16 of word i / 16 (data[0] = 15: four on).
+                            let coils: Vec<bool> =
+                                (0..usize::from(count)).map(|i| words[i / 16] >> (i % 16) & 1 == 1).collect();
+                            context.write_multiple_coils(start, &coils).await??;
+                        }
+                        // The server's reply to FC 15/16: start address and count, big-endian.
+                        Ok([start.to_be_bytes(), count.to_be_bytes()].concat())
+                    };
+                    job_result(wait(&host, &c.runtime, IO_TIMEOUT, job))
+                })?;
+                let length = bytes.len() as i64;
+                Ok((rc, bytes_table(lua, &bytes)?, length))
+            })
+        }
+        _ => unreachable!("{} is not a client function", spec.name),
+    }
+}
+
+/// A job's failure: the transport's, or the server's exception reply.
+enum JobError {
+    Transport,
+    Exception,
+}
+
+impl From<tokio_modbus::Error> for JobError {
+    fn from(_: tokio_modbus::Error) -> Self {
+        JobError::Transport
+    }
+}
+
+impl From<tokio_modbus::ExceptionCode> for JobError {
+    fn from(_: tokio_modbus::ExceptionCode) -> Self {
+        JobError::Exception
+    }
+}
+
+fn job_result(outcome: Option<Result<Vec<u8>, JobError>>) -> (i64, Vec<u8>) {
+    match outcome {
+        None => (code(SystemError::ModbusJobTimeout), Vec::new()),
+        Some(Err(JobError::Transport | JobError::Exception)) => (code(SystemError::ModbusJobFail), Vec::new()),
+        Some(Ok(bytes)) => (0, bytes),
+    }
+}
+
+/// The start address and a count 1..=`limit` that stays inside the 16-bit address space.
+fn request(start: i64, count: i64, limit: i64) -> Option<(u16, u16)> {
+    let start = u16::try_from(start).ok()?;
+    ((1..=limit).contains(&count) && i64::from(start) + count <= 0x1_0000).then_some((start, count as u16))
+}
+
+/// The first `count` values of a `uint16_t*` table, each an integer 0..65535.
+fn words_arg(data: &[f64], count: u16) -> Option<Vec<u16>> {
+    let data = data.get(..usize::from(count))?;
+    data.iter().map(|&v| (v.fract() == 0.0 && (0.0..=65535.0).contains(&v)).then_some(v as u16)).collect()
+}
+
+/// Registers as the reply's bytes: high byte first.
+fn words(words: Vec<u16>) -> Vec<u8> {
+    words.iter().flat_map(|w| w.to_be_bytes()).collect()
+}
+
+/// Coils or inputs as the reply's bytes: eight a byte, the first in bit 0.
+fn bits(bits: Vec<bool>) -> Vec<u8> {
+    bits.chunks(8).map(|c| c.iter().enumerate().fold(0u8, |b, (i, &on)| b | (u8::from(on) << i))).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn addresses_are_ip_addresses_with_502_as_the_modbus_default() {
+        assert_eq!(socket_addr("127.0.0.1", Some("1234")), Some("127.0.0.1:1234".parse().unwrap()));
+        assert_eq!(socket_addr("10.0.0.2", None), Some("10.0.0.2:502".parse().unwrap()));
+        assert_eq!(socket_addr("10.0.0.2:1502", None), Some("10.0.0.2:1502".parse().unwrap()));
+        for (ip, port) in
+            [("localhost", Some("80")), ("127.0.0.1", Some("http")), ("127.0.0.1", Some("65536")), ("", None)]
+        {
+            assert_eq!(socket_addr(ip, port), None, "{ip} {port:?}");
+        }
+    }
+
+    /// HMPL 22.3: counts 1..=limit, and the range stays in the 16-bit address space.
+    #[test]
+    fn requests_stay_within_the_count_limit_and_the_address_space() {
+        assert_eq!(request(0, 125, 125), Some((0, 125)));
+        assert_eq!(request(65535, 1, 125), Some((65535, 1)));
+        for (start, count) in [(0, 0), (0, 126), (65535, 2), (-1, 1), (65536, 1)] {
+            assert_eq!(request(start, count, 125), None, "{start} {count}");
+        }
+    }
+
+    #[test]
+    fn write_data_is_words_and_coils_pack_from_bit_0() {
+        assert_eq!(words_arg(&[1.0, 65535.0, 9.0], 2), Some(vec![1, 65535]));
+        assert_eq!(words_arg(&[1.0], 2), None);
+        assert_eq!(words_arg(&[65536.0], 1), None);
+        assert_eq!(words_arg(&[1.5], 1), None);
+        assert_eq!(words(vec![0x1234, 7]), [0x12, 0x34, 0, 7]);
+        let on = |i: usize| i.is_multiple_of(3);
+        assert_eq!(bits((0..10).map(on).collect()), [0x49, 0x02]);
+    }
+}
