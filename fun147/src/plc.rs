@@ -106,30 +106,21 @@ impl Relay {
 #[error("no such address: {0:?}")]
 pub struct AddressError(pub String);
 
-/// Parses "<letter><number>" (case-insensitive) with `make`, keeping only what `valid` accepts.
-fn parse_address<T>(
-    text: &str,
-    make: impl Fn(char, u16) -> Option<T>,
-    valid: impl Fn(&T) -> bool,
-) -> Result<T, AddressError> {
+/// Parses "<letter><number>" (case-insensitive) with `make`, keeping only what `valid`
+/// accepts. Allocates nothing, so the controller's cycle may call it.
+fn parse_address<T>(text: &str, make: impl Fn(char, u16) -> Option<T>, valid: impl Fn(&T) -> bool) -> Option<T> {
     let mut chars = text.chars();
     let letter = chars.next().map(|c| c.to_ascii_uppercase());
     let digits = chars.as_str();
     let number = (!digits.is_empty() && digits.len() <= 5 && digits.bytes().all(|b| b.is_ascii_digit()))
         .then(|| digits.parse().ok())
         .flatten();
-    letter
-        .zip(number)
-        .and_then(|(letter, number)| make(letter, number))
-        .filter(valid)
-        .ok_or_else(|| AddressError(text.to_owned()))
+    letter.zip(number).and_then(|(letter, number)| make(letter, number)).filter(valid)
 }
 
-impl FromStr for Reg {
-    type Err = AddressError;
-
-    /// "R1000", "d100".
-    fn from_str(text: &str) -> Result<Self, Self::Err> {
+impl Reg {
+    /// "R1000", "d100"; `None` for what names no register. (`str::parse` says which text.)
+    pub fn parse(text: &str) -> Option<Reg> {
         let make = |letter, n| match letter {
             'R' => Some(Reg::R(n)),
             'D' => Some(Reg::D(n)),
@@ -139,11 +130,9 @@ impl FromStr for Reg {
     }
 }
 
-impl FromStr for Relay {
-    type Err = AddressError;
-
-    /// "X0", "m1991".
-    fn from_str(text: &str) -> Result<Self, Self::Err> {
+impl Relay {
+    /// "X0", "m1992"; `None` for what names no relay.
+    pub fn parse(text: &str) -> Option<Relay> {
         let make = |letter, n| match letter {
             'X' => Some(Relay::X(n)),
             'Y' => Some(Relay::Y(n)),
@@ -152,6 +141,24 @@ impl FromStr for Relay {
             _ => None,
         };
         parse_address(text, make, |relay| relay.is_valid())
+    }
+}
+
+impl FromStr for Reg {
+    type Err = AddressError;
+
+    /// "R1000", "d100".
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        Reg::parse(text).ok_or_else(|| AddressError(text.to_owned()))
+    }
+}
+
+impl FromStr for Relay {
+    type Err = AddressError;
+
+    /// "X0", "m1991".
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        Relay::parse(text).ok_or_else(|| AddressError(text.to_owned()))
     }
 }
 

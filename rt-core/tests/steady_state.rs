@@ -10,6 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use api::Command;
+use api::call::Value;
 use calls::plc::SharedPlc;
 use fun147::{Plc, Reg, Relay};
 use ipc::messages::Request;
@@ -36,6 +37,31 @@ fn request(command: Command, ints: &[i64], doubles: &[f64]) -> Request {
     ints.iter().for_each(|&i| request.push_int(i));
     doubles.iter().for_each(|&d| request.push_double(d));
     request
+}
+
+/// A command with its arguments in the declaration's order (tables and strings included).
+fn typed(command: Command, values: &[Value]) -> Request {
+    let call: api::CommandCall = api::call::from_values(command, values).expect("arguments as declared");
+    let mut request = Request::new(command.id());
+    calls::wire::encode(&call, &mut request).unwrap();
+    request
+}
+
+fn int(v: i64) -> Value {
+    Value::Int(v)
+}
+
+fn list(v: &[f64]) -> Value {
+    Value::List(v.iter().map(|&x| Value::Double(x)).collect())
+}
+
+fn text(t: &str) -> Value {
+    Value::Str(t.as_bytes().to_vec())
+}
+
+/// {vel, acc, dec, smooth_time} of HMPL 8.5.
+fn profile() -> Value {
+    list(&[100.0, 5000.0, 5000.0, 0.0])
 }
 
 /// A task that enables axis 0 and moves it back and forth without pause, while axes 4 and
@@ -65,12 +91,46 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     while !stop.load(Ordering::Acquire) {
         i += 1;
         task.call(&mut request(Command::MoveAbs, &[0], &[(i % 2) as f64])).unwrap();
-        let mut path = match i % 3 {
+        let mut path = match i % 5 {
             0 => request(Command::LineAbs2D, &[0], &[1.0, 0.0]),
             1 => request(Command::ArcCW2D, &[0], &[1.0, 0.5, 1.0, 1.0]),
-            _ => request(Command::LineAbs2D, &[0], &[0.0, 0.0]),
+            2 => request(Command::LineAbs2D, &[0], &[0.0, 0.0]),
+            // HMPL 8.5: tables of numbers (profile, pose, transition) read in the cycle.
+            3 => typed(
+                Command::LineAbs,
+                &[
+                    int(0),
+                    list(&[1.0, 1.0, 0.0, 0.0, 0.0, 0.0]),
+                    profile(),
+                    int(1),
+                    int(6),
+                    int(2),
+                    list(&[50.0, 0.2, 0.0, 0.0]),
+                ],
+            ),
+            _ => typed(
+                Command::CircleAbs,
+                &[
+                    int(0),
+                    list(&[0.5, 0.5, 0.0]),
+                    list(&[0.0, 0.0, 1.0]),
+                    int(0),
+                    list(&[0.0; 6]),
+                    profile(),
+                    int(1),
+                    int(6),
+                    int(0),
+                    int(0),
+                ],
+            ),
         };
         task.call(&mut path).unwrap();
+        // A refused MHSPO (no such register): the refusal allocates nothing either.
+        let refused = typed(
+            Command::MHSPO,
+            &[int(0), text("Q1"), text("D0"), text("M1"), text("M2"), text("M3"), text("M4"), text("M5"), text("M6")],
+        );
+        assert_ne!(task.call(&mut { refused }).unwrap().rc, 0);
         let target = task.snapshot().cycle + 1;
         task.wait_until_cycle(target).unwrap();
     }

@@ -45,6 +45,13 @@ pub enum BufferMode {
     LookAhead,
 }
 
+/// The mode's number, as GetGrpBufferMode returns it.
+impl From<BufferMode> for i64 {
+    fn from(mode: BufferMode) -> i64 {
+        mode as i64
+    }
+}
+
 impl TryFrom<i64> for BufferMode {
     type Error = GroupError;
 

@@ -428,17 +428,10 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             buff_mode,
             trans_mode,
             ref trans_par,
-        } => match groups::six(target_pos) {
-            Ok(target) => groups::advanced(
-                m,
-                group_id,
-                P::LineAbs { target: target.map(Some) },
-                motion_profile,
-                [coord_sys, buff_mode, trans_mode],
-                trans_par,
-            ),
-            Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
-        },
+        } => {
+            let command = groups::six(target_pos).map(|target| P::LineAbs { target: target.map(Some) });
+            groups::advanced(m, group_id, command, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par)
+        }
         C::LineRel {
             group_id,
             ref relative_dist,
@@ -447,17 +440,10 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             buff_mode,
             trans_mode,
             ref trans_par,
-        } => match groups::six(relative_dist) {
-            Ok(distance) => groups::advanced(
-                m,
-                group_id,
-                P::LineRel { distance },
-                motion_profile,
-                [coord_sys, buff_mode, trans_mode],
-                trans_par,
-            ),
-            Err(e) => Err(m.kernel.group_refusal(group_id, e).into()),
-        },
+        } => {
+            let command = groups::six(relative_dist).map(|distance| P::LineRel { distance });
+            groups::advanced(m, group_id, command, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par)
+        }
         C::CircleAbs {
             group_id,
             ref center_pos,
@@ -469,17 +455,10 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             buff_mode,
             trans_mode,
             ref trans_par,
-        } => match (groups::three(center_pos), groups::three(normal_vector), groups::six(target_pos)) {
-            (Ok(center), Ok(normal), Ok(target)) => groups::advanced(
-                m,
-                group_id,
-                P::Circle { center, normal, turns, target, relative: false },
-                motion_profile,
-                [coord_sys, buff_mode, trans_mode],
-                trans_par,
-            ),
-            (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
-        },
+        } => {
+            let command = groups::circle(center_pos, normal_vector, turns, target_pos, false);
+            groups::advanced(m, group_id, command, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par)
+        }
         C::CircleRel {
             group_id,
             ref center_pos,
@@ -491,17 +470,10 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             buff_mode,
             trans_mode,
             ref trans_par,
-        } => match (groups::three(center_pos), groups::three(normal_vector), groups::six(relative_dist)) {
-            (Ok(center), Ok(normal), Ok(target)) => groups::advanced(
-                m,
-                group_id,
-                P::Circle { center, normal, turns, target, relative: true },
-                motion_profile,
-                [coord_sys, buff_mode, trans_mode],
-                trans_par,
-            ),
-            (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(m.kernel.group_refusal(group_id, e).into()),
-        },
+        } => {
+            let command = groups::circle(center_pos, normal_vector, turns, relative_dist, true);
+            groups::advanced(m, group_id, command, motion_profile, [coord_sys, buff_mode, trans_mode], trans_par)
+        }
         // HMPL ch. 20: homing.
         C::MoveHome { axis_id } => axis::move_home(m, axis_id),
         C::SetHomeMethod { axis_id, method } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_method(method))),

@@ -194,6 +194,15 @@ impl Group {
         limits
     }
 
+    /// `carte_pose_fb` (table 8.1.1.1): the axes' feedback, Cartesian kinematics.
+    pub fn pose_fb(&self, axes: &[crate::motion::axis::Axis]) -> Pose {
+        let mut pose = [0.0; COORDINATES];
+        for (p, &a) in pose.iter_mut().zip(self.axes()) {
+            *p = axes[a as usize].pos_fb();
+        }
+        pose
+    }
+
     /// The group as the status functions see it (HMPL tables 8.1.1.1 to 8.1.1.5).
     pub fn snapshot(&self, axes: &[crate::motion::axis::Axis]) -> GroupSnapshot {
         let members = || self.axes().iter().map(|&a| &axes[a as usize]);
@@ -213,17 +222,13 @@ impl Group {
         if self.state == GroupState::ErrorStop {
             fault_status |= group_fault_status::ERROR_STOP;
         }
-        let mut pose_fb = [0.0; COORDINATES];
-        for (i, axis) in members().take(COORDINATES).enumerate() {
-            pose_fb[i] = axis.pos_fb();
-        }
         GroupSnapshot {
             motion_status,
             fault_status,
             axis_count: self.count as u32,
             kin: self.kin as u32,
             coord_sys: self.coord_sys.flags() as u32,
-            buffer_mode: self.settings.buffer_number as u32,
+            buffer_mode: i64::from(self.settings.buffer) as u32,
             trans_mode: i64::from(self.trans_mode) as u32,
             cmd_num: self.planner.commands() as u32,
             queue_size: self.planner.queue_size() as u32,
@@ -233,7 +238,7 @@ impl Group {
             vel_scale: self.settings.vel_scale,
             carte_pose_cmd: self.pose_cmd.pos,
             carte_vel_cmd: self.pose_cmd.vel,
-            carte_pose_fb: pose_fb,
+            carte_pose_fb: self.pose_fb(axes),
             grp_pg: [self.sample.path_pos, self.sample.path_vel, self.sample.path_acc],
         }
     }

@@ -249,7 +249,7 @@ impl Kernel {
         let g = self.group_id(group)?;
         let cs = CoordSys::parse(coord_sys, true).map_err(|e| self.refuse_group(g, e))?;
         let grp = &self.groups[g as usize];
-        let mcs = if feedback { grp.snapshot(&self.axes).carte_pose_fb } else { grp.pose_cmd.pos };
+        let mcs = if feedback { grp.pose_fb(&self.axes) } else { grp.pose_cmd.pos };
         Ok(grp.frames.frame(cs).pose_from_mcs(&mcs))
     }
 }

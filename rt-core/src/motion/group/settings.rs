@@ -30,7 +30,6 @@ pub struct GroupSettings {
     pub lin: Profile,
     pub ang: Profile,
     pub buffer: BufferMode,
-    pub buffer_number: i64,
     pub vel_scale: f64,
     pub look_ahead: LookAhead,
 }
@@ -41,7 +40,6 @@ impl Default for GroupSettings {
             lin: LIN_DEFAULT,
             ang: ANG_DEFAULT,
             buffer: BufferMode::Buff,
-            buffer_number: 0,
             vel_scale: 100.0,
             look_ahead: LookAhead::default(),
         }
@@ -58,7 +56,6 @@ impl GroupSettings {
     /// BM_LOOKAHEAD, which it names).
     pub fn set_buffer_mode(&mut self, mode: i64) -> Result<(), GroupError> {
         self.buffer = BufferMode::try_from(mode)?;
-        self.buffer_number = mode;
         Ok(())
     }
 
