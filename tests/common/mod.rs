@@ -160,3 +160,43 @@ pub fn pymodbus_python() -> &'static Path {
         python
     })
 }
+
+/// The path of a Debian tool the tests use as an outside client (`tests/debian-packages.txt`),
+/// installed with apt-get on first use when missing (CI runs as root on a clean machine).
+pub fn debian_tool(command: &str) -> PathBuf {
+    static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
+    let find = || {
+        std::env::var_os("PATH")
+            .and_then(|paths| std::env::split_paths(&paths).map(|dir| dir.join(command)).find(|p| p.is_file()))
+    };
+    if let Some(path) = find() {
+        return path;
+    }
+    let installed = INSTALLED.get_or_init(|| {
+        let list = std::fs::read_to_string(repo_path("tests/debian-packages.txt")).expect("tests/debian-packages.txt");
+        let packages: Vec<&str> = list
+            .lines()
+            .filter(|l| !l.trim_start().starts_with('#'))
+            .filter_map(|l| l.split_whitespace().nth(1))
+            .collect();
+        let apt = |args: &[&str]| {
+            Command::new("apt-get")
+                .args(args)
+                .env("DEBIAN_FRONTEND", "noninteractive")
+                .stdout(Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success())
+        };
+        let install = [&["install", "-y", "-q", "--no-install-recommends"][..], &packages].concat();
+        // A clean machine's package lists may be stale: update once and retry.
+        if apt(&install) || (apt(&["update", "-q"]) && apt(&install)) {
+            Ok(())
+        } else {
+            Err(format!("apt-get install {} failed (run as root, or install them)", packages.join(" ")))
+        }
+    });
+    if let Err(e) = installed {
+        panic!("{command} is missing: {e}");
+    }
+    find().unwrap_or_else(|| panic!("{command} is still missing after installing tests/debian-packages.txt"))
+}
