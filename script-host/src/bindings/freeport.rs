@@ -40,6 +40,8 @@ const MAX_DATA: usize = 1024;
 const MAX_SESSIONS: usize = 32;
 /// DXMC 8.3: OpenAsClient's port range, taken for the server too.
 const PORTS: std::ops::RangeInclusive<i64> = 3000..=10000;
+/// At most this many connections beyond a server session's peer are closed in one call.
+const REFUSED_PER_CALL: usize = 64;
 /// At most this much is read from a peer in one call.
 const READ_PER_CALL: usize = 64 * 1024;
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
@@ -73,16 +75,25 @@ struct Session {
     pending: Vec<u8>,
     /// Bytes of the frame under way beyond `MAX_DATA` are dropped until its end.
     overflowing: bool,
+    /// The peer has sent its last byte (end of stream).
+    peer_done: bool,
     frames: VecDeque<Frame>,
 }
 
 impl Session {
     fn new(listener: Option<TcpListener>, peer: Option<TcpStream>, framing: Framing) -> Self {
-        Session { listener, peer, framing, pending: Vec::new(), overflowing: false, frames: VecDeque::new() }
+        Session {
+            listener,
+            peer,
+            framing,
+            pending: Vec::new(),
+            overflowing: false,
+            peer_done: false,
+            frames: VecDeque::new(),
+        }
     }
 
-    /// Takes a waiting peer (server), reads what arrived and cuts it into frames; a peer
-    /// that has gone is dropped with its unfinished frame.
+    /// Takes a waiting peer (server) and reads it.
     fn poll(&mut self) {
         if self.peer.is_none()
             && let Some(listener) = &self.listener
@@ -90,6 +101,28 @@ impl Session {
             && stream.set_nonblocking(true).is_ok()
         {
             self.peer = Some(stream);
+        }
+        self.read_peer();
+        // A session has one peer: later ones are closed at once rather than left waiting
+        // in the backlog, bounded per call so that a flood cannot stall the task. The peer
+        // is read first, and one that has stopped sending keeps its successor waiting.
+        if self.peer.is_some()
+            && !self.peer_done
+            && let Some(listener) = &self.listener
+        {
+            for _ in 0..REFUSED_PER_CALL {
+                if listener.accept().is_err() {
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Reads what arrived and cuts it into frames; the unfinished frame of a peer that has
+    /// stopped sending is dropped.
+    fn read_peer(&mut self) {
+        if self.peer_done {
+            return;
         }
         let Some(peer) = &mut self.peer else { return };
         let mut buf = [0u8; 4096];
@@ -109,7 +142,7 @@ impl Session {
         };
         self.receive(&arrived);
         if gone {
-            self.peer = None;
+            self.peer_done = true;
             self.pending.clear();
             self.overflowing = false;
         }
@@ -154,6 +187,24 @@ impl Session {
         data
     }
 
+    /// Rx: the oldest frame. A peer that has stopped sending stays until Rx finds none of
+    /// its frames left, so the answers to its last requests still go out (a half-closed
+    /// connection, as `nc -N` leaves it); a peer that has gone altogether fails those sends.
+    fn next_frame(&mut self) -> (Code, Vec<u8>) {
+        self.poll();
+        match self.frames.pop_front() {
+            Some(Ok(data)) => (Code::Ok, data),
+            Some(Err(())) => (Code::TooLong, Vec::new()),
+            None if self.peer_done => {
+                self.peer = None;
+                self.peer_done = false;
+                (Code::NotConnected, Vec::new())
+            }
+            None if self.peer.is_none() => (Code::NotConnected, Vec::new()),
+            None => (Code::Ok, Vec::new()),
+        }
+    }
+
     fn send(&mut self, data: &[u8]) -> Code {
         self.poll();
         let Some(peer) = &mut self.peer else { return Code::NotConnected };
@@ -167,6 +218,7 @@ impl Session {
             Code::Ok
         } else {
             self.peer = None;
+            self.peer_done = false;
             Code::SendFailed
         }
     }
@@ -293,15 +345,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             Local::EthRx => {
                 let id = int_arg(lua, spec, &args, 0)?;
-                let frame = with_session(id, |s| {
-                    s.poll();
-                    match s.frames.pop_front() {
-                        Some(Ok(data)) => (Code::Ok, data),
-                        Some(Err(())) => (Code::TooLong, Vec::new()),
-                        None if s.peer.is_none() => (Code::NotConnected, Vec::new()),
-                        None => (Code::Ok, Vec::new()),
-                    }
-                });
+                let frame = with_session(id, Session::next_frame);
                 let (status, data) = frame.unwrap_or_else(|c| (c, Vec::new()));
                 results.push_back(Value::String(lua.create_string(&data)?));
                 results.push_back(Value::Integer(data.len() as i64));
