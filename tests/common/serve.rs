@@ -14,13 +14,16 @@ pub struct Serving {
     /// The address the server listens on, as it printed it.
     pub address: String,
     pub port: u16,
+    /// The Native ASCII server's port (HMPL 22.1).
+    pub ascii_port: u16,
     stderr: Arc<Mutex<String>>,
 }
 
-/// `luamotion serve --ns <ns> --data-dir <dir> --modbus-port 0 <args>`, once it listens.
+/// `luamotion serve --ns <ns> --data-dir <dir> --modbus-port 0 --ascii-port 0
+/// --ascii-user-port 0 <args>`, once it listens.
 pub fn serve(ns: &str, dir: &Path, args: &[&str]) -> Serving {
     let mut child = Command::new(BIN)
-        .args(["serve", "--ns", ns, "--modbus-port", "0"])
+        .args(["serve", "--ns", ns, "--modbus-port", "0", "--ascii-port", "0", "--ascii-user-port", "0"])
         .arg("--data-dir")
         .arg(dir)
         .args(args)
@@ -40,6 +43,8 @@ pub fn serve(ns: &str, dir: &Path, args: &[&str]) -> Serving {
     let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
     let mut line = String::new();
     stdout.read_line(&mut line).expect("first line");
+    let mut ascii = String::new();
+    stdout.read_line(&mut ascii).expect("second line");
     // Programs' output goes on coming: keep the pipe drained.
     std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
     let address = line
@@ -48,7 +53,13 @@ pub fn serve(ns: &str, dir: &Path, args: &[&str]) -> Serving {
         .unwrap_or_else(|| panic!("no address in {line:?}; stderr:\n{}", stderr.lock().unwrap()))
         .to_string();
     let port = address.rsplit(':').next().and_then(|port| port.parse().ok()).expect("port");
-    Serving { child, address, port, stderr }
+    let ascii_port = ascii
+        .split_once("Native ASCII on ")
+        .and_then(|(_, rest)| rest.split(';').next())
+        .and_then(|a| a.rsplit(':').next())
+        .and_then(|port| port.parse().ok())
+        .unwrap_or_else(|| panic!("no Native ASCII address in {ascii:?}"));
+    Serving { child, address, port, ascii_port, stderr }
 }
 
 impl Serving {
