@@ -189,6 +189,44 @@ fn native_commands_are_owned_like_a_tasks() {
     assert_eq!(c.ask("IsTaskStop(0)"), "0", "the script runs on: {}", serving.stderr());
 }
 
+/// A client that sends no whole line within `[ascii] idle_timeout_ms` is closed; the
+/// others are served meanwhile.
+#[test]
+fn native_closes_an_idle_client() {
+    let ns = unique_ns("ascii-idle");
+    let dir = tempfile::tempdir().unwrap();
+    let config = machine(dir.path(), &[], "[ascii]\nidle_timeout_ms = 300\n");
+    let serving = serve(&ns, dir.path(), &["--config", config.to_str().unwrap()]);
+    let mut idle = Client::connect(serving.ascii_port);
+    idle.send(b"GetAxis");
+    let mut busy = Client::connect(serving.ascii_port);
+    assert_eq!(busy.ask("GetAxisNum()"), "4");
+    let mut rest = String::new();
+    let read = idle.reader.read_line(&mut rest);
+    assert!(matches!(read, Ok(0)), "closed without an answer: {read:?} {rest:?}");
+    // A byte every 100 ms is no whole line within 300 ms either.
+    let mut trickling = Client::connect(serving.ascii_port);
+    for &b in b"GetAxisNum()\n" {
+        if trickling.writer.write_all(&[b]).is_err() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let mut answer = String::new();
+    let read = trickling.reader.read_line(&mut answer);
+    assert!(!matches!(read, Ok(n) if n > 0), "closed without an answer: {answer:?}");
+    // Nor is an endless line: bytes keep coming, no newline ever does.
+    let mut endless = Client::connect(serving.ascii_port);
+    let closed = eventually(Duration::from_secs(20), || {
+        endless.writer.write_all(&[b'A'; 4096]).is_err() || {
+            std::thread::sleep(Duration::from_millis(20));
+            false
+        }
+    });
+    assert!(closed, "an endless line is closed");
+    assert_eq!(Client::connect(serving.ascii_port).ask("GetAxisNum()"), "4");
+}
+
 /// 200 clients at once: those past `max_connections` (32) get an error line and are
 /// closed, the others are answered; once they leave, the next client is answered.
 #[test]
@@ -244,6 +282,10 @@ fn user_agent_runs_the_manuals_echo_example() {
     c.send(b"\n");
     assert_eq!(c.read_line(), "ERROR line longer than 512 bytes");
     assert_eq!(c.ask("HAL"), "IBM", "the agent lives on");
+    let mut vanishing = TcpStream::connect(("127.0.0.1", user_port(&serving, 0))).unwrap();
+    vanishing.write_all(b"half a li").unwrap();
+    drop(vanishing);
+    assert_eq!(c.ask("IBM"), "JCN", "a peer gone mid-line leaves the agent serving");
     assert!(serving.stdout().contains("[task 0] agent 0"));
 }
 

@@ -680,6 +680,26 @@ mod tests {
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
     }
 
+    /// `[ascii]`: HMPL 22.1's ports by default; the agent slot is an external task that no
+    /// other task nor the DRL project may use.
+    #[test]
+    fn the_ascii_agent_has_a_slot_of_its_own() {
+        let ascii = MachineConfig::default().ascii;
+        assert_eq!(
+            (ascii.bind.as_str(), ascii.native_port, ascii.user_port, ascii.agent_task),
+            ("127.0.0.1", 3999, 4000, 62)
+        );
+        let config = MachineConfig::default().with_drl_task().unwrap().with_ascii_task().unwrap();
+        let slot = config.tasks.iter().find(|t| t.id == 62).expect("the agent slot");
+        assert!(slot.external && !slot.autorun);
+        let taken = parse("[drl]\ntask = 5\n[ascii]\nagent_task = 5\n").with_drl_task().unwrap().with_ascii_task();
+        assert!(matches!(taken, Err(ConfigError::Invalid { key, .. }) if key == "ascii.agent_task"));
+        let outside = parse("[ascii]\nagent_task = 64\n").with_ascii_task();
+        assert!(matches!(outside, Err(ConfigError::Invalid { key, .. }) if key == "ascii.agent_task"));
+        let config = parse("[ascii]\nmax_connections = 0\n");
+        assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "ascii.max_connections"));
+    }
+
     /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.
     #[test]
     fn slaves_beside_the_axes() {

@@ -95,9 +95,9 @@ async fn connection(mut stream: TcpStream, jobs: &SyncSender<Job>, idle: Duratio
     let mut line = Vec::with_capacity(MAX_LINE);
     let mut overlong = false;
     let mut chunk = [0u8; 1024];
+    // A whole line within the timeout, not each byte: a client trickling is idle too.
+    let mut deadline = tokio::time::Instant::now() + idle;
     loop {
-        // A whole line within the timeout, not each byte: a client trickling is idle too.
-        let deadline = tokio::time::Instant::now() + idle;
         let mut answers = Vec::new();
         let n =
             tokio::time::timeout_at(deadline, stream.read(&mut chunk)).await.map_err(|_| ConnectionError::Idle)??;
@@ -114,6 +114,7 @@ async fn connection(mut stream: TcpStream, jobs: &SyncSender<Job>, idle: Duratio
                 }
                 continue;
             }
+            deadline = tokio::time::Instant::now() + idle;
             let answer = if std::mem::take(&mut overlong) {
                 format!("ERROR line longer than {MAX_LINE} bytes")
             } else {
