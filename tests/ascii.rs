@@ -245,6 +245,11 @@ fn native_two_hundred_clients_at_once() {
         }
     }
     assert_eq!((served, refused), (32, 168));
+    assert!(
+        eventually(Duration::from_secs(10), || serving.stderr().contains("(ascii.max_connections)")),
+        "the refusals are logged: {}",
+        serving.stderr()
+    );
     drop(clients);
     assert!(
         eventually(Duration::from_secs(10), || Client::connect(serving.ascii_port).ask("GetAxisNum()") == "4"),

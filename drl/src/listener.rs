@@ -62,9 +62,15 @@ const MAX_BACKOFF: Duration = Duration::from_secs(1);
 const LOG_PERIOD: Duration = Duration::from_secs(1);
 
 /// Accepts on `listener` until the runtime stops: each connection within the limit runs
-/// `serve` as its own tokio task; one past it runs `refuse` (which should be brief).
-pub async fn accept_loop<S, SF, R, RF>(name: &'static str, listener: TcpListener, limits: Limits, serve: S, refuse: R)
-where
+/// `serve` as its own tokio task; one past it runs `refuse` (which should be brief). `name`
+/// and `section` (the machine file's) name the server in the log.
+pub async fn accept_loop<S, SF, R, RF>(
+    (name, section): (&'static str, &'static str),
+    listener: TcpListener,
+    limits: Limits,
+    serve: S,
+    refuse: R,
+) where
     S: Fn(TcpStream, SocketAddr) -> SF,
     SF: Future<Output = ()> + Send + 'static,
     R: Fn(TcpStream) -> RF,
@@ -89,7 +95,7 @@ where
         let Ok(slot) = slots.clone().try_acquire_owned() else {
             if let Some(count) = refused.tick() {
                 tracing::warn!(
-                    "{name}: {count} connection(s) refused, the last from {peer}: {} already open (max_connections)",
+                    "{name}: {count} connection(s) refused, the last from {peer}: {} already open ({section}.max_connections)",
                     limits.max_connections
                 );
             }

@@ -47,7 +47,8 @@ pub async fn serve(listener: TcpListener, console: SyncSender<ConsoleRequest>, l
         }
     };
     // The excess is closed at once: Modbus has no frame to say why.
-    crate::listener::accept_loop("Modbus", listener, limits, serve, |stream| async move { drop(stream) }).await
+    crate::listener::accept_loop(("Modbus", "modbus"), listener, limits, serve, |stream| async move { drop(stream) })
+        .await
 }
 
 /// MBAP header (Modbus TCP): transaction id, protocol id, length, unit id.

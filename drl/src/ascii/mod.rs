@@ -63,7 +63,7 @@ impl Server {
             let line = format!("ERROR too many connections ({} open)\r\n", limits.max_connections);
             let _ = tokio::time::timeout(REFUSAL_WRITE, stream.write_all(line.as_bytes())).await;
         };
-        runtime.spawn(accept_loop("ASCII", listener, limits, serve, refuse));
+        runtime.spawn(accept_loop(("Native ASCII", "ascii"), listener, limits, serve, refuse));
         tracing::info!(%address, "Native ASCII server up");
         Ok(Server { address, runtime: Some(runtime), agent: Some(agent) })
     }
