@@ -9,6 +9,7 @@
 use std::cell::RefCell;
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpListener, TcpStream};
+use std::os::fd::AsRawFd;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
@@ -155,22 +156,37 @@ pub fn serve(lua: &Lua, host: &Host) {
 }
 
 /// After the program has returned: serves the agent, if it started one, until the task is
-/// stopped (its process is killed) or the controller is gone.
+/// stopped (its process is killed) or the controller is gone. It waits on its sockets, so a
+/// line is answered as soon as it comes; broadcasts at least every `SERVE_PERIOD`.
 pub fn serve_forever(lua: &Lua, host: &Host) -> mlua::Result<()> {
     if !STARTED.get() {
         return Ok(());
     }
     loop {
         host.beat();
-        serve(lua, host);
-        let mut endpoint = host.endpoint.borrow_mut();
-        let snapshot = endpoint.snapshot();
-        let next = snapshot.cycle + (SERVE_PERIOD.as_nanos() as u64 / snapshot.period_ns.max(1)).max(1);
-        endpoint.wait_until_cycle(next).map_err(mlua::Error::external)?;
+        host.endpoint.borrow().check_controller().map_err(mlua::Error::external)?;
+        let Some(mut agent) = AGENT.take() else { return Ok(()) };
+        agent.serve(lua, host);
+        agent.wait(SERVE_PERIOD);
+        AGENT.set(Some(agent));
     }
 }
 
 impl Agent {
+    /// Waits at most `timeout` for a client to connect, send, or take what it is owed.
+    fn wait(&self, timeout: Duration) {
+        let listener = libc::pollfd { fd: self.listener.as_raw_fd(), events: libc::POLLIN, revents: 0 };
+        let mut fds: Vec<libc::pollfd> = std::iter::once(listener)
+            .chain(self.clients.iter().map(|c| libc::pollfd {
+                fd: c.stream.as_raw_fd(),
+                events: libc::POLLIN | if c.out.is_empty() { 0 } else { libc::POLLOUT },
+                revents: 0,
+            }))
+            .collect();
+        // SAFETY: `fds` is a valid array of `fds.len()` pollfd structs for the call's duration.
+        unsafe { libc::poll(fds.as_mut_ptr(), fds.len() as libc::nfds_t, timeout.as_millis() as libc::c_int) };
+    }
+
     fn serve(&mut self, lua: &Lua, host: &Host) {
         self.accept();
         let mut lines = Vec::new();
