@@ -189,6 +189,36 @@ fn native_commands_are_owned_like_a_tasks() {
     assert_eq!(c.ask("IsTaskStop(0)"), "0", "the script runs on: {}", serving.stderr());
 }
 
+/// Writes one holding register of `luamotion serve` over Modbus TCP (FC 06).
+fn modbus_write(port: u16, address: u16, value: u16) {
+    let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    let [a, b] = address.to_be_bytes();
+    let [v, w] = value.to_be_bytes();
+    let frame = [0, 1, 0, 0, 0, 6, 1, 0x06, a, b, v, w];
+    stream.write_all(&frame).unwrap();
+    let mut echo = [0u8; 12];
+    std::io::Read::read_exact(&mut stream, &mut echo).unwrap();
+    assert_eq!(echo, frame, "the write is echoed");
+}
+
+/// The Native server's motion follows the controller state as a task's does (DXMC 3.6):
+/// refused with the wrong-mode alarm in Edit, accepted again in Run.
+#[test]
+fn native_motion_follows_the_controller_state() {
+    let ns = unique_ns("ascii-state");
+    let dir = tempfile::tempdir().unwrap();
+    let serving = serve(&ns, dir.path(), &[]);
+    let mut c = Client::connect(serving.ascii_port);
+    assert_eq!(c.ask("Enable(0)"), "0");
+    c.ask_until("IsEnabled(0)", |a| a == "1");
+    modbus_write(serving.port, 0x6A81, 2); // Edit
+    let refused = c.ask_until("MoveAbs(0, 1)", |a| a != "0");
+    assert!(refused.starts_with("ERROR 0x10000020 alarm: the controller is not in Run"), "{refused}");
+    modbus_write(serving.port, 0x6A81, 4); // Run
+    c.ask_until("MoveAbs(0, 1)", |a| a == "0");
+    c.ask_until("GetPosFb(0)", |a| (position(a) - 1.0).abs() < 1e-3);
+}
+
 /// A client that sends no whole line within `[ascii] idle_timeout_ms` is closed; the
 /// others are served meanwhile.
 #[test]
