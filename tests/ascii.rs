@@ -368,6 +368,36 @@ fn user_agent_runs_the_manuals_command_parser() {
     assert!(stopped_at > 1.0 && stopped_at < 50.0, "stopped on the way, at {stopped_at}");
 }
 
+/// A User ASCII port another program holds: START_ASCII_AGENT fails with a Lua error that
+/// says where, and gives its claim up: another task's try, while the first task runs on,
+/// fails on the port too rather than with 0x1392.
+#[test]
+fn user_agent_on_a_taken_port_says_so() {
+    let ns = unique_ns("ascii-taken");
+    let dir = tempfile::tempdir().unwrap();
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let first = r#"
+        Till(IsSystemOper)
+        print(pcall(START_ASCII_AGENT, function(cmd) return cmd end))
+        SetTableValue(0, 1)
+        Till(function() return GetTableValue(0) == 2 end)
+    "#;
+    let second = r#"
+        Till(function() return GetTableValue(0) == 1 end)
+        print(pcall(START_ASCII_AGENT, function(cmd) return cmd end))
+        SetTableValue(0, 2)
+    "#;
+    let first = program(dir.path(), "first.lua", first);
+    let second = program(dir.path(), "second.lua", second);
+    let out = run(&ns, &["--ascii-user-port", &port, first.to_str().unwrap(), second.to_str().unwrap()]);
+    for task in [0, 1] {
+        let lines = out.lines_of_task(task);
+        let said = format!("cannot listen on 127.0.0.1:{port}");
+        assert!(lines.len() == 1 && lines[0].starts_with("false") && lines[0].contains(&said), "{}", out.stdout);
+    }
+}
+
 /// One agent controller-wide: a second task gets 0x1392 while the first runs; once the
 /// first task is stopped, the next START_ASCII_AGENT succeeds and serves.
 #[test]

@@ -195,6 +195,12 @@ impl SharedData {
         }
     }
 
+    /// Gives up the claim of `task`'s process `pid`, if it holds it.
+    pub fn release_ascii_agent(&self, task: u8, pid: u32) {
+        let mine = (pid as u64) << 8 | (task as u64 + 1);
+        let _ = self.ascii_agent.compare_exchange(mine, 0, Ordering::AcqRel, Ordering::Acquire);
+    }
+
     /// The User ASCII agent's task and process, if one claimed it (it may have ended since).
     pub fn ascii_agent(&self) -> Option<(u8, u32)> {
         let word = self.ascii_agent.load(Ordering::Acquire);
@@ -499,6 +505,10 @@ mod tests {
         assert_eq!(d.ascii_agent(), Some((3, 100)));
         assert_eq!(d.claim_ascii_agent(0, 200, |task, pid| (task, pid) == (3, 100)), Ok(()), "a stale owner");
         assert_eq!(d.ascii_agent(), Some((0, 200)));
+        d.release_ascii_agent(3, 100);
+        assert_eq!(d.ascii_agent(), Some((0, 200)), "only the owner releases");
+        d.release_ascii_agent(0, 200);
+        assert_eq!(d.claim_ascii_agent(5, 300, running), Ok(()), "released: free");
     }
 
     /// HMPL 22.2.2: broadcasts reach a reader in order, at most 128 bytes, the oldest lost

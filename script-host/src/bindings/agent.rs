@@ -13,11 +13,12 @@ use std::os::fd::AsRawFd;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use api::{ErrorCode, Local, SystemError};
+use api::{Local, SystemError};
 use ipc::messages::{Snapshot, TaskState};
 use ipc::shared::BROADCAST_BYTES;
 use mlua::{Function, Lua, MultiValue, Value};
 
+use super::locals::system_code;
 use super::{Host, error_here, int_arg, lua_string_arg, type_name};
 
 /// The address the agent listens on unless the controller says otherwise (HMPL 22.1).
@@ -59,10 +60,6 @@ thread_local! {
     static STARTED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-fn code(e: SystemError) -> i64 {
-    ErrorCode::System(e).code() as i64
-}
-
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
     match local {
@@ -83,16 +80,18 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 host.shared.claim_ascii_agent(host.task, pid, stale)
             };
             if claimed.is_err() {
-                return Ok(code(SystemError::HmplAsciiAgentRunning));
+                return Ok(system_code(SystemError::HmplAsciiAgentRunning));
             }
             lua.set_named_registry_value(PARSER, parser.clone())?;
             if STARTED.get() {
                 return Ok(0);
             }
-            let listener =
-                TcpListener::bind(&host.user_ascii).and_then(|l| l.set_nonblocking(true).map(|()| l)).map_err(|e| {
-                    error_here(lua, format!("START_ASCII_AGENT: cannot listen on {}: {e}", host.user_ascii))
-                })?;
+            let listener = TcpListener::bind(&host.user_ascii).and_then(|l| l.set_nonblocking(true).map(|()| l));
+            let listener = listener.map_err(|e| {
+                // Not serving, so not the agent: another task may try.
+                host.shared.release_ascii_agent(host.task, pid);
+                error_here(lua, format!("START_ASCII_AGENT: cannot listen on {}: {e}", host.user_ascii))
+            })?;
             let address = listener.local_addr().map_err(mlua::Error::external)?;
             // Said once, so that whoever connects knows where (the port may be a free one).
             super::write_output(&[format!("User ASCII on {address}").as_bytes()]);
@@ -114,14 +113,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             };
             let message = &bytes[..length.min(bytes.len())];
             if message.len() > BROADCAST_BYTES {
-                return Ok(code(SystemError::HmplStrTooLong));
+                return Ok(system_code(SystemError::HmplStrTooLong));
             }
             let agent_runs = host
                 .shared
                 .ascii_agent()
                 .is_some_and(|(task, pid)| runs(host.endpoint.borrow_mut().snapshot(), task, pid));
             if !agent_runs {
-                return Ok(code(SystemError::HmplClientNotConnected));
+                return Ok(system_code(SystemError::HmplClientNotConnected));
             }
             host.shared.broadcast(message);
             Ok(0)

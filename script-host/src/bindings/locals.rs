@@ -117,7 +117,7 @@ impl Host {
     }
 }
 
-fn system_code(e: SystemError) -> i64 {
+pub(super) fn system_code(e: SystemError) -> i64 {
     ErrorCode::System(e).code() as i64
 }
 
