@@ -164,9 +164,11 @@ pub struct AsciiConfig {
     pub user_port: u16,
     /// The task slot the Native server's commands run as; no `[[tasks]]` entry may use it.
     pub agent_task: u8,
-    /// Connections each server serves at once; more get an error line and are closed.
+    /// Connections the Native server serves at once; more get an error line and are
+    /// closed. (The User agent, in a task's process, serves 32.)
     pub max_connections: u32,
-    /// A connection that sends no whole line for this long is closed, ms.
+    /// A Native connection that sends no whole line for this long is closed, ms. (The
+    /// User agent's: 60 s.)
     pub idle_timeout_ms: u64,
 }
 
