@@ -1698,6 +1698,27 @@ function FreePort.Eth.GetSessions() end
 ---@return integer
 function FreePort.Eth.ConnectCheck(SessionID) end
 
+--- Starts the User ASCII agent: the task's process listens on the User ASCII port
+--- (`[ascii] user_port`, 4000) and hands every line a client sends to
+--- `parser(command)`; the string it returns goes back as a line (nil: an empty line; an
+--- error: `ERROR <message>`, and the agent lives on). Lines are served while the task
+--- waits (Sleep, Till, DELAY) and, once the program has returned, until the task is
+--- stopped. One agent controller-wide: 0, or 0x1392 while another task's agent runs;
+--- calling it again from the same task changes the parser.
+---HMPL 22.2.1 (script process)
+---@param parser fun(): any
+---@return integer
+function START_ASCII_AGENT(parser) end
+
+--- Sends `message` (its first `length` bytes; all of it when `length` is nil) as a line
+--- to every client of the User ASCII agent. 0; 0x138D for more than 128 bytes; 0x1452
+--- when no agent runs.
+---HMPL 22.2.2 (script process)
+---@param message string
+---@param length integer
+---@return integer
+function ASCII_ServerBroadcast(message, length) end
+
 --- Connects to an ASCII server (`ip` an IP address, `port` a string): `rc, socket_id`.
 --- 0x17D5 failed (refused, bad address, 8 sockets open), 0x17D4 timeout.
 ---HMPL 22.2.3 (script process)

@@ -11,19 +11,23 @@ use drl::codes::{ExecState, Status};
 use drl::modbus::Client;
 use drl::program::ProgramControl;
 use drl::projects::Projects;
-use rt_core::supervisor::ScriptLauncher;
 
 #[derive(clap::Args, Debug)]
 pub struct ServeArgs {
     #[command(flatten)]
     controller: crate::ControllerArgs,
-    /// Address the Modbus TCP server listens on [default: the machine file's, 127.0.0.1];
-    /// 0.0.0.0 serves every network the host is on.
+    /// Address the Modbus TCP and ASCII servers listen on [default: the machine file's
+    /// `[modbus] bind` and `[ascii] bind`, 127.0.0.1]; 0.0.0.0 serves every network the
+    /// host is on.
     #[arg(long)]
     bind: Option<String>,
     /// Modbus TCP port [default: the machine file's, 502]; 0 asks the OS for a free one.
     #[arg(long)]
     modbus_port: Option<u16>,
+    /// Native ASCII server port (HMPL 22.1) [default: the machine file's, 3999]; 0 asks
+    /// the OS for a free one.
+    #[arg(long)]
+    ascii_port: Option<u16>,
     /// DRL projects folder [default: the machine file's, else <data dir>/projects].
     #[arg(long)]
     projects: Option<PathBuf>,
@@ -35,7 +39,7 @@ pub struct ServeArgs {
 pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let config = args.controller.machine()?;
     config.validate()?;
-    let config = config.with_drl_task()?;
+    let config = config.with_drl_task()?.with_ascii_task()?;
     let ns = args.controller.namespace()?;
     let data_dir = args.controller.data_dir();
     let projects = Projects {
@@ -44,21 +48,27 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     };
     std::fs::create_dir_all(&projects.dir).with_context(|| format!("create {}", projects.dir.display()))?;
     let port = args.modbus_port.unwrap_or(config.modbus.port);
-    let bind = args.bind.unwrap_or_else(|| config.modbus.bind.clone());
-    let limits = drl::modbus::Limits {
+    let bind = args.bind.clone().unwrap_or_else(|| config.modbus.bind.clone());
+    let limits = drl::listener::Limits {
         max_connections: config.modbus.max_connections as usize,
         idle_timeout: Duration::from_millis(config.modbus.idle_timeout_ms),
     };
+    let ascii_bind = args.bind.unwrap_or_else(|| config.ascii.bind.clone());
+    let ascii_port = args.ascii_port.unwrap_or(config.ascii.native_port);
+    let ascii_limits = drl::listener::Limits {
+        max_connections: config.ascii.max_connections as usize,
+        idle_timeout: Duration::from_millis(config.ascii.idle_timeout_ms),
+    };
     let drl_task = config.drl.task;
-    let plc_tasks = config.tasks.iter().filter(|t| t.id != drl_task).map(|t| (t.id, t.autorun)).collect();
+    let agent_task = config.ascii.agent_task;
+    // PLC control (0x6B10) starts and stops the machine file's programs, not the servers' slots.
+    let plc_tasks =
+        config.tasks.iter().filter(|t| t.id != drl_task && t.id != agent_task).map(|t| (t.id, t.autorun)).collect();
 
     let (console, inbox) = rt_core::console::channel();
     let options = rt_core::RunOptions {
         ns: ns.clone(),
-        launcher: ScriptLauncher {
-            executable: std::env::current_exe().context("locate the luamotion binary")?,
-            subcommand: vec!["script".into()],
-        },
+        launcher: args.controller.launcher(&config, &ascii_bind)?,
         exit_when_tasks_end: false,
         data_dir: data_dir.clone(),
         trace: None,
@@ -66,18 +76,30 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
         console: Some(inbox),
     };
     let controller = rt_core::controller::Background::start(config, options)?;
-    let setup =
-        drl::Setup { ns, console, program: ProgramControl::new(projects.clone()), drl_task, plc_tasks, data_dir };
-    let server = match drl::Server::start(setup, &bind, port, limits) {
-        Ok(server) => server,
+    let setup = drl::Setup {
+        ns: ns.clone(),
+        console,
+        program: ProgramControl::new(projects.clone()),
+        drl_task,
+        plc_tasks,
+        data_dir,
+    };
+    let servers = drl::Server::start(setup, &bind, port, limits).and_then(|modbus| {
+        let ascii = drl::ascii::Server::start(ns, agent_task, &ascii_bind, ascii_port, ascii_limits)?;
+        Ok((modbus, ascii))
+    });
+    let (server, ascii) = match servers {
+        Ok(servers) => servers,
         Err(e) => {
             let _ = controller.stop();
             return Err(e.into());
         }
     };
     println!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
-    // The controller ends on Ctrl-C or SIGTERM; the server goes with it.
+    println!("Native ASCII on {}; task {agent_task} carries out its commands", ascii.address);
+    // The controller ends on Ctrl-C or SIGTERM; the servers go with it.
     let report = controller.join();
+    drop(ascii);
     drop(server);
     let report = report?;
     Ok(report.interrupted.map_or(ExitCode::SUCCESS, crate::exit_code_of_signal))

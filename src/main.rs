@@ -119,6 +119,9 @@ enum Cmd {
         /// StartTaskFunc: the function to run after the program's top level.
         #[arg(long)]
         entry: Option<String>,
+        /// Where START_ASCII_AGENT listens, HOST:PORT.
+        #[arg(long, default_value = script_host::bindings::DEFAULT_USER_ASCII)]
+        ascii_user: String,
         /// The Lua program.
         program: PathBuf,
     },
@@ -136,6 +139,10 @@ pub struct ControllerArgs {
     /// Where the user table, DH and the DRL projects are kept [default: $XDG_STATE_HOME/luamotion/<ns>].
     #[arg(long)]
     data_dir: Option<PathBuf>,
+    /// The User ASCII port a task's START_ASCII_AGENT listens on [default: the machine
+    /// file's, 4000]; 0 asks the OS for a free one, which the agent prints.
+    #[arg(long)]
+    ascii_user_port: Option<u16>,
 }
 
 impl ControllerArgs {
@@ -152,6 +159,16 @@ impl ControllerArgs {
 
     fn data_dir(&self) -> PathBuf {
         self.data_dir.clone().unwrap_or_else(|| default_data_dir(&self.ns))
+    }
+
+    /// How the controller starts script processes: this binary's `script`, told where a
+    /// User ASCII agent listens (`bind`: the machine file's `[ascii] bind` or `--bind`).
+    fn launcher(&self, config: &MachineConfig, bind: &str) -> Result<ScriptLauncher> {
+        let port = self.ascii_user_port.unwrap_or(config.ascii.user_port);
+        Ok(ScriptLauncher {
+            executable: std::env::current_exe().context("locate the luamotion binary")?,
+            subcommand: vec!["script".into(), "--ascii-user".into(), format!("{bind}:{port}")],
+        })
     }
 }
 
@@ -188,7 +205,7 @@ fn main() -> ExitCode {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Cmd::Script { ns, task, controller_pid, memory_limit_mib, data_dir, entry, program } => {
+        Cmd::Script { ns, task, controller_pid, memory_limit_mib, data_dir, entry, ascii_user, program } => {
             let args = script_host::ScriptArgs {
                 ns: match Namespace::new(&ns) {
                     Ok(ns) => ns,
@@ -203,6 +220,7 @@ fn main() -> ExitCode {
                 data_dir,
                 entry,
                 program,
+                user_ascii: ascii_user,
             };
             Ok(script(args))
         }
@@ -248,10 +266,7 @@ fn run(controller: &ControllerArgs, trace: Option<PathBuf>, scripts: Vec<PathBuf
     config.validate()?;
     let ns = controller.namespace()?;
 
-    let launcher = ScriptLauncher {
-        executable: std::env::current_exe().context("locate the luamotion binary")?,
-        subcommand: vec!["script".into()],
-    };
+    let launcher = controller.launcher(&config, &config.ascii.bind)?;
     if !config.tasks.iter().any(|t| t.autorun) {
         eprintln!(
             "error: nothing to run: name a program (`luamotion run a.lua`) or give a machine file with a task \

@@ -615,6 +615,19 @@ declare_functions! {
     ["DXMC 8.3 FreePort" as "FreePort.Eth.GetSessions"] fn EthGetSessions() -> (Int, Doubles);
     /// 0 while a peer is connected, 5 when none is (yet), 2 for no such session.
     ["DXMC 8.3 FreePort" as "FreePort.Eth.ConnectCheck"] fn EthConnectCheck(SessionID: Int) -> Int;
+    // HMPL 22.2.1, 22.2.2: the User ASCII server, served by the task that starts the agent.
+    /// Starts the User ASCII agent: the task's process listens on the User ASCII port
+    /// (`[ascii] user_port`, 4000) and hands every line a client sends to
+    /// `parser(command)`; the string it returns goes back as a line (nil: an empty line; an
+    /// error: `ERROR <message>`, and the agent lives on). Lines are served while the task
+    /// waits (Sleep, Till, DELAY) and, once the program has returned, until the task is
+    /// stopped. One agent controller-wide: 0, or 0x1392 while another task's agent runs;
+    /// calling it again from the same task changes the parser.
+    ["HMPL 22.2.1"] fn START_ASCII_AGENT(parser: Func) -> Int;
+    /// Sends `message` (its first `length` bytes; all of it when `length` is nil) as a line
+    /// to every client of the User ASCII agent. 0; 0x138D for more than 128 bytes; 0x1452
+    /// when no agent runs.
+    ["HMPL 22.2.2"] fn ASCII_ServerBroadcast(message: Str, length: Int) -> Int;
     // HMPL 22.2, 22.3: the task as a TCP client of an ASCII or a Modbus TCP server. Every
     // call returns 0 or a system error code; out-parameters are further returns. A call
     // waits at most 3 s (connect) or 2 s (the others) (docs/decisions.md).

@@ -76,6 +76,8 @@ pub struct MachineConfig {
     pub drl: DrlConfig,
     /// The Modbus TCP server of `luamotion serve` (DXMC manual 8.2).
     pub modbus: ModbusConfig,
+    /// The Native and User ASCII servers (HMPL 22.1).
+    pub ascii: AsciiConfig,
 }
 
 /// `[drl]`: where DRL projects live and how the one being run is supervised. The running
@@ -144,6 +146,42 @@ pub struct ModbusConfig {
 impl Default for ModbusConfig {
     fn default() -> Self {
         ModbusConfig { bind: "127.0.0.1".into(), port: 502, station: 1, max_connections: 32, idle_timeout_ms: 60_000 }
+    }
+}
+
+/// `[ascii]`: the ASCII servers of HMPL 22.1. The Native server (port 3999) runs in
+/// `luamotion serve` and carries its clients' commands out as task `agent_task`, an
+/// external slot; the User server (port 4000) is opened by the task that calls
+/// `START_ASCII_AGENT`, in its own process.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AsciiConfig {
+    /// The address both servers listen on. Default 127.0.0.1, as `[modbus]`.
+    pub bind: String,
+    /// The Native ASCII server's port (HMPL 22.1: 3999); 0 asks the OS for a free one.
+    pub native_port: u16,
+    /// The User ASCII server's port (HMPL 22.1: 4000); 0 asks the OS for a free one.
+    pub user_port: u16,
+    /// The task slot the Native server's commands run as; no `[[tasks]]` entry may use it.
+    pub agent_task: u8,
+    /// Connections the Native server serves at once; more get an error line and are
+    /// closed. (The User agent, in a task's process, serves 32.)
+    pub max_connections: u32,
+    /// A Native connection that sends no whole line for this long is closed, ms. (The
+    /// User agent's: 60 s.)
+    pub idle_timeout_ms: u64,
+}
+
+impl Default for AsciiConfig {
+    fn default() -> Self {
+        AsciiConfig {
+            bind: "127.0.0.1".into(),
+            native_port: 3999,
+            user_port: 4000,
+            agent_task: (MAX_TASKS - 2) as u8,
+            max_connections: 32,
+            idle_timeout_ms: 60_000,
+        }
     }
 }
 
@@ -366,6 +404,7 @@ impl Default for MachineConfig {
             tasks: Vec::new(),
             drl: DrlConfig::default(),
             modbus: ModbusConfig::default(),
+            ascii: AsciiConfig::default(),
         }
     }
 }
@@ -438,6 +477,34 @@ impl MachineConfig {
         Ok(self)
     }
 
+    /// Adds the Native ASCII server's agent slot (`[ascii] agent_task`), an external task
+    /// without a watchdog; after `with_drl_task`, so that the two slots are told apart.
+    pub fn with_ascii_task(mut self) -> Result<Self, ConfigError> {
+        let id = self.ascii.agent_task;
+        if id as usize >= MAX_TASKS {
+            return Err(invalid("ascii.agent_task", format!("task ids are 0..63, not {id}")));
+        }
+        if self.tasks.iter().any(|t| t.id == id) {
+            return Err(invalid(
+                "ascii.agent_task",
+                format!(
+                    "task {id} carries out the Native ASCII server's commands; no other task (nor drl.task) may use it"
+                ),
+            ));
+        }
+        self.tasks.push(TaskConfig {
+            id,
+            program: PathBuf::new(),
+            autorun: false,
+            watchdog_ms: TaskConfig::default_watchdog_ms(),
+            memory_limit_mib: TaskConfig::default_memory_limit_mib(),
+            // A client that vanishes leaves its motion as a script's stop would.
+            fault_reaction: FaultReaction::default(),
+            external: true,
+        });
+        Ok(self)
+    }
+
     pub fn period_ns(&self) -> u64 {
         self.cycle_us as u64 * 1000
     }
@@ -495,6 +562,12 @@ impl MachineConfig {
         }
         if self.modbus.idle_timeout_ms == 0 {
             return Err(invalid("modbus.idle_timeout_ms", "must be at least 1 ms"));
+        }
+        if !(1..=4096).contains(&self.ascii.max_connections) {
+            return Err(invalid("ascii.max_connections", "must be 1..4096"));
+        }
+        if self.ascii.idle_timeout_ms == 0 {
+            return Err(invalid("ascii.idle_timeout_ms", "must be at least 1 ms"));
         }
         Ok(())
     }
@@ -607,6 +680,26 @@ mod tests {
         }
         let config = parse("[[axes]]\nname = \"x\"\nvel = 5000.0\n");
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
+    }
+
+    /// `[ascii]`: HMPL 22.1's ports by default; the agent slot is an external task that no
+    /// other task nor the DRL project may use.
+    #[test]
+    fn the_ascii_agent_has_a_slot_of_its_own() {
+        let ascii = MachineConfig::default().ascii;
+        assert_eq!(
+            (ascii.bind.as_str(), ascii.native_port, ascii.user_port, ascii.agent_task),
+            ("127.0.0.1", 3999, 4000, 62)
+        );
+        let config = MachineConfig::default().with_drl_task().unwrap().with_ascii_task().unwrap();
+        let slot = config.tasks.iter().find(|t| t.id == 62).expect("the agent slot");
+        assert!(slot.external && !slot.autorun);
+        let taken = parse("[drl]\ntask = 5\n[ascii]\nagent_task = 5\n").with_drl_task().unwrap().with_ascii_task();
+        assert!(matches!(taken, Err(ConfigError::Invalid { key, .. }) if key == "ascii.agent_task"));
+        let outside = parse("[ascii]\nagent_task = 64\n").with_ascii_task();
+        assert!(matches!(outside, Err(ConfigError::Invalid { key, .. }) if key == "ascii.agent_task"));
+        let config = parse("[ascii]\nmax_connections = 0\n");
+        assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "ascii.max_connections"));
     }
 
     /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.

@@ -5,8 +5,10 @@
 //! kept across restarts (`retentive.rs`) and the Modbus TCP server and client
 //! (`modbus.rs`).
 
+pub mod ascii;
 pub mod codes;
 pub mod console;
+pub mod listener;
 pub mod modbus;
 pub mod program;
 pub mod projects;
@@ -44,23 +46,8 @@ impl Server {
     /// (port 0: a free port, see `address`) within `limits`.
     pub fn start(setup: Setup, bind: &str, port: u16, limits: modbus::Limits) -> Result<Self, ServerError> {
         let (requests, inbox) = mpsc::sync_channel(QUEUE);
-        let (ready_tx, ready_rx) = mpsc::channel();
-        let console = std::thread::Builder::new()
-            .name("drl-console".into())
-            .spawn(move || console::run(setup, inbox, ready_tx))
-            .map_err(ServerError::Runtime)?;
-        ready_rx.recv().map_err(|_| ServerError::Runtime(std::io::Error::other("the console thread died")))??;
-        let runtime = tokio::runtime::Builder::new_multi_thread()
-            .worker_threads(1)
-            .thread_name("modbus")
-            .enable_all()
-            .build()
-            .map_err(ServerError::Runtime)?;
-        let listen = format!("{bind}:{port}");
-        let listener = runtime
-            .block_on(tokio::net::TcpListener::bind(&listen))
-            .map_err(|e| ServerError::Bind(listen.clone(), e))?;
-        let address = listener.local_addr().map_err(|e| ServerError::Bind(listen, e))?;
+        let console = listener::start_owner("drl-console", move |ready| console::run(setup, inbox, ready))?;
+        let (runtime, listener, address) = listener::listen("modbus", bind, port)?;
         runtime.spawn(modbus::serve(listener, requests, limits));
         tracing::info!(%address, "Modbus TCP server up");
         Ok(Server { address, runtime: Some(runtime), console: Some(console) })

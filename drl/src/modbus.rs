@@ -11,13 +11,12 @@
 //! accept (out of file descriptors) is retried with a back-off instead of ending the server.
 
 use std::net::SocketAddr;
-use std::sync::Arc;
 use std::sync::mpsc::SyncSender;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::{Semaphore, oneshot};
+use tokio::sync::oneshot;
 use tokio_modbus::prelude::*;
 
 use crate::console::{Op, Request as ConsoleRequest};
@@ -33,76 +32,23 @@ impl From<Refusal> for ExceptionCode {
     }
 }
 
-/// What one client may hold of the server (machine file `[modbus]`).
-#[derive(Clone, Copy, Debug)]
-pub struct Limits {
-    /// Connections served at once; more are closed as soon as they are accepted.
-    pub max_connections: usize,
-    /// The longest wait for a whole request frame (and for a client to take its answer).
-    pub idle_timeout: Duration,
-}
-
-/// The first wait after a failed accept; it doubles up to `MAX_BACKOFF`.
-const MIN_BACKOFF: Duration = Duration::from_millis(10);
-const MAX_BACKOFF: Duration = Duration::from_secs(1);
-/// Refused connections are logged at most this often, with a count (a flood must not flood the log).
-const LOG_PERIOD: Duration = Duration::from_secs(1);
+pub use crate::listener::Limits;
 
 /// Serves Modbus TCP on `listener` until the runtime stops. Every unit id is answered
 /// (Modbus TCP clients often send 0 or 255 for the one device behind an address).
 pub async fn serve(listener: TcpListener, console: SyncSender<ConsoleRequest>, limits: Limits) {
-    let slots = Arc::new(Semaphore::new(limits.max_connections));
-    let mut backoff = MIN_BACKOFF;
-    let mut refused = Throttled::default();
-    loop {
-        let (stream, peer) = match listener.accept().await {
-            Ok(accepted) => accepted,
-            Err(e) => {
-                // EMFILE/ENFILE end when connections close; the listener stays readable
-                // meanwhile, so retrying at once would only spin.
-                tracing::warn!("Modbus: accept failed ({e}); retrying in {} ms", backoff.as_millis());
-                tokio::time::sleep(backoff).await;
-                backoff = (backoff * 2).min(MAX_BACKOFF);
-                continue;
-            }
-        };
-        backoff = MIN_BACKOFF;
-        let Ok(slot) = slots.clone().try_acquire_owned() else {
-            if let Some(count) = refused.tick() {
-                tracing::warn!(
-                    "Modbus: {count} connection(s) refused, the last from {peer}: {} already open (modbus.max_connections)",
-                    limits.max_connections
-                );
-            }
-            continue;
-        };
+    let serve = move |stream, peer: SocketAddr| {
         let console = console.clone();
-        tokio::spawn(async move {
-            let _slot = slot;
+        async move {
             match connection(stream, &console, limits.idle_timeout).await {
                 Ok(()) => tracing::debug!(%peer, "Modbus connection ended"),
                 Err(e) => tracing::debug!(%peer, "Modbus connection closed: {e}"),
             }
-        });
-    }
-}
-
-/// Counts events and says when to log them: at most once per `LOG_PERIOD`.
-#[derive(Default)]
-struct Throttled {
-    count: u64,
-    logged_at: Option<Instant>,
-}
-
-impl Throttled {
-    fn tick(&mut self) -> Option<u64> {
-        self.count += 1;
-        if self.logged_at.is_some_and(|t| t.elapsed() < LOG_PERIOD) {
-            return None;
         }
-        self.logged_at = Some(Instant::now());
-        Some(std::mem::take(&mut self.count))
-    }
+    };
+    // The excess is closed at once: Modbus has no frame to say why.
+    crate::listener::accept_loop(("Modbus", "modbus"), listener, limits, serve, |stream| async move { drop(stream) })
+        .await
 }
 
 /// MBAP header (Modbus TCP): transaction id, protocol id, length, unit id.

@@ -43,6 +43,26 @@ pub struct SharedData {
     dh_writes: AtomicU64,
     /// The FUN147 register image (docs/fun147.md).
     plc: PlcImage,
+    /// HMPL 22.2.1: the one User ASCII agent, `pid << 8 | task + 1`; 0 when none claimed it.
+    ascii_agent: AtomicU64,
+    /// HMPL 22.2.2: the newest broadcasts, a ring the agent's process reads.
+    broadcasts: [Broadcast; BROADCASTS],
+    /// The number the next broadcast gets (its slot is that number modulo `BROADCASTS`).
+    broadcast_next: AtomicU64,
+}
+
+/// HMPL 22.2.2: the longest `ASCII_ServerBroadcast` message, bytes.
+pub const BROADCAST_BYTES: usize = 128;
+/// Broadcasts kept for an agent that has not sent them yet.
+pub const BROADCASTS: usize = 16;
+
+/// One broadcast, written as a sequence lock: `stamp` is 0 while it is written, then its
+/// number + 1, so that a reader can tell a torn or overwritten copy.
+#[repr(C)]
+struct Broadcast {
+    stamp: AtomicU64,
+    len: AtomicU64,
+    bytes: [AtomicU64; BROADCAST_BYTES / 8],
 }
 
 /// Words of DV and of DH: 24 KiB each (DXMC A.1). Which Modbus address names which word
@@ -155,6 +175,86 @@ impl SharedData {
             TestVar::M(i) => self.mtest.get(i).map(|w| w.store(value.to_bits(), Ordering::Relaxed)),
         }
         .is_some()
+    }
+
+    /// HMPL 22.2.1: makes `task` (process `pid`) the User ASCII agent, unless another one
+    /// holds the claim and `stale(task, pid)` says it still runs: then its task id. The
+    /// same process claiming again keeps its claim.
+    pub fn claim_ascii_agent(&self, task: u8, pid: u32, stale: impl Fn(u8, u32) -> bool) -> Result<(), u8> {
+        let mine = (pid as u64) << 8 | (task as u64 + 1);
+        let mut current = self.ascii_agent.load(Ordering::Acquire);
+        loop {
+            let owner = ((current & 0xFF) as u8).wrapping_sub(1);
+            if current != 0 && current != mine && !stale(owner, (current >> 8) as u32) {
+                return Err(owner);
+            }
+            match self.ascii_agent.compare_exchange(current, mine, Ordering::AcqRel, Ordering::Acquire) {
+                Ok(_) => return Ok(()),
+                Err(now) => current = now,
+            }
+        }
+    }
+
+    /// Gives up the claim of `task`'s process `pid`, if it holds it.
+    pub fn release_ascii_agent(&self, task: u8, pid: u32) {
+        let mine = (pid as u64) << 8 | (task as u64 + 1);
+        let _ = self.ascii_agent.compare_exchange(mine, 0, Ordering::AcqRel, Ordering::Acquire);
+    }
+
+    /// The User ASCII agent's task and process, if one claimed it (it may have ended since).
+    pub fn ascii_agent(&self) -> Option<(u8, u32)> {
+        let word = self.ascii_agent.load(Ordering::Acquire);
+        (word != 0).then(|| (((word & 0xFF) as u8).wrapping_sub(1), (word >> 8) as u32))
+    }
+
+    /// HMPL 22.2.2: queues `message` (at most `BROADCAST_BYTES`) for the agent's clients;
+    /// false when it is longer.
+    pub fn broadcast(&self, message: &[u8]) -> bool {
+        if message.len() > BROADCAST_BYTES {
+            return false;
+        }
+        let n = self.broadcast_next.fetch_add(1, Ordering::AcqRel);
+        let slot = &self.broadcasts[n as usize % BROADCASTS];
+        slot.stamp.store(0, Ordering::Release);
+        std::sync::atomic::fence(Ordering::Release);
+        slot.len.store(message.len() as u64, Ordering::Relaxed);
+        let mut padded = [0u8; BROADCAST_BYTES];
+        padded[..message.len()].copy_from_slice(message);
+        for (word, bytes) in slot.bytes.iter().zip(padded.chunks_exact(8)) {
+            word.store(u64::from_le_bytes(bytes.try_into().expect("8 bytes")), Ordering::Relaxed);
+        }
+        slot.stamp.store(n + 1, Ordering::Release);
+        true
+    }
+
+    /// The number the next broadcast gets: an agent starting now sends what comes after.
+    pub fn broadcast_cursor(&self) -> u64 {
+        self.broadcast_next.load(Ordering::Acquire)
+    }
+
+    /// Hands each broadcast from number `cursor` on to `each` (those overwritten meanwhile
+    /// are lost), and returns the cursor to go on from: one still being written stops it.
+    pub fn broadcasts_since(&self, cursor: u64, mut each: impl FnMut(&[u8])) -> u64 {
+        let next = self.broadcast_next.load(Ordering::Acquire);
+        let mut n = cursor.max(next.saturating_sub(BROADCASTS as u64));
+        while n < next {
+            let slot = &self.broadcasts[n as usize % BROADCASTS];
+            let stamp = slot.stamp.load(Ordering::Acquire);
+            if stamp < n + 1 {
+                break;
+            }
+            let mut bytes = [0u8; BROADCAST_BYTES];
+            for (word, out) in slot.bytes.iter().zip(bytes.chunks_exact_mut(8)) {
+                out.copy_from_slice(&word.load(Ordering::Relaxed).to_le_bytes());
+            }
+            let len = (slot.len.load(Ordering::Relaxed) as usize).min(BROADCAST_BYTES);
+            std::sync::atomic::fence(Ordering::Acquire);
+            if stamp == n + 1 && slot.stamp.load(Ordering::Relaxed) == stamp {
+                each(&bytes[..len]);
+            }
+            n += 1;
+        }
+        n
     }
 
     /// HMPL 2.22: one attempt to take mutex `id` for `task`.
@@ -391,6 +491,48 @@ mod tests {
         d.release_mutexes_of(4);
         assert_eq!((d.mutex_owner(0), d.mutex_owner(5)), (None, None), "released when the owner stops");
         assert_eq!(d.try_lock(8, 0), None, "ids 0..7");
+    }
+
+    /// HMPL 22.2.1: one agent at a time; a stale owner (its process gone) gives way.
+    #[test]
+    fn one_ascii_agent_at_a_time() {
+        let d = zeroed();
+        let running = |_, _| false;
+        assert_eq!(d.claim_ascii_agent(3, 100, running), Ok(()));
+        assert_eq!(d.claim_ascii_agent(3, 100, running), Ok(()), "the agent again keeps it");
+        assert_eq!(d.claim_ascii_agent(0, 200, running), Err(3), "another task while it runs: 0x1392");
+        assert_eq!(d.claim_ascii_agent(3, 101, running), Err(3), "a new process of the same task too");
+        assert_eq!(d.ascii_agent(), Some((3, 100)));
+        assert_eq!(d.claim_ascii_agent(0, 200, |task, pid| (task, pid) == (3, 100)), Ok(()), "a stale owner");
+        assert_eq!(d.ascii_agent(), Some((0, 200)));
+        d.release_ascii_agent(3, 100);
+        assert_eq!(d.ascii_agent(), Some((0, 200)), "only the owner releases");
+        d.release_ascii_agent(0, 200);
+        assert_eq!(d.claim_ascii_agent(5, 300, running), Ok(()), "released: free");
+    }
+
+    /// HMPL 22.2.2: broadcasts reach a reader in order, at most 128 bytes, the oldest lost
+    /// when it falls more than the ring behind.
+    #[test]
+    fn broadcasts_in_order() {
+        let d = zeroed();
+        let read = |cursor| {
+            let mut got = Vec::new();
+            let next = d.broadcasts_since(cursor, |m| got.push(String::from_utf8_lossy(m).into_owned()));
+            (next, got)
+        };
+        let start = d.broadcast_cursor();
+        assert!(d.broadcast(b"one") && d.broadcast(&[b'x'; BROADCAST_BYTES]));
+        assert!(!d.broadcast(&[b'x'; BROADCAST_BYTES + 1]), "129 bytes are refused");
+        let (cursor, got) = read(start);
+        assert_eq!(got, ["one".to_string(), "x".repeat(BROADCAST_BYTES)]);
+        assert_eq!(read(cursor), (cursor, vec![]), "nothing twice");
+        for i in 0..BROADCASTS + 3 {
+            d.broadcast(format!("m{i}").as_bytes());
+        }
+        let (_, got) = read(cursor);
+        assert_eq!(got.len(), BROADCASTS);
+        assert_eq!((got[0].as_str(), got[BROADCASTS - 1].as_str()), ("m3", "m18"));
     }
 
     #[test]

@@ -33,6 +33,8 @@ pub struct ScriptArgs {
     /// `StartTaskFunc`: the function to run after the program's top level.
     pub entry: Option<String>,
     pub program: PathBuf,
+    /// Where `START_ASCII_AGENT` listens, `host:port` (HMPL 22.1).
+    pub user_ascii: String,
 }
 
 /// Why a program did not end normally.
@@ -76,9 +78,9 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
 
     let memory_limit = args.memory_limit_mib as usize * 1024 * 1024;
     let lua = sandbox::new_vm(memory_limit).map_err(|e| ScriptError::lua(e.to_string()))?;
-    let host = Rc::new(Host::new(endpoint, &args.ns, args.data_dir.clone())?);
+    let host = Rc::new(Host::new(endpoint, &args.ns, args.data_dir.clone())?.with_user_ascii(args.user_ascii.clone()));
     bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
-    bindings::install_system_variables(&lua, host).map_err(|e| ScriptError::lua(e.to_string()))?;
+    bindings::install_system_variables(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_print(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
     require::install(&lua, &args.program).map_err(|e| ScriptError::lua(e.to_string()))?;
 
@@ -88,7 +90,9 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
         Debugger::new(table.clone() as SharedTable, task, chunk_name(&name), move || controller_alive(controller_pid));
     debugger.install(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
     let slot = &table.slots[task];
+    // HMPL 22.2.1: an agent the program started outlives it, until the task is stopped.
     let result = start(&lua, &source, &name, args.entry.as_deref(), slot)
+        .and_then(|()| bindings::serve_agent_forever(&lua, &host))
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
     // Closing the VM runs the finalizers (`__gc`) left: user code, so still under the
     // watchdog as a running task, before the controller hears the program has ended.

@@ -14,13 +14,17 @@ pub struct Serving {
     /// The address the server listens on, as it printed it.
     pub address: String,
     pub port: u16,
+    /// The Native ASCII server's port (HMPL 22.1).
+    pub ascii_port: u16,
+    stdout: Arc<Mutex<String>>,
     stderr: Arc<Mutex<String>>,
 }
 
-/// `luamotion serve --ns <ns> --data-dir <dir> --modbus-port 0 <args>`, once it listens.
+/// `luamotion serve --ns <ns> --data-dir <dir> --modbus-port 0 --ascii-port 0
+/// --ascii-user-port 0 <args>`, once it listens.
 pub fn serve(ns: &str, dir: &Path, args: &[&str]) -> Serving {
     let mut child = Command::new(BIN)
-        .args(["serve", "--ns", ns, "--modbus-port", "0"])
+        .args(["serve", "--ns", ns, "--modbus-port", "0", "--ascii-port", "0", "--ascii-user-port", "0"])
         .arg("--data-dir")
         .arg(dir)
         .args(args)
@@ -38,22 +42,49 @@ pub fn serve(ns: &str, dir: &Path, args: &[&str]) -> Serving {
         }
     });
     let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-    let mut line = String::new();
-    stdout.read_line(&mut line).expect("first line");
-    // Programs' output goes on coming: keep the pipe drained.
-    std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
-    let address = line
-        .split_once("Modbus TCP on ")
-        .and_then(|(_, rest)| rest.split(';').next())
-        .unwrap_or_else(|| panic!("no address in {line:?}; stderr:\n{}", stderr.lock().unwrap()))
-        .to_string();
-    let port = address.rsplit(':').next().and_then(|port| port.parse().ok()).expect("port");
-    Serving { child, address, port, stderr }
+    // Programs that run at start may print before the servers' addresses come.
+    let output = Arc::new(Mutex::new(String::new()));
+    let mut said = |start: &str| loop {
+        let mut line = String::new();
+        if stdout.read_line(&mut line).expect("read stdout") == 0 {
+            panic!("serve ended before it said {start:?}; stderr:\n{}", stderr.lock().unwrap());
+        }
+        match line.split_once(start) {
+            Some((_, rest)) => return rest.split(';').next().unwrap_or_default().trim().to_string(),
+            None => output.lock().unwrap().push_str(&line),
+        }
+    };
+    let address = said("Modbus TCP on ");
+    let ascii = said("Native ASCII on ");
+    // Programs' output goes on coming: keep the pipe drained, and what it said.
+    let sink = output.clone();
+    std::thread::spawn(move || {
+        let mut line = String::new();
+        while stdout.read_line(&mut line).is_ok_and(|n| n > 0) {
+            sink.lock().unwrap().push_str(&std::mem::take(&mut line));
+        }
+    });
+    let port_of = |address: &str| address.rsplit(':').next().and_then(|port| port.parse().ok()).expect("port");
+    let (port, ascii_port) = (port_of(&address), port_of(&ascii));
+    Serving { child, address, port, ascii_port, stdout: output, stderr }
 }
 
 impl Serving {
     pub fn pid(&self) -> u32 {
         self.child.id()
+    }
+
+    /// What the programs printed so far (`[task N] ...` lines).
+    pub fn stdout(&self) -> String {
+        self.stdout.lock().unwrap().clone()
+    }
+
+    /// The rest of the first output line of task `task` that starts with `prefix`, once
+    /// it has been printed (at most `timeout`).
+    pub fn await_line(&self, task: u8, prefix: &str, timeout: Duration) -> Option<String> {
+        let start = format!("[task {task}] {prefix}");
+        let find = || self.stdout().lines().find_map(|l| l.strip_prefix(&start).map(str::to_string));
+        eventually(timeout, || find().is_some()).then(find).flatten()
     }
 
     /// What the server logged so far.

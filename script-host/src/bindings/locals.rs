@@ -55,15 +55,30 @@ impl Throttle {
 
 impl Host {
     /// Blocks for `ns` nanoseconds of controller time (at least one cycle if `ns` > 0).
-    fn sleep_ns(&self, ns: f64) -> mlua::Result<()> {
+    fn sleep_ns(&self, lua: &Lua, ns: f64) -> mlua::Result<()> {
         if ns <= 0.0 {
             return Ok(());
         }
-        let mut endpoint = self.endpoint.borrow_mut();
-        let period = endpoint.snapshot().period_ns;
-        let cycles = (ns / period as f64).ceil() as u64;
-        let target = endpoint.snapshot().cycle + cycles;
-        endpoint.wait_until_cycle(target).map_err(mlua::Error::external)
+        let (period, now) = {
+            let mut endpoint = self.endpoint.borrow_mut();
+            let snapshot = endpoint.snapshot();
+            (snapshot.period_ns.max(1), snapshot.cycle)
+        };
+        let target = now + (ns / period as f64).ceil() as u64;
+        // A task running the User ASCII agent serves its clients while it waits.
+        let slice = (super::agent::SERVE_PERIOD.as_nanos() as u64 / period).max(1);
+        loop {
+            let next = if super::agent::active() { target.min(self.cycle() + slice) } else { target };
+            self.endpoint.borrow_mut().wait_until_cycle(next).map_err(mlua::Error::external)?;
+            if next >= target {
+                return Ok(());
+            }
+            super::agent::serve(lua, self);
+        }
+    }
+
+    fn cycle(&self) -> u64 {
+        self.endpoint.borrow_mut().snapshot().cycle
     }
 
     fn now_ms(&self) -> u64 {
@@ -71,14 +86,14 @@ impl Host {
     }
 
     /// Waits until the task may send another event.
-    fn throttle(&self) -> mlua::Result<()> {
+    fn throttle(&self, lua: &Lua) -> mlua::Result<()> {
         loop {
             let mut throttle = self.throttle.get();
             let taken = throttle.take(self.now_ms());
             self.throttle.set(throttle);
             match taken {
                 Ok(()) => return Ok(()),
-                Err(ms) => self.sleep_ns(ms as f64 * 1e6)?,
+                Err(ms) => self.sleep_ns(lua, ms as f64 * 1e6)?,
             }
         }
     }
@@ -102,7 +117,7 @@ impl Host {
     }
 }
 
-fn system_code(e: SystemError) -> i64 {
+pub(super) fn system_code(e: SystemError) -> i64 {
     ErrorCode::System(e).code() as i64
 }
 
@@ -136,13 +151,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         | Local::Modbus_ClientRead_Inputs
         | Local::Modbus_ClientWrite_HoldReg
         | Local::Modbus_ClientWrite_Coils => super::clients::local(lua, host, local),
+        Local::START_ASCII_AGENT | Local::ASCII_ServerBroadcast => super::agent::local(lua, host, local),
         Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let ms = int_arg(lua, spec, &args, 0)?;
             if ms < 0 {
                 return Err(error_here(lua, format!("Sleep: ms must be >= 0, not {ms}")));
             }
-            host.sleep_ns(ms as f64 * 1e6)
+            host.sleep_ns(lua, ms as f64 * 1e6)
         }),
         Local::DELAY => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
@@ -150,7 +166,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             if !(seconds >= 0.0 && seconds.is_finite()) {
                 return Err(error_here(lua, format!("DELAY: seconds must be >= 0, not {seconds}")));
             }
-            host.sleep_ns(seconds * 1e9)
+            host.sleep_ns(lua, seconds * 1e9)
         }),
         Local::Till => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
@@ -171,9 +187,9 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 if is_true(&condition.call::<Value>(())?) {
                     return Ok(());
                 }
-                let mut endpoint = host.endpoint.borrow_mut();
-                let next = endpoint.snapshot().cycle + 1;
-                endpoint.wait_until_cycle(next).map_err(mlua::Error::external)?;
+                let next = host.cycle() + 1;
+                host.endpoint.borrow_mut().wait_until_cycle(next).map_err(mlua::Error::external)?;
+                super::agent::serve(lua, &host);
             }
         }),
         Local::Print => lua.create_function(move |lua, args: MultiValue| {
@@ -198,7 +214,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let Ok(id) = u16::try_from(int_arg(lua, spec, &args, 0)?) else {
                 return Ok(system_code(SystemError::HmplArgOutOfRange));
             };
-            host.throttle()?;
+            host.throttle(lua)?;
             Ok(host.send_event(EventKind::Event, id as u32, ""))
         }),
         Local::SendMsgEvent => lua.create_function(move |lua, args: MultiValue| {
@@ -210,7 +226,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 return Ok(system_code(SystemError::HmplStrTooLong));
             }
             let text = escape(&formatted.text);
-            host.throttle()?;
+            host.throttle(lua)?;
             Ok(host.send_event(EventKind::Message, 0, &text))
         }),
         Local::RunScheduler => lua.create_function(move |_, ()| {

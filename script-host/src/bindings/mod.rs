@@ -4,6 +4,7 @@
 //! and queries are here; the functions that run in the script process are in `locals`,
 //! the system variables in `system_vars`.
 
+mod agent;
 mod clients;
 mod freeport;
 mod locals;
@@ -30,6 +31,7 @@ use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};
 use mlua::{BorrowedBytes, Function, Lua, MultiValue, Value};
 
+pub use agent::{DEFAULT_ADDRESS as DEFAULT_USER_ASCII, serve as serve_agent, serve_forever as serve_agent_forever};
 use locals::Throttle;
 pub use system_vars::install_system_variables;
 
@@ -40,6 +42,8 @@ pub struct Host {
     pub task: u8,
     /// Where `SaveUserTable` keeps its file.
     pub data_dir: PathBuf,
+    /// Where `START_ASCII_AGENT` listens (HMPL 22.1, `[ascii]` of the machine file).
+    pub user_ascii: String,
     events: EventSender,
     throttle: Cell<Throttle>,
 }
@@ -54,9 +58,16 @@ impl Host {
             shared,
             task,
             data_dir,
+            user_ascii: agent::DEFAULT_ADDRESS.to_string(),
             events,
             throttle: Cell::new(Throttle::default()),
         })
+    }
+
+    /// The User ASCII agent listens on `address` (`host:port`).
+    pub fn with_user_ascii(mut self, address: String) -> Self {
+        self.user_ascii = address;
+        self
     }
 
     /// Every API call advances the heartbeat: a task that calls nothing while it runs Lua

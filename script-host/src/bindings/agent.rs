@@ -1,0 +1,330 @@
+//! HMPL 22.2.1/22.2.2: the User ASCII server. `START_ASCII_AGENT(parser)` claims the one
+//! agent of the controller (a word in shared memory; a dead owner gives way) and listens
+//! on the User ASCII address in this process. Each line a client sends goes to
+//! `parser(command)`, whose string goes back as a line. The task's own thread serves the
+//! clients, non-blocking: while the program waits (`serve` from Sleep, Till, DELAY) and,
+//! once it has returned, until the task is stopped (`serve_forever`). Broadcasts of any
+//! task come through a ring in shared memory.
+
+use std::cell::RefCell;
+use std::io::{ErrorKind, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::os::fd::AsRawFd;
+use std::rc::Rc;
+use std::time::{Duration, Instant};
+
+use api::{Local, SystemError};
+use ipc::messages::{Snapshot, TaskState};
+use ipc::shared::BROADCAST_BYTES;
+use mlua::{Function, Lua, MultiValue, Value};
+
+use super::locals::system_code;
+use super::{Host, error_here, int_arg, lua_string_arg, type_name};
+
+/// The address the agent listens on unless the controller says otherwise (HMPL 22.1).
+pub const DEFAULT_ADDRESS: &str = "127.0.0.1:4000";
+/// The longest line a client may send, without its newline (HMPL 3.1's string length).
+const MAX_LINE: usize = 512;
+/// Clients served at once; the next one gets an error line and is closed.
+const MAX_CLIENTS: usize = 32;
+/// A client that sends no whole line for this long is closed.
+const IDLE: Duration = Duration::from_secs(60);
+/// A client that does not take its answers keeps at most this much; then it is closed.
+const MAX_BACKLOG: usize = 64 * 1024;
+/// How often a waiting program looks at its clients.
+pub const SERVE_PERIOD: Duration = Duration::from_millis(5);
+/// The Lua registry key of the parser.
+const PARSER: &str = "luamotion.ascii_agent";
+
+struct Client {
+    stream: TcpStream,
+    line: Vec<u8>,
+    overlong: bool,
+    out: Vec<u8>,
+    last_line: Instant,
+}
+
+struct Agent {
+    listener: TcpListener,
+    clients: Vec<Client>,
+    /// The next broadcast to send.
+    cursor: u64,
+    served_at: Instant,
+}
+
+thread_local! {
+    /// The task's agent; the Lua state runs on one thread. Taken out while it serves, so
+    /// that a parser that waits does not serve from inside itself.
+    static AGENT: RefCell<Option<Agent>> = const { RefCell::new(None) };
+    /// Whether this process ever started an agent (it keeps serving after `main`).
+    static STARTED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
+    let spec = local.spec();
+    match local {
+        Local::START_ASCII_AGENT => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let Some(Value::Function(parser)) = args.front() else {
+                let got = args.front().map_or("nil".to_string(), type_name);
+                return Err(error_here(
+                    lua,
+                    format!("bad argument #1 to 'START_ASCII_AGENT' (function expected, got {got})"),
+                ));
+            };
+            let pid = std::process::id();
+            let claimed = {
+                let mut endpoint = host.endpoint.borrow_mut();
+                let snapshot = endpoint.snapshot();
+                let stale = |task: u8, owner: u32| !runs(snapshot, task, owner);
+                host.shared.claim_ascii_agent(host.task, pid, stale)
+            };
+            if claimed.is_err() {
+                return Ok(system_code(SystemError::HmplAsciiAgentRunning));
+            }
+            lua.set_named_registry_value(PARSER, parser.clone())?;
+            if STARTED.get() {
+                return Ok(0);
+            }
+            let listener = TcpListener::bind(&host.user_ascii).and_then(|l| l.set_nonblocking(true).map(|()| l));
+            let listener = listener.map_err(|e| {
+                // Not serving, so not the agent: another task may try.
+                host.shared.release_ascii_agent(host.task, pid);
+                error_here(lua, format!("START_ASCII_AGENT: cannot listen on {}: {e}", host.user_ascii))
+            })?;
+            let address = listener.local_addr().map_err(mlua::Error::external)?;
+            // Said once, so that whoever connects knows where (the port may be a free one).
+            super::write_output(&[format!("User ASCII on {address}").as_bytes()]);
+            let cursor = host.shared.broadcast_cursor();
+            AGENT.set(Some(Agent { listener, clients: Vec::new(), cursor, served_at: Instant::now() }));
+            STARTED.set(true);
+            Ok(0)
+        }),
+        Local::ASCII_ServerBroadcast => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let message = lua_string_arg(lua, spec, &args, 0)?;
+            let bytes = message.as_bytes();
+            let length = match args.get(1) {
+                None | Some(Value::Nil) => bytes.len(),
+                Some(_) => {
+                    let n = int_arg(lua, spec, &args, 1)?;
+                    usize::try_from(n).map_err(|_| error_here(lua, format!("ASCII_ServerBroadcast: length {n} < 0")))?
+                }
+            };
+            let message = &bytes[..length.min(bytes.len())];
+            if message.len() > BROADCAST_BYTES {
+                return Ok(system_code(SystemError::HmplStrTooLong));
+            }
+            let agent_runs = host
+                .shared
+                .ascii_agent()
+                .is_some_and(|(task, pid)| runs(host.endpoint.borrow_mut().snapshot(), task, pid));
+            if !agent_runs {
+                return Ok(system_code(SystemError::HmplClientNotConnected));
+            }
+            host.shared.broadcast(message);
+            Ok(0)
+        }),
+        _ => unreachable!("not an agent function: {local:?}"),
+    }
+}
+
+/// Whether an agent claimed by `task`'s process `pid` still runs: its task is starting or
+/// running with that process (a stopped task's or a restarted one's claim is stale).
+fn runs(snapshot: &Snapshot, task: u8, pid: u32) -> bool {
+    let Some(t) = snapshot.tasks.get(task as usize) else { return false };
+    // SAFETY: signal 0 only checks that the process exists.
+    let exists = unsafe { libc::kill(pid as libc::pid_t, 0) == 0 };
+    !TaskState::from(t.state).is_stopped() && t.pid == pid && exists
+}
+
+/// Whether this task runs the agent (and is not serving it right now).
+pub fn active() -> bool {
+    AGENT.with_borrow(Option::is_some)
+}
+
+/// Serves the agent's clients if this task runs one and it is time (a waiting program
+/// calls this between its waits).
+pub fn serve(lua: &Lua, host: &Host) {
+    let Some(mut agent) = AGENT.take() else { return };
+    if agent.served_at.elapsed() >= SERVE_PERIOD {
+        agent.served_at = Instant::now();
+        agent.serve(lua, host);
+    }
+    AGENT.set(Some(agent));
+}
+
+/// After the program has returned: serves the agent, if it started one, until the task is
+/// stopped (its process is killed) or the controller is gone. It waits on its sockets, so a
+/// line is answered as soon as it comes; broadcasts at least every `SERVE_PERIOD`.
+pub fn serve_forever(lua: &Lua, host: &Host) -> mlua::Result<()> {
+    if !STARTED.get() {
+        return Ok(());
+    }
+    loop {
+        host.beat();
+        host.endpoint.borrow().check_controller().map_err(mlua::Error::external)?;
+        let Some(mut agent) = AGENT.take() else { return Ok(()) };
+        agent.serve(lua, host);
+        agent.wait(SERVE_PERIOD);
+        AGENT.set(Some(agent));
+    }
+}
+
+impl Agent {
+    /// Waits at most `timeout` for a client to connect, send, or take what it is owed.
+    fn wait(&self, timeout: Duration) {
+        let listener = libc::pollfd { fd: self.listener.as_raw_fd(), events: libc::POLLIN, revents: 0 };
+        let mut fds: Vec<libc::pollfd> = std::iter::once(listener)
+            .chain(self.clients.iter().map(|c| libc::pollfd {
+                fd: c.stream.as_raw_fd(),
+                events: libc::POLLIN | if c.out.is_empty() { 0 } else { libc::POLLOUT },
+                revents: 0,
+            }))
+            .collect();
+        // SAFETY: `fds` is a valid array of `fds.len()` pollfd structs for the call's duration.
+        unsafe { libc::poll(fds.as_mut_ptr(), fds.len() as libc::nfds_t, timeout.as_millis() as libc::c_int) };
+    }
+
+    fn serve(&mut self, lua: &Lua, host: &Host) {
+        self.accept();
+        let mut lines = Vec::new();
+        for (i, client) in self.clients.iter_mut().enumerate() {
+            client.receive(|line| lines.push((i, line)));
+        }
+        for (i, line) in lines {
+            let answer = answer(lua, &line);
+            let out = &mut self.clients[i].out;
+            out.extend_from_slice(answer.as_bytes());
+            out.extend_from_slice(b"\r\n");
+        }
+        let clients = &mut self.clients;
+        self.cursor = host.shared.broadcasts_since(self.cursor, |message| {
+            for client in clients.iter_mut() {
+                client.out.extend_from_slice(message);
+                client.out.extend_from_slice(b"\r\n");
+            }
+        });
+        self.clients.retain_mut(Client::flush);
+    }
+
+    fn accept(&mut self) {
+        loop {
+            match self.listener.accept() {
+                Ok((mut stream, _)) if self.clients.len() >= MAX_CLIENTS => {
+                    let line = format!("ERROR too many connections ({MAX_CLIENTS} open)\r\n");
+                    let _ = stream.write(line.as_bytes());
+                }
+                Ok((stream, _)) => {
+                    if stream.set_nonblocking(true).is_ok() {
+                        let now = Instant::now();
+                        self.clients.push(Client {
+                            stream,
+                            line: Vec::new(),
+                            overlong: false,
+                            out: Vec::new(),
+                            last_line: now,
+                        });
+                    }
+                }
+                // WouldBlock: nobody waits; other errors (out of descriptors): next time.
+                Err(_) => return,
+            }
+        }
+    }
+}
+
+impl Client {
+    /// Reads what has come and hands over each whole line (or the error that answers it).
+    fn receive(&mut self, mut line: impl FnMut(Result<Vec<u8>, String>)) {
+        let mut chunk = [0u8; 1024];
+        loop {
+            match self.stream.read(&mut chunk) {
+                Ok(0) => {
+                    // A peer that vanished mid-line leaves nothing to answer.
+                    self.out.clear();
+                    self.last_line = Instant::now() - IDLE;
+                    return;
+                }
+                Ok(n) => {
+                    for &b in &chunk[..n] {
+                        if b != b'\n' {
+                            if self.line.len() < MAX_LINE {
+                                self.line.push(b);
+                            } else {
+                                self.overlong = true;
+                            }
+                            continue;
+                        }
+                        self.last_line = Instant::now();
+                        let text = std::mem::take(&mut self.line);
+                        if std::mem::take(&mut self.overlong) {
+                            line(Err(format!("ERROR line longer than {MAX_LINE} bytes")));
+                        } else {
+                            line(checked(text));
+                        }
+                    }
+                }
+                Err(e) if e.kind() == ErrorKind::WouldBlock => return,
+                Err(e) if e.kind() == ErrorKind::Interrupted => {}
+                Err(_) => {
+                    self.last_line = Instant::now() - IDLE;
+                    return;
+                }
+            }
+        }
+    }
+
+    /// Writes what it can; false when the client is to be closed (gone, idle, or not
+    /// taking its answers).
+    fn flush(&mut self) -> bool {
+        while !self.out.is_empty() {
+            match self.stream.write(&self.out) {
+                Ok(0) => return false,
+                Ok(n) => drop(self.out.drain(..n)),
+                Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == ErrorKind::Interrupted => {}
+                Err(_) => return false,
+            }
+        }
+        self.out.len() <= MAX_BACKLOG && self.last_line.elapsed() < IDLE
+    }
+}
+
+/// A line without its `\r`, if it is text: binary garbage is answered with an error
+/// rather than handed to the parser.
+fn checked(mut line: Vec<u8>) -> Result<Vec<u8>, String> {
+    if line.last() == Some(&b'\r') {
+        line.pop();
+    }
+    match line.iter().position(|&b| !(b == b'\t' || (0x20..0x7F).contains(&b))) {
+        Some(i) => Err(format!("ERROR not text: byte 0x{:02X} at column {}", line[i], i + 1)),
+        None => Ok(line),
+    }
+}
+
+/// The parser's answer to one line: its string (a number as its text, nil as an empty
+/// line), or an error line; a parser that fails does not end the agent.
+fn answer(lua: &Lua, line: &Result<Vec<u8>, String>) -> String {
+    let line = match line {
+        Ok(line) => line,
+        Err(refusal) => return refusal.clone(),
+    };
+    let result = lua.named_registry_value::<Function>(PARSER).and_then(|parser| {
+        let command = lua.create_string(line)?;
+        parser.call::<Value>(command)
+    });
+    match result {
+        Ok(Value::String(s)) => one_line(&s.to_string_lossy()),
+        Ok(Value::Nil) => String::new(),
+        Ok(Value::Integer(n)) => n.to_string(),
+        Ok(Value::Number(n)) => n.to_string(),
+        Ok(other) => format!("ERROR the parser returned a {}, not a string", other.type_name()),
+        Err(e) => one_line(&format!("ERROR {}", crate::sandbox::root_cause(&e))),
+    }
+}
+
+/// A response as one line: its line breaks become spaces.
+fn one_line(text: &str) -> String {
+    text.trim_end_matches(['\r', '\n']).replace(['\r', '\n'], " ")
+}
