@@ -18,6 +18,7 @@ fn lua_type(v: ValueType) -> &'static str {
         ValueType::Doubles => "number[]",
         ValueType::Timer => "Timer",
         ValueType::Any => "any",
+        ValueType::Memory => "integer[]|number[]",
     }
 }
 
@@ -123,6 +124,7 @@ pub fn lua_meta() -> String {
                 ArgType::Bool => (a.name, "boolean|number"),
                 ArgType::Timer => (a.name, "Timer"),
                 ArgType::Any => (a.name, "any"),
+                ArgType::Memory => (a.name, "integer[]|number[]"),
             };
             let _ = writeln!(out, "---@param {name} {ty}");
             params.push(name);

@@ -76,6 +76,24 @@ pub struct MachineConfig {
     pub drl: DrlConfig,
     /// The Modbus TCP server of `luamotion serve` (DXMC manual 8.2).
     pub modbus: ModbusConfig,
+    /// What `GetModelNum` and `GetSerialNum` report (HMPL 2.14, 2.15).
+    pub identity: IdentityConfig,
+}
+
+/// `[identity]`: the controller's product model and serial number (HMPL 2.14, 2.15).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IdentityConfig {
+    /// At most 64 bytes.
+    pub model: String,
+    /// At most 64 bytes.
+    pub serial: String,
+}
+
+impl Default for IdentityConfig {
+    fn default() -> Self {
+        IdentityConfig { model: "luamotion-sim".into(), serial: "LM00000000".into() }
+    }
 }
 
 /// `[drl]`: where DRL projects live and how the one being run is supervised. The running
@@ -366,6 +384,7 @@ impl Default for MachineConfig {
             tasks: Vec::new(),
             drl: DrlConfig::default(),
             modbus: ModbusConfig::default(),
+            identity: IdentityConfig::default(),
         }
     }
 }
@@ -495,6 +514,11 @@ impl MachineConfig {
         }
         if self.modbus.idle_timeout_ms == 0 {
             return Err(invalid("modbus.idle_timeout_ms", "must be at least 1 ms"));
+        }
+        for (key, text) in [("identity.model", &self.identity.model), ("identity.serial", &self.identity.serial)] {
+            if text.len() > 64 || text.contains('\0') {
+                return Err(invalid(key, "at most 64 bytes, no NUL"));
+            }
         }
         Ok(())
     }

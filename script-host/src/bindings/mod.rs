@@ -6,6 +6,7 @@
 
 mod clients;
 mod freeport;
+mod library;
 mod locals;
 mod plc;
 mod system_vars;
