@@ -547,6 +547,6 @@ mod tests {
     fn dates_are_utc_calendar_dates() {
         assert_eq!(utc_date(0), "1970-01-01 00:00:00");
         assert_eq!(utc_date(951_782_400), "2000-02-29 00:00:00");
-        assert_eq!(utc_date(1_798_675_199), "2026-12-31 23:59:59");
+        assert_eq!(utc_date(1_798_761_599), "2026-12-31 23:59:59");
     }
 }
