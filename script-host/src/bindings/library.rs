@@ -28,11 +28,10 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
     let spec = local.spec();
     // One argument, the C function's own semantics: Lua's math library is that function.
     let libm = |name: &str| lua.globals().get::<Table>("math")?.get::<Function>(name);
-    let math1 =
-        |f: fn(f64) -> f64| lua.create_function(move |lua, args: MultiValue| Ok(f(double_arg(lua, spec, &args, 0)?)));
+    let math1 = |f: fn(f64) -> f64| lua.create_function(move |lua, x: Value| Ok(f(number(lua, spec, x, 0)?)));
     let math2 = |f: fn(f64, f64) -> f64| {
-        lua.create_function(move |lua, args: MultiValue| {
-            Ok(f(double_arg(lua, spec, &args, 0)?, double_arg(lua, spec, &args, 1)?))
+        lua.create_function(move |lua, (x, y): (Value, Value)| {
+            Ok(f(number(lua, spec, x, 0)?, number(lua, spec, y, 1)?))
         })
     };
     match local {
@@ -188,6 +187,21 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             set_config_var(lua, &host, id, value)
         }),
         other => unreachable!("{other:?} is not a library function"),
+    }
+}
+
+/// Argument `i` of a math function: a number as it is (the fast path of a hot loop), else
+/// read as every other function's argument, for the same error.
+fn number(lua: &Lua, spec: &api::FunctionSpec, value: Value, i: usize) -> mlua::Result<f64> {
+    match value {
+        Value::Number(x) => Ok(x),
+        Value::Integer(n) => Ok(n as f64),
+        other => {
+            let mut args = MultiValue::new();
+            args.resize(i, Value::Nil);
+            args.push_back(other);
+            double_arg(lua, spec, &args, i)
+        }
     }
 }
 
