@@ -91,6 +91,8 @@ const SCRIPTS: &[(&str, &[&str])] = &[
             "exp(1000) is the largest double: true",                      // HMPL 4.13
             "pow(10, 400) = 1.79769e+308, ldexp(1, 5000) = 1.79769e+308", // HMPL 4.12, 4.14
             "PI 3.1415926535897931 SQRT2 1.4142135623730951 SQRT1_2 0.70710678118654757", // HMPL 23.1
+            "bits: 9 8 24",                                               // HMPL 23.3
+            "bit 5 is 1",
             "chapter 4 done",
         ],
     ),

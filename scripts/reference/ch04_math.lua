@@ -32,4 +32,15 @@ Print("exp(1000) is the largest double: %s", tostring(exp(1000) == 1.79769313486
 Print("pow(10, 400) = %g, ldexp(1, 5000) = %g", pow(10, 400), ldexp(1, 5000))
 -- HMPL 23.1: the math constants.
 Print("PI %.17g SQRT2 %.17g SQRT1_2 %.17g", PI, SQRT2, SQRT1_2)
+-- HMPL 23.3: the bit macros are Lua's operators.
+local bits_value = 0
+bits_value = bits_value | (1 << 0) -- BIT_SET(bits_value, 0): 1
+bits_value = bits_value | (1 << 3) -- BIT_SET(bits_value, 3): 9
+local set = bits_value
+bits_value = bits_value & ~(1 << 0) -- BIT_CLEAR(bits_value, 0): 8
+local cleared = bits_value
+bits_value = bits_value ~ (1 << 4) -- BIT_FLIP(bits_value, 4): 24
+Print("bits: %d %d %d", set, cleared, bits_value)
+bits_value = 684
+if bits_value & (1 << 5) ~= 0 then Print("bit 5 is 1") else Print("bit 5 is 0") end
 Print("chapter 4 done")
