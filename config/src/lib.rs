@@ -633,6 +633,19 @@ mod tests {
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
     }
 
+    /// HMPL 2.14, 2.15: `[identity]` has defaults; what does not fit 64 bytes is refused.
+    #[test]
+    fn identity_of_the_controller() {
+        let config = parse("[[axes]]\nname = \"x\"\n");
+        assert_eq!((config.identity.model.as_str(), config.identity.serial.as_str()), ("luamotion-sim", "LM00000000"));
+        let config = parse("[[axes]]\nname = \"x\"\n[identity]\nserial = \"SN 7\"\n");
+        assert_eq!((config.identity.model.as_str(), config.identity.serial.as_str()), ("luamotion-sim", "SN 7"));
+        assert!(config.validate().is_ok());
+        let long = "m".repeat(65);
+        let config = parse(&format!("[[axes]]\nname = \"x\"\n[identity]\nmodel = \"{long}\"\n"));
+        assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "identity.model"));
+    }
+
     /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.
     #[test]
     fn slaves_beside_the_axes() {
