@@ -799,6 +799,13 @@ function StopAll() end
 ---HMPL 2.9 (command (round trip to the core))
 function EStop() end
 
+--- Rescans the EtherCAT segment: every slave back to Pre-Op, configured and brought to
+--- Op again, the slaves' table renewed. 0, or 0x138C while an axis or a group is enabled
+--- or the controller is not in a state that allows it (docs/decisions.md, "System").
+---HMPL 2.16 (command (round trip to the core))
+---@return integer
+function ScanNetwork() end
+
 --- Sets output `gpo_idx` on (1) or off (0).
 ---HMPL 9.2.1 (command (round trip to the core))
 ---@param gpo_idx integer
@@ -1524,6 +1531,299 @@ function TON(timer, IN, PT) end
 ---@return boolean
 function TOF(timer, IN, PT) end
 
+--- The firmware version, luamotion's own: `rc, ver` ("N/A" when it cannot be read).
+---HMPL 2.11 (script process)
+---@return integer
+---@return string
+function GetFirmwareVer() end
+
+--- The firmware file's date, `YYYY-MM-DD hh:mm:ss` UTC of the luamotion executable: `rc, date`.
+---HMPL 2.12 (script process)
+---@return integer
+---@return string
+function GetFirmwareDate() end
+
+--- A 64-bit hash of the luamotion executable (the same build gives the same hash):
+--- `rc, hash`, the 64 bits as a Lua integer.
+---HMPL 2.13 (script process)
+---@return integer
+---@return integer
+function GetFirmwareHash() end
+
+--- The product model, the machine file's `[identity] model`: `rc, model`.
+---HMPL 2.14 (script process)
+---@return integer
+---@return string
+function GetModelNum() end
+
+--- The serial number, the machine file's `[identity] serial`: `rc, sn`.
+---HMPL 2.15 (script process)
+---@return integer
+---@return string
+function GetSerialNum() end
+
+--- 1 starts, 0 stops recording the scope: the event stream gets eMSG_START_HMI_SCOPE
+--- (0xB2C8) or eMSG_STOP_HMI_SCOPE (0xB2C9); `luamotion run --trace` records every
+--- cycle. 0, or 0x138F for another value.
+---HMPL 2.17 (script process)
+---@param start integer
+---@return integer
+function SetHMIScope(start) end
+
+--- `Print`'s formatting into a string: `count, text` (-1 and "" on a bad format or
+--- a text longer than 512).
+---HMPL 3.3 (script process)
+---@param format string
+---@param ... any
+---@return integer
+---@return string
+function StringPrint(format, ...) end
+
+--- The length without the terminator: "hello world" is 11.
+---HMPL 3.4 (script process)
+---@param str string
+---@return integer
+function StringLen(str) end
+
+--- True when the two strings are equal.
+---HMPL 3.5 (script process)
+---@param str1 string
+---@param str2 string
+---@return boolean
+function IsStringEqual(str1, str2) end
+
+--- The offset of the first `character` (a one-character string or its byte code) in
+--- `str`, -1 when there is none.
+---HMPL 3.6 (script process)
+---@param str string
+---@param character any
+---@return integer
+function StrFindChar(str, character) end
+
+--- The offset of the first character of `str` in `char_set` (`complement_set` false)
+--- or not in it (true), -1 when there is none.
+---HMPL 3.7 (script process)
+---@param str string
+---@param char_set string
+---@param complement_set boolean|number
+---@return integer
+function StrFindCharEx(str, char_set, complement_set) end
+
+--- The offset of the first `str2` in `str1`, -1 when there is none.
+---HMPL 3.8 (script process)
+---@param str1 string
+---@param str2 string
+---@return integer
+function StrFindStr(str1, str2) end
+
+--- A copy of `source`: `rc, destination`.
+---HMPL 3.9 (script process)
+---@param source string
+---@return integer
+---@return string
+function StringCopy(source) end
+
+--- `copy_len` characters of `source` from `start_pos` (-1: to its end): `rc,
+--- destination`. 0x138F for a start or a length outside the string.
+---HMPL 3.10 (script process)
+---@param source string
+---@param start_pos integer
+---@param copy_len integer
+---@return integer
+---@return string
+function StringCopyEx(source, start_pos, copy_len) end
+
+--- `destination` with `source` appended: `rc, destination`.
+---HMPL 3.11 (script process)
+---@param destination string
+---@param source string
+---@return integer
+---@return string
+function StringCat(destination, source) end
+
+--- `destination` with `copy_len` characters of `source` from `start_pos` (-1: to its
+--- end) appended: `rc, destination`.
+---HMPL 3.12 (script process)
+---@param destination string
+---@param source string
+---@param start_pos integer
+---@param copy_len integer
+---@return integer
+---@return string
+function StringCatEx(destination, source, start_pos, copy_len) end
+
+--- The number at the start of the string, as C's `atof` reads it (0 when there is none).
+---HMPL 3.13 (script process)
+---@param str string
+---@return number
+function StringToDouble(str) end
+
+--- Copies the first `byte_num` bytes of `source` over `destination`: `rc, destination`.
+--- A table of integers is a C `int[]` (4 bytes each), one of floats a `double[]`
+--- (8 bytes); 0x138B when `byte_num` is past the end of either.
+---HMPL 3.14 (script process)
+---@param destination integer[]|number[]
+---@param source integer[]|number[]
+---@param byte_num integer
+---@return integer
+---@return integer[]|number[]
+function MemoryCopy(destination, source, byte_num) end
+
+--- Sets the first `byte_num` bytes of `destination` to `value` (as a C `char`): `rc,
+--- destination`; `MemorySet({1, 2}, 1, 4)` gives `{16843009, 2}`.
+---HMPL 3.15 (script process)
+---@param destination integer[]|number[]
+---@param value integer
+---@param byte_num integer
+---@return integer
+---@return integer[]|number[]
+function MemorySet(destination, value, byte_num) end
+
+--- True when the first `byte_num` bytes of the two tables are equal (false past the
+--- end of either).
+---HMPL 3.16 (script process)
+---@param memory_ptr1 integer[]|number[]
+---@param memory_ptr2 integer[]|number[]
+---@param byte_num integer
+---@return boolean
+function IsMemoryEqual(memory_ptr1, memory_ptr2, byte_num) end
+
+--- The sine of `x` radians.
+---HMPL 4.1 (script process)
+---@param x number
+---@return number
+function sin(x) end
+
+--- The cosine of `x` radians.
+---HMPL 4.2 (script process)
+---@param x number
+---@return number
+function cos(x) end
+
+--- The tangent of `x` radians.
+---HMPL 4.3 (script process)
+---@param x number
+---@return number
+function tan(x) end
+
+--- The arc sine, -π/2..π/2 (NaN outside -1..1).
+---HMPL 4.4 (script process)
+---@param x number
+---@return number
+function asin(x) end
+
+--- The arc cosine, 0..π (NaN outside -1..1).
+---HMPL 4.5 (script process)
+---@param x number
+---@return number
+function acos(x) end
+
+--- The arc tangent, -π/2..π/2.
+---HMPL 4.6 (script process)
+---@param x number
+---@return number
+function atan(x) end
+
+--- The arc tangent of y/x in the quadrant of (x, y), -π..π.
+---HMPL 4.7 (script process)
+---@param y number
+---@param x number
+---@return number
+function atan2(y, x) end
+
+--- The absolute value of an integer (a Lua error when it does not fit).
+---HMPL 4.8 (script process)
+---@param x integer
+---@return integer
+function abs(x) end
+
+--- The absolute value of a number.
+---HMPL 4.9 (script process)
+---@param x number
+---@return number
+function fabs(x) end
+
+--- The smallest integral value not less than `x`, as a float.
+---HMPL 4.10 (script process)
+---@param x number
+---@return number
+function ceil(x) end
+
+--- The largest integral value not greater than `x`, as a float.
+---HMPL 4.11 (script process)
+---@param x number
+---@return number
+function floor(x) end
+
+--- x·2^y; an overflow gives the largest double (with the sign of the result).
+---HMPL 4.12 (script process)
+---@param x number
+---@param y integer
+---@return number
+function ldexp(x, y) end
+
+--- e^x; an overflow gives the largest double.
+---HMPL 4.13 (script process)
+---@param x number
+---@return number
+function exp(x) end
+
+--- x^y; an overflow gives the largest double (with the sign of the result).
+---HMPL 4.14 (script process)
+---@param x number
+---@param y number
+---@return number
+function pow(x, y) end
+
+--- The natural logarithm.
+---HMPL 4.15 (script process)
+---@param x number
+---@return number
+function log(x) end
+
+--- The base-10 logarithm.
+---HMPL 4.16 (script process)
+---@param x number
+---@return number
+function log10(x) end
+
+--- The square root.
+---HMPL 4.17 (script process)
+---@param x number
+---@return number
+function sqrt(x) end
+
+--- The cube root.
+---HMPL 4.18 (script process)
+---@param x number
+---@return number
+function cbrt(x) end
+
+--- sqrt(x² + y²) without undue overflow.
+---HMPL 4.19 (script process)
+---@param x number
+---@param y number
+---@return number
+function hypot(x, y) end
+
+--- The variable `hcv_id` (`0xCCIIVVVV`, HMPL 17.1): `value, result` with result 0, or
+--- -1 and value 0 for an id luamotion does not have or an axis or group that does
+--- not exist (a warning on stderr says which).
+---HMPL 17.3.1 (script process)
+---@param hcv_id integer
+---@return number
+---@return integer
+function GetConfigVar(hcv_id) end
+
+--- Sets the variable `hcv_id` through the setter it belongs to: 0, the setter's code,
+--- 0x0001 for an id luamotion does not have, 0x0003 for a read-only one, 0x0004 for a
+--- value the variable cannot hold.
+---HMPL 17.3.2 (script process)
+---@param hcv_id integer
+---@param value number
+---@return integer
+function SetConfigVar(hcv_id, value) end
+
 --- Adds the axes to the group in order (X, Y, Z, A, B, C; at most 9) and enables it,
 --- as AddAxisToGrp for each then EnableGroup. On a failure the axes it added are removed
 --- again and the code is returned.
@@ -2145,3 +2445,7 @@ system_mtest = nil -- 10 numbers shared by all tasks, indices 0..9 (HMPL 23.2)
 _TASKID_ = nil -- this task's id (HMPL 19.1)
 ---@type table<string, number|boolean|string>
 task_vars = nil -- this task's variables: they keep their values when the task is stopped and started again (64 per task, names up to 31 bytes, strings up to 64) (HMPL 1.5 (luamotion))
+---@type table<integer, boolean>
+HIMC_GPI = nil -- controller input i (1..8) as a boolean: `HIMC_GPI[4]` or `HIMC_GPI(4)` (read-only; a Lua error for no such input) (HMPL 19.4)
+---@type table<integer, boolean>
+HIMC_GPO = nil -- controller output i (1..8): read as `HIMC_GPO[1]` or `HIMC_GPO(1)`, set with `HIMC_GPO[1] = HIMC_GPI[4] and HIMC_GPI[6]` (true, false or a number, 0 is off) (HMPL 19.5)

@@ -18,6 +18,7 @@ fn lua_type(v: ValueType) -> &'static str {
         ValueType::Doubles => "number[]",
         ValueType::Timer => "Timer",
         ValueType::Any => "any",
+        ValueType::Memory => "integer[]|number[]",
     }
 }
 
@@ -80,6 +81,19 @@ pub fn markdown() -> String {
     for v in SystemVar::ALL {
         let _ = writeln!(out, "| `{}` | `{}` | {} | {} |", v.name, v.lua_type, v.source, v.doc);
     }
+    out.push_str("\n## Controller variables (HCV ids, HMPL 17.1)\n\n");
+    out.push_str("The ids `GetConfigVar` and `SetConfigVar` know; an axis or group variable is `0x83II` or `0x82II` ");
+    out.push_str("(`II` the axis or group) before its `VVVV`, read by its getter and written by its setter.\n\n");
+    out.push_str("| id | name | what |\n|---|---|---|\n");
+    for (id, name, doc) in crate::hcv::SYSTEM_VARS {
+        let _ = writeln!(out, "| `0x{id:08X}` | `{name}` | {doc} |");
+    }
+    for (class, vars) in [("83II", crate::hcv::AXIS_VARS), ("82II", crate::hcv::GROUP_VARS)] {
+        for v in vars {
+            let set = v.set.map_or_else(|| "read-only".to_string(), |c| format!("`{}`", c.spec().name));
+            let _ = writeln!(out, "| `0x{class}{:04X}` | `{}` | `{}`, {set} |", v.vvvv, v.name, v.get.spec().name);
+        }
+    }
     out.push_str("\nEvery error name of HMPL ch. 18 is also a constant holding its error id (`EEEE`), ");
     out.push_str("e.g. `GetAxisLastErr(0) & 0xFFFF == eERR_AXIS_CMD_INVALID_DISABLED`.\n");
     out
@@ -123,6 +137,7 @@ pub fn lua_meta() -> String {
                 ArgType::Bool => (a.name, "boolean|number"),
                 ArgType::Timer => (a.name, "Timer"),
                 ArgType::Any => (a.name, "any"),
+                ArgType::Memory => (a.name, "integer[]|number[]"),
             };
             let _ = writeln!(out, "---@param {name} {ty}");
             params.push(name);

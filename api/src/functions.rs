@@ -257,6 +257,10 @@ declare_functions! {
     /// Emergency stop: stops every task (the caller too: the call never returns) and
     /// disables every axis. Motion commands then fail with 0x0064 until the axis is enabled again.
     ["HMPL 2.9", ascii] fn EStop();
+    /// Rescans the EtherCAT segment: every slave back to Pre-Op, configured and brought to
+    /// Op again, the slaves' table renewed. 0, or 0x138C while an axis or a group is enabled
+    /// or the controller is not in a state that allows it (docs/decisions.md, "System").
+    ["HMPL 2.16", ascii] fn ScanNetwork() -> Int;
 
     // HMPL ch. 9: the controller's digital I/O (pins 1..8); 0 or -1.
     /// Sets output `gpo_idx` on (1) or off (0).
@@ -521,12 +525,12 @@ declare_functions! {
 
     /// Sends event `evt_id` (0..65535) to the tools following the event stream. Blocks
     /// while the task sends faster than 1000 per second on average. Returns 0.
-    ["HMPL 2.19"] fn SendEvent(evt_id: Int) -> Int;
+    ["HMPL 2.19", ascii] fn SendEvent(evt_id: Int) -> Int;
     /// Sends a formatted message (as `Print`, at most 128 characters; longer ones are
     /// refused with 0x138D) to the event stream; throttled like `SendEvent`.
     ["HMPL 2.20"] fn SendMsgEvent(format: Str, args: Rest) -> Int;
     /// Gives the processor to other programs for a moment.
-    ["HMPL 2.21"] fn RunScheduler();
+    ["HMPL 2.21", ascii] fn RunScheduler();
     /// Takes mutex `mutex_id` (0..7), waiting while another task holds it. Taking it twice
     /// stops the task with 0x13EC. A task that stops releases its mutexes.
     ["HMPL 2.22"] fn MutexLock(mutex_id: Int);
@@ -540,6 +544,115 @@ declare_functions! {
     /// Off-delay timer on controller time: true as soon as `IN` is true; false `PT` ms after
     /// `IN` falls.
     ["HMPL 2.25"] fn TOF(timer: Timer, IN: Bool, PT: Int) -> Bool;
+
+    // HMPL ch. 2: what the controller is; out-parameters are returned after the code.
+    /// The firmware version, luamotion's own: `rc, ver` ("N/A" when it cannot be read).
+    ["HMPL 2.11"] fn GetFirmwareVer() -> (Int, Str);
+    /// The firmware file's date, `YYYY-MM-DD hh:mm:ss` UTC of the luamotion executable: `rc, date`.
+    ["HMPL 2.12"] fn GetFirmwareDate() -> (Int, Str);
+    /// A 64-bit hash of the luamotion executable (the same build gives the same hash):
+    /// `rc, hash`, the 64 bits as a Lua integer.
+    ["HMPL 2.13"] fn GetFirmwareHash() -> (Int, Int);
+    /// The product model, the machine file's `[identity] model`: `rc, model`.
+    ["HMPL 2.14"] fn GetModelNum() -> (Int, Str);
+    /// The serial number, the machine file's `[identity] serial`: `rc, sn`.
+    ["HMPL 2.15"] fn GetSerialNum() -> (Int, Str);
+    /// 1 starts, 0 stops recording the scope: the event stream gets eMSG_START_HMI_SCOPE
+    /// (0xB2C8) or eMSG_STOP_HMI_SCOPE (0xB2C9); `luamotion run --trace` records every
+    /// cycle. 0, or 0x138F for another value.
+    ["HMPL 2.17", ascii] fn SetHMIScope(start: Int) -> Int;
+
+    // HMPL ch. 3: strings and memory, in the script process. A string is read as C reads
+    // it, up to its first NUL byte; a string made longer than HMPL_STR_MAX_LEN (512) is
+    // refused with 0x138D. Out-parameters and the new value of an in/out destination are
+    // returned after the code; the arguments are never changed.
+    /// `Print`'s formatting into a string: `count, text` (-1 and "" on a bad format or
+    /// a text longer than 512).
+    ["HMPL 3.3"] fn StringPrint(format: Str, args: Rest) -> (Int, Str);
+    /// The length without the terminator: "hello world" is 11.
+    ["HMPL 3.4", ascii] fn StringLen(str: Str) -> Int;
+    /// True when the two strings are equal.
+    ["HMPL 3.5", ascii] fn IsStringEqual(str1: Str, str2: Str) -> Bool;
+    /// The offset of the first `character` (a one-character string or its byte code) in
+    /// `str`, -1 when there is none.
+    ["HMPL 3.6"] fn StrFindChar(str: Str, character: Any) -> Int;
+    /// The offset of the first character of `str` in `char_set` (`complement_set` false)
+    /// or not in it (true), -1 when there is none.
+    ["HMPL 3.7", ascii] fn StrFindCharEx(str: Str, char_set: Str, complement_set: Bool) -> Int;
+    /// The offset of the first `str2` in `str1`, -1 when there is none.
+    ["HMPL 3.8", ascii] fn StrFindStr(str1: Str, str2: Str) -> Int;
+    /// A copy of `source`: `rc, destination`.
+    ["HMPL 3.9"] fn StringCopy(source: Str) -> (Int, Str);
+    /// `copy_len` characters of `source` from `start_pos` (-1: to its end): `rc,
+    /// destination`. 0x138F for a start or a length outside the string.
+    ["HMPL 3.10"] fn StringCopyEx(source: Str, start_pos: Int, copy_len: Int) -> (Int, Str);
+    /// `destination` with `source` appended: `rc, destination`.
+    ["HMPL 3.11"] fn StringCat(destination: Str, source: Str) -> (Int, Str);
+    /// `destination` with `copy_len` characters of `source` from `start_pos` (-1: to its
+    /// end) appended: `rc, destination`.
+    ["HMPL 3.12"] fn StringCatEx(destination: Str, source: Str, start_pos: Int, copy_len: Int) -> (Int, Str);
+    /// The number at the start of the string, as C's `atof` reads it (0 when there is none).
+    ["HMPL 3.13", ascii] fn StringToDouble(str: Str) -> Double;
+    /// Copies the first `byte_num` bytes of `source` over `destination`: `rc, destination`.
+    /// A table of integers is a C `int[]` (4 bytes each), one of floats a `double[]`
+    /// (8 bytes); 0x138B when `byte_num` is past the end of either.
+    ["HMPL 3.14"] fn MemoryCopy(destination: Memory, source: Memory, byte_num: Int) -> (Int, Memory);
+    /// Sets the first `byte_num` bytes of `destination` to `value` (as a C `char`): `rc,
+    /// destination`; `MemorySet({1, 2}, 1, 4)` gives `{16843009, 2}`.
+    ["HMPL 3.15"] fn MemorySet(destination: Memory, value: Int, byte_num: Int) -> (Int, Memory);
+    /// True when the first `byte_num` bytes of the two tables are equal (false past the
+    /// end of either).
+    ["HMPL 3.16"] fn IsMemoryEqual(memory_ptr1: Memory, memory_ptr2: Memory, byte_num: Int) -> Bool;
+
+    // HMPL ch. 4: C libm in radians, in the script process.
+    /// The sine of `x` radians.
+    ["HMPL 4.1", ascii] fn sin(x: Double) -> Double;
+    /// The cosine of `x` radians.
+    ["HMPL 4.2", ascii] fn cos(x: Double) -> Double;
+    /// The tangent of `x` radians.
+    ["HMPL 4.3", ascii] fn tan(x: Double) -> Double;
+    /// The arc sine, -π/2..π/2 (NaN outside -1..1).
+    ["HMPL 4.4", ascii] fn asin(x: Double) -> Double;
+    /// The arc cosine, 0..π (NaN outside -1..1).
+    ["HMPL 4.5", ascii] fn acos(x: Double) -> Double;
+    /// The arc tangent, -π/2..π/2.
+    ["HMPL 4.6", ascii] fn atan(x: Double) -> Double;
+    /// The arc tangent of y/x in the quadrant of (x, y), -π..π.
+    ["HMPL 4.7", ascii] fn atan2(y: Double, x: Double) -> Double;
+    /// The absolute value of an integer (a Lua error when it does not fit).
+    ["HMPL 4.8", ascii] fn abs(x: Int) -> Int;
+    /// The absolute value of a number.
+    ["HMPL 4.9", ascii] fn fabs(x: Double) -> Double;
+    /// The smallest integral value not less than `x`, as a float.
+    ["HMPL 4.10", ascii] fn ceil(x: Double) -> Double;
+    /// The largest integral value not greater than `x`, as a float.
+    ["HMPL 4.11", ascii] fn floor(x: Double) -> Double;
+    /// x·2^y; an overflow gives the largest double (with the sign of the result).
+    ["HMPL 4.12", ascii] fn ldexp(x: Double, y: Int) -> Double;
+    /// e^x; an overflow gives the largest double.
+    ["HMPL 4.13", ascii] fn exp(x: Double) -> Double;
+    /// x^y; an overflow gives the largest double (with the sign of the result).
+    ["HMPL 4.14", ascii] fn pow(x: Double, y: Double) -> Double;
+    /// The natural logarithm.
+    ["HMPL 4.15", ascii] fn log(x: Double) -> Double;
+    /// The base-10 logarithm.
+    ["HMPL 4.16", ascii] fn log10(x: Double) -> Double;
+    /// The square root.
+    ["HMPL 4.17", ascii] fn sqrt(x: Double) -> Double;
+    /// The cube root.
+    ["HMPL 4.18", ascii] fn cbrt(x: Double) -> Double;
+    /// sqrt(x² + y²) without undue overflow.
+    ["HMPL 4.19", ascii] fn hypot(x: Double, y: Double) -> Double;
+
+    // HMPL 17.3: controller variables by HCV id (the ids luamotion has: docs/api.md).
+    /// The variable `hcv_id` (`0xCCIIVVVV`, HMPL 17.1): `value, result` with result 0, or
+    /// -1 and value 0 for an id luamotion does not have or an axis or group that does
+    /// not exist (a warning on stderr says which).
+    ["HMPL 17.3.1"] fn GetConfigVar(hcv_id: Int) -> (Double, Int);
+    /// Sets the variable `hcv_id` through the setter it belongs to: 0, the setter's code,
+    /// 0x0001 for an id luamotion does not have, 0x0003 for a read-only one, 0x0004 for a
+    /// value the variable cannot hold.
+    ["HMPL 17.3.2"] fn SetConfigVar(hcv_id: Int, value: Double) -> Int;
 
     /// Adds the axes to the group in order (X, Y, Z, A, B, C; at most 9) and enables it,
     /// as AddAxisToGrp for each then EnableGroup. On a failure the axes it added are removed

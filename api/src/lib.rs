@@ -10,6 +10,7 @@ pub mod constants;
 pub mod docs;
 pub mod errors;
 mod functions;
+pub mod hcv;
 pub mod registry;
 pub mod system_vars;
 

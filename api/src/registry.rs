@@ -44,6 +44,9 @@ pub enum ArgType {
     Timer,
     /// Any Lua value, taken as the function says (DRL `FreePort.Eth.Tx`'s message).
     Any,
+    /// `void*` of HMPL ch. 3's memory functions: a table of Lua integers (a C `int[]`,
+    /// 4 bytes each) or of floats (a `double[]`, 8 bytes each).
+    Memory,
 }
 
 /// The type of one returned value.
@@ -65,6 +68,8 @@ pub enum ValueType {
     Timer,
     /// Any Lua value (DRL `FreePort.Eth.Tx` returns a copy of its message).
     Any,
+    /// A `void*` out-parameter: a table of integers or floats as `ArgType::Memory`.
+    Memory,
 }
 
 /// What a command's argument is physically; the core checks every argument that has one
@@ -285,6 +290,7 @@ impl FunctionSpec {
             Some(ValueType::Doubles) => "double*",
             Some(ValueType::Timer) => "Timer",
             Some(ValueType::Any) => "any",
+            Some(ValueType::Memory) => "void*",
         };
         let args: Vec<String> = self
             .args
@@ -300,6 +306,7 @@ impl FunctionSpec {
                 ArgType::Bool => format!("int {}", a.name),
                 ArgType::Timer => format!("Timer *{}", a.name),
                 ArgType::Any => format!("any {}", a.name),
+                ArgType::Memory => format!("void *{}", a.name),
             })
             .collect();
         format!("{ret} {}({})", self.name, args.join(", "))

@@ -24,6 +24,10 @@ pub enum SystemVar {
     TaskId,
     /// `task_vars.name`: this task's variables that keep their values across restarts.
     TaskVars,
+    /// `HIMC_GPI[i]` / `HIMC_GPI(i)`: controller input i as a boolean (HMPL 19.4).
+    HimcGpi,
+    /// `HIMC_GPO[i]` / `HIMC_GPO(i)`: controller output i; `HIMC_GPO[i] = on` sets it (HMPL 19.5).
+    HimcGpo,
 }
 
 /// One line of the reference: name, Lua type, where it comes from, what it is.
@@ -84,6 +88,18 @@ impl SystemVar {
             source: "HMPL 1.5 (luamotion)",
             doc: "this task's variables: they keep their values when the task is stopped and started again (64 per task, names up to 31 bytes, strings up to 64)",
         },
+        Described {
+            name: "HIMC_GPI",
+            lua_type: "table<integer, boolean>",
+            source: "HMPL 19.4",
+            doc: "controller input i (1..8) as a boolean: `HIMC_GPI[4]` or `HIMC_GPI(4)` (read-only; a Lua error for no such input)",
+        },
+        Described {
+            name: "HIMC_GPO",
+            lua_type: "table<integer, boolean>",
+            source: "HMPL 19.5",
+            doc: "controller output i (1..8): read as `HIMC_GPO[1]` or `HIMC_GPO(1)`, set with `HIMC_GPO[1] = HIMC_GPI[4] and HIMC_GPI[6]` (true, false or a number, 0 is off)",
+        },
     ];
 
     /// The variable a global name stands for; `None` for any other name.
@@ -100,6 +116,8 @@ impl SystemVar {
             "system_mtest" => SystemVar::MTest,
             "_TASKID_" => SystemVar::TaskId,
             "task_vars" => SystemVar::TaskVars,
+            "HIMC_GPI" => SystemVar::HimcGpi,
+            "HIMC_GPO" => SystemVar::HimcGpo,
             _ => {
                 if let Some(i) = numbered("system_ltest") {
                     SystemVar::LTest(i)

@@ -78,6 +78,24 @@ pub struct MachineConfig {
     pub modbus: ModbusConfig,
     /// The Native and User ASCII servers (HMPL 22.1).
     pub ascii: AsciiConfig,
+    /// What `GetModelNum` and `GetSerialNum` report (HMPL 2.14, 2.15).
+    pub identity: IdentityConfig,
+}
+
+/// `[identity]`: the controller's product model and serial number (HMPL 2.14, 2.15).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IdentityConfig {
+    /// At most 64 bytes.
+    pub model: String,
+    /// At most 64 bytes.
+    pub serial: String,
+}
+
+impl Default for IdentityConfig {
+    fn default() -> Self {
+        IdentityConfig { model: "luamotion-sim".into(), serial: "LM00000000".into() }
+    }
 }
 
 /// `[drl]`: where DRL projects live and how the one being run is supervised. The running
@@ -405,6 +423,7 @@ impl Default for MachineConfig {
             drl: DrlConfig::default(),
             modbus: ModbusConfig::default(),
             ascii: AsciiConfig::default(),
+            identity: IdentityConfig::default(),
         }
     }
 }
@@ -569,6 +588,11 @@ impl MachineConfig {
         if self.ascii.idle_timeout_ms == 0 {
             return Err(invalid("ascii.idle_timeout_ms", "must be at least 1 ms"));
         }
+        for (key, text) in [("identity.model", &self.identity.model), ("identity.serial", &self.identity.serial)] {
+            if text.len() > 64 || text.contains('\0') {
+                return Err(invalid(key, "at most 64 bytes, no NUL"));
+            }
+        }
         Ok(())
     }
 }
@@ -700,6 +724,19 @@ mod tests {
         assert!(matches!(outside, Err(ConfigError::Invalid { key, .. }) if key == "ascii.agent_task"));
         let config = parse("[ascii]\nmax_connections = 0\n");
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "ascii.max_connections"));
+    }
+
+    /// HMPL 2.14, 2.15: `[identity]` has defaults; what does not fit 64 bytes is refused.
+    #[test]
+    fn identity_of_the_controller() {
+        let config = parse("[[axes]]\nname = \"x\"\n");
+        assert_eq!((config.identity.model.as_str(), config.identity.serial.as_str()), ("luamotion-sim", "LM00000000"));
+        let config = parse("[[axes]]\nname = \"x\"\n[identity]\nserial = \"SN 7\"\n");
+        assert_eq!((config.identity.model.as_str(), config.identity.serial.as_str()), ("luamotion-sim", "SN 7"));
+        assert!(config.validate().is_ok());
+        let long = "m".repeat(65);
+        let config = parse(&format!("[[axes]]\nname = \"x\"\n[identity]\nmodel = \"{long}\"\n"));
+        assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "identity.model"));
     }
 
     /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.

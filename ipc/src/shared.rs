@@ -3,7 +3,7 @@
 //! region per controller, read and written in place by the scripts; the core releases
 //! the mutexes of a task that stops.
 
-use std::sync::atomic::{AtomicI64, AtomicU16, AtomicU32, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicI64, AtomicU8, AtomicU16, AtomicU32, AtomicU64, Ordering};
 use std::time::Duration;
 
 use num_enum::{FromPrimitive, IntoPrimitive};
@@ -25,6 +25,8 @@ pub const TASK_VARS: usize = 64;
 pub const VAR_NAME_BYTES: usize = 31;
 /// Longest string value of a persistent variable, bytes.
 pub const VAR_TEXT_BYTES: usize = 64;
+/// Longest model name and serial number (HMPL 2.14, 2.15), bytes.
+pub const IDENTITY_BYTES: usize = 64;
 
 #[repr(C)]
 /// The data all processes of a namespace share (HMPL ch. 11, 23.2, 16; DXMC A.1): user table, test variables, mutexes, task variables, DV and DH.
@@ -49,6 +51,10 @@ pub struct SharedData {
     broadcasts: [Broadcast; BROADCASTS],
     /// The number the next broadcast gets (its slot is that number modulo `BROADCASTS`).
     broadcast_next: AtomicU64,
+    /// HMPL 2.14, 2.15: the model and the serial number the controller was started with,
+    /// NUL-padded; written once before any task starts.
+    model: [AtomicU8; IDENTITY_BYTES],
+    serial: [AtomicU8; IDENTITY_BYTES],
 }
 
 /// HMPL 22.2.2: the longest `ASCII_ServerBroadcast` message, bytes.
@@ -95,6 +101,24 @@ pub enum Lock {
 }
 
 impl SharedData {
+    /// Records the model and serial number (each cut to `IDENTITY_BYTES`).
+    pub fn set_identity(&self, model: &str, serial: &str) {
+        for (field, text) in [(&self.model, model), (&self.serial, serial)] {
+            let bytes = text.as_bytes();
+            for (i, b) in field.iter().enumerate() {
+                b.store(bytes.get(i).copied().unwrap_or(0), Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// The model and the serial number; empty before the controller wrote them.
+    pub fn identity(&self) -> (Vec<u8>, Vec<u8>) {
+        let read = |field: &[AtomicU8; IDENTITY_BYTES]| {
+            field.iter().map(|b| b.load(Ordering::Relaxed)).take_while(|&b| b != 0).collect()
+        };
+        (read(&self.model), read(&self.serial))
+    }
+
     /// The FUN147 register image.
     pub fn plc(&self) -> &PlcImage {
         &self.plc

@@ -97,6 +97,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     let rt = {
         let (ns, control, rt_config) = (options.ns.clone(), control.clone(), config.rt.clone());
         let console = options.console;
+        let identity = config.identity.clone();
         std::thread::Builder::new()
             .name("rt-cycle".into())
             .spawn(move || {
@@ -109,6 +110,8 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                         return None;
                     }
                 };
+                // Before any task can start: what GetModelNum and GetSerialNum report.
+                endpoint.shared().set_identity(&identity.model, &identity.serial);
                 let _ = ready_tx.send(Ok(granted));
                 Some(cycle::run(machine, endpoint, control, granted, trace, console))
             })

@@ -14,6 +14,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
+use api::ErrorCode;
 use hdrhistogram::Histogram;
 use ipc::clock::monotonic_ns;
 use ipc::messages::Snapshot;
@@ -169,11 +170,18 @@ impl CycleWork {
         self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |task, request, reply| {
             dispatch::execute(machine, task, request, reply)
         });
+        if std::mem::take(&mut self.machine.rescanned) {
+            master::describe_slaves(&self.machine.network, &mut self.snapshot);
+            self.snapshot.system_error = self.machine.network.start_error().is_some() as u32;
+        }
         let deferred = self.endpoint.deferred_tasks();
         {
             let Machine { tasks, kernel, .. } = &mut self.machine;
             let (table, shared) = (self.endpoint.table(), self.endpoint.shared());
             tasks.step(cycle, table, shared, deferred, &mut |t, reaction| kernel.react(t, reaction));
+            if let Some(error) = tasks.take_runtime_error() {
+                kernel.record_system_error(ErrorCode::System(error).code());
+            }
         }
         if let Some(console) = &self.console {
             for order in console.drain() {

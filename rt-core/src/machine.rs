@@ -2,6 +2,7 @@
 //! tasks, the controller's I/O, and the controller state of DXMC 3.6 with each task's run
 //! speed. The cycle (`cycle.rs`) steps it; dispatch (`dispatch/`) applies commands to it.
 
+use api::SystemError;
 use ipc::messages::MAX_TASKS;
 
 use crate::console::{ConsoleOrder, ControllerState};
@@ -28,6 +29,8 @@ pub struct Machine {
     pub run_speed: [u32; MAX_TASKS],
     /// The FUN147 boxes (docs/fun147.md), stepped before the kernel.
     pub boxes: Boxes,
+    /// The network was scanned again this cycle: the snapshot's slave table is renewed.
+    pub rescanned: bool,
 }
 
 impl Machine {
@@ -43,6 +46,7 @@ impl Machine {
             state: ControllerState::Run,
             run_speed: [100; MAX_TASKS],
             boxes: Boxes::default(),
+            rescanned: false,
         }
     }
 
@@ -59,6 +63,34 @@ impl Machine {
             self.kernel.stop_all();
         }
         self.state = next;
+    }
+
+    /// HMPL 2.16 `ScanNetwork`: the master's start-up again (every slave back to Pre-Op,
+    /// configured, to Op; the image laid out anew from the same machine file, so the
+    /// axes' links stay valid). Refused with 0x138C while an axis or a group is enabled
+    /// (as DXMC 3.6 allows a rescan only in standby, with no motion) or before the
+    /// controller is up; 0x012C when the network does not come back to Op, and the
+    /// controller is in Fail until a rescan succeeds (docs/decisions.md, "System").
+    pub fn scan_network(&mut self) -> Result<(), SystemError> {
+        let enabled =
+            self.kernel.axes().iter().any(|a| a.is_enabled()) || self.kernel.groups().iter().any(|g| g.is_enabled());
+        if enabled || self.state == ControllerState::Initial {
+            return Err(SystemError::HmplMotionNotReady);
+        }
+        let result = self.network.start(self.period_ns);
+        self.rescanned = true;
+        match result {
+            Ok(()) => {
+                if self.state == ControllerState::Fail {
+                    self.state = ControllerState::Run;
+                }
+                Ok(())
+            }
+            Err(_) => {
+                self.state = ControllerState::Fail;
+                Err(SystemError::NicInitTout)
+            }
+        }
     }
 
     /// The console watches the tasks' states in the snapshot: a refused start or stop

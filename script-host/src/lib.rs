@@ -62,6 +62,10 @@ impl ScriptError {
     fn end_code(&self) -> u32 {
         match self {
             ScriptError::OutOfMemory { .. } => EndCode::OutOfMemory.into(),
+            // Lua's C stack or call depth ran out (endless recursion): HMPL's stack overflow.
+            ScriptError::Lua { message, .. } if message.contains("stack overflow") => {
+                SystemError::HmplStackOverflow.id() as u32
+            }
             _ => EndCode::LuaError.into(),
         }
     }

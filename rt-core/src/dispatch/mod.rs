@@ -536,6 +536,7 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             m.emergency_stop();
             Ok(Done::Later)
         }
+        C::ScanNetwork {} => now(m.scan_network()),
         // HMPL ch. 16: tasks.
         C::StartTask { task_id } => tasks::start(m, task_id, Entry::TOP_LEVEL),
         C::StartTaskFunc { task_id, ref func_name } => tasks::start_func(m, task_id, func_name),

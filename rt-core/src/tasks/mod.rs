@@ -52,6 +52,26 @@ pub struct Tasks {
     tasks: [Task; MAX_TASKS],
     link: CoreLink,
     period_ns: u64,
+    /// The system error of the last program that ended with a runtime error, until the
+    /// kernel takes it as its last system error (HMPL 18.2).
+    runtime_error: Option<SystemError>,
+}
+
+/// HMPL 18.2: the system error a program's failed end leaves for `GetSystemLastErr`: the
+/// HMPL code it ended with (0x13EC a mutex locked twice, 0x138A a stack overflow), else
+/// 0x1770 for a Lua error, 0x138A for its memory limit and 0x176F for a process that died
+/// (docs/decisions.md, "System").
+fn runtime_error(exit: Exit) -> SystemError {
+    match exit {
+        Exit::Failed { end_code } if end_code == u32::from(EndCode::OutOfMemory) => SystemError::HmplStackOverflow,
+        Exit::Failed { end_code } if end_code == u32::from(EndCode::LuaError) => SystemError::HmplExecFailed,
+        Exit::Failed { end_code } => u16::try_from(end_code)
+            .ok()
+            .and_then(|id| SystemError::ALL.iter().copied().find(|e| e.id() == id))
+            .unwrap_or(SystemError::HmplExecFailed),
+        Exit::Signal(_) => SystemError::HmplInternalError,
+        Exit::Finished => SystemError::HmplExecFailed,
+    }
 }
 
 /// Why a task leaves Running other than by ending.
@@ -85,7 +105,7 @@ impl Tasks {
             });
             task.state = if config.external { TaskState::Running } else { TaskState::Stopped };
         }
-        let mut all = Tasks { tasks, link, period_ns };
+        let mut all = Tasks { tasks, link, period_ns, runtime_error: None };
         // HMPL 19.2 `_AUTORUN_`: started with the controller.
         for config in configs.iter().filter(|c| c.autorun) {
             let _ = all.start(config.id as i64, Entry::TOP_LEVEL, 0);
@@ -359,9 +379,15 @@ impl Tasks {
             Exit::Failed { end_code } => (Event::Hmpl(end_code as u16), 0),
             Exit::Finished => (Event::ProgramError, 0),
         };
+        self.runtime_error = Some(runtime_error(exit));
         let alarm = Alarm::task(t, event);
         self.leave_with(t, cycle, StopCause::Fault(alarm), false, react);
         self.raise(alarm, t, cycle, table.slots[t as usize].line(), detail);
+    }
+
+    /// The system error of a program that ended with a runtime error since the last call.
+    pub fn take_runtime_error(&mut self) -> Option<SystemError> {
+        self.runtime_error.take()
     }
 
     /// Each task's slot of the snapshot, with the run speeds the machine keeps.

@@ -98,7 +98,7 @@ impl Host {
         }
     }
 
-    fn send_event(&self, kind: EventKind, code: u32, text: &str) -> i64 {
+    pub(super) fn send_event(&self, kind: EventKind, code: u32, text: &str) -> i64 {
         let cycle = self.endpoint.borrow_mut().snapshot().cycle;
         let record = EventRecord::new(kind, self.task as u32, cycle, code, text);
         match self.events.send(&record) {
@@ -152,6 +152,47 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         | Local::Modbus_ClientWrite_HoldReg
         | Local::Modbus_ClientWrite_Coils => super::clients::local(lua, host, local),
         Local::START_ASCII_AGENT | Local::ASCII_ServerBroadcast => super::agent::local(lua, host, local),
+        Local::GetFirmwareVer
+        | Local::GetFirmwareDate
+        | Local::GetFirmwareHash
+        | Local::GetModelNum
+        | Local::GetSerialNum
+        | Local::SetHMIScope
+        | Local::StringPrint
+        | Local::StringLen
+        | Local::IsStringEqual
+        | Local::StrFindChar
+        | Local::StrFindCharEx
+        | Local::StrFindStr
+        | Local::StringCopy
+        | Local::StringCopyEx
+        | Local::StringCat
+        | Local::StringCatEx
+        | Local::StringToDouble
+        | Local::MemoryCopy
+        | Local::MemorySet
+        | Local::IsMemoryEqual
+        | Local::sin
+        | Local::cos
+        | Local::tan
+        | Local::asin
+        | Local::acos
+        | Local::atan
+        | Local::atan2
+        | Local::abs
+        | Local::fabs
+        | Local::ceil
+        | Local::floor
+        | Local::ldexp
+        | Local::exp
+        | Local::pow
+        | Local::log
+        | Local::log10
+        | Local::sqrt
+        | Local::cbrt
+        | Local::hypot
+        | Local::GetConfigVar
+        | Local::SetConfigVar => super::library::local(lua, host, local),
         Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let ms = int_arg(lua, spec, &args, 0)?;
@@ -390,7 +431,7 @@ fn mutex_id(lua: &Lua, args: &MultiValue) -> mlua::Result<usize> {
 
 /// `Print`'s formatting of a call's arguments. A bad format is a warning on stderr (with
 /// the format's start) and `Err`.
-fn format(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<Result<Formatted, ()>> {
+pub(super) fn format(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<Result<Formatted, ()>> {
     let fmt = lua_string_arg(lua, spec, args, 0)?;
     let fmt = fmt.as_bytes();
     let strings: Vec<Option<BorrowedBytes>> =

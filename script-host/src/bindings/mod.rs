@@ -7,6 +7,7 @@
 mod agent;
 mod clients;
 mod freeport;
+mod library;
 mod locals;
 mod plc;
 mod system_vars;

@@ -10,7 +10,10 @@ use api::system_vars::SystemVar;
 use ipc::shared::{TestValue, TestVar, USER_TABLE_LEN, VarValue};
 use mlua::{Lua, MetaMethod, UserData, UserDataMethods, Value};
 
-use super::{Host, error_here, type_name};
+use api::{CommandCall, QueryCall};
+use calls::query;
+
+use super::{Host, error_here, round_trip, type_name};
 
 /// Installs the variables; `_TASKID_` is a plain global.
 pub fn install_system_variables(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
@@ -19,6 +22,8 @@ pub fn install_system_variables(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
     globals.raw_set("system_user_table", SharedArray { host: host.clone(), kind: ArrayKind::UserTable })?;
     globals.raw_set("system_mtest", SharedArray { host: host.clone(), kind: ArrayKind::MTest })?;
     globals.raw_set("task_vars", TaskVariables { host: host.clone() })?;
+    globals.raw_set("HIMC_GPI", Pins { host: host.clone(), outputs: false })?;
+    globals.raw_set("HIMC_GPO", Pins { host: host.clone(), outputs: true })?;
 
     let meta = lua.create_table()?;
     let reader = host.clone();
@@ -32,7 +37,12 @@ pub fn install_system_variables(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
                 SystemVar::TimeInMs => Value::Integer(reader.endpoint.borrow_mut().snapshot().time_in_ms as i64),
                 SystemVar::LTest(i) => test_value(&reader, TestVar::L(i)),
                 SystemVar::DTest(i) => test_value(&reader, TestVar::D(i)),
-                SystemVar::UserTable | SystemVar::MTest | SystemVar::TaskId | SystemVar::TaskVars => Value::Nil,
+                SystemVar::UserTable
+                | SystemVar::MTest
+                | SystemVar::TaskId
+                | SystemVar::TaskVars
+                | SystemVar::HimcGpi
+                | SystemVar::HimcGpo => Value::Nil,
             })
         })?,
     )?;
@@ -184,6 +194,71 @@ impl UserData for TaskVariables {
                 .task_vars(this.host.task)
                 .set(&name, value.as_ref())
                 .map_err(|e| error_here(lua, format!("task_vars.{name}: {e}")))
+        });
+    }
+}
+
+/// HMPL 19.4, 19.5: `HIMC_GPI` and `HIMC_GPO`, the controller's pins as an expression. In C
+/// they are macros usable as a value and (outputs) as an lvalue; in Lua they are tables
+/// indexed by the pin (1..8) and callable, so `if HIMC_GPI[4] and HIMC_GPI(6) then` reads
+/// as the manual's `if (HIMC_GPI(4) && HIMC_GPI(6))`. A pin reads as a boolean: Lua's 0 is true.
+struct Pins {
+    host: Rc<Host>,
+    outputs: bool,
+}
+
+impl Pins {
+    fn name(&self) -> &'static str {
+        if self.outputs { "HIMC_GPO" } else { "HIMC_GPI" }
+    }
+
+    fn pin(&self, lua: &Lua, key: &Value) -> mlua::Result<i64> {
+        match key {
+            Value::Integer(i) => Ok(*i),
+            Value::Number(n) if n.fract() == 0.0 && n.abs() < 1e15 => Ok(*n as i64),
+            other => Err(error_here(lua, format!("{} takes pins 1..8, not {}", self.name(), type_name(other)))),
+        }
+    }
+
+    fn get(&self, lua: &Lua, key: &Value) -> mlua::Result<bool> {
+        self.host.beat();
+        let pin = self.pin(lua, key)?;
+        let call = if self.outputs { QueryCall::GetGPO { gpo_idx: pin } } else { QueryCall::GetGPI { gpi_idx: pin } };
+        let answer = query::evaluate(&call, self.host.endpoint.borrow_mut().snapshot());
+        match answer.map(|a| a.0) {
+            Ok(query::Value::Int(1)) => Ok(true),
+            Ok(query::Value::Int(0)) => Ok(false),
+            _ => Err(error_here(lua, format!("{}[{pin}]: the pins are 1..8 (0x138F)", self.name()))),
+        }
+    }
+}
+
+impl UserData for Pins {
+    fn add_methods<M: UserDataMethods<Self>>(methods: &mut M) {
+        methods.add_meta_method(MetaMethod::Index, |lua, this, key: Value| this.get(lua, &key));
+        methods.add_meta_method(MetaMethod::Call, |lua, this, key: Value| this.get(lua, &key));
+        methods.add_meta_method(MetaMethod::NewIndex, |lua, this, (key, value): (Value, Value)| {
+            if !this.outputs {
+                return Err(error_here(lua, "HIMC_GPI is read-only: inputs are set by what is wired to them"));
+            }
+            this.host.beat();
+            let gpo_idx = this.pin(lua, &key)?;
+            let on = match value {
+                Value::Boolean(b) => b,
+                Value::Integer(i) => i != 0,
+                Value::Number(n) => n != 0.0,
+                other => {
+                    return Err(error_here(
+                        lua,
+                        format!("HIMC_GPO[{gpo_idx}] takes true, false or a number, not {}", type_name(&other)),
+                    ));
+                }
+            };
+            let reply = round_trip(lua, &this.host, &CommandCall::SetGPO { gpo_idx, on_off: on as i64 })?;
+            if reply.values[0] != 0 {
+                return Err(error_here(lua, format!("HIMC_GPO[{gpo_idx}]: the pins are 1..8 (0x138F)")));
+            }
+            Ok(())
         });
     }
 }

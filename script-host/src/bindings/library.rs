@@ -1,0 +1,566 @@
+//! The HMPL library a program calls for itself, in its own process (no round trip): what
+//! the controller is (ch. 2), strings and memory (ch. 3), C libm (ch. 4) and the
+//! controller variables by HCV id (ch. 17.3). Out-parameters come back after the C return
+//! value; arguments are never changed (docs/decisions.md, "Out-parameters").
+
+use std::rc::Rc;
+use std::sync::OnceLock;
+
+use api::call::{self, Value as Neutral};
+use api::hcv::{self, Hcv, SystemHcv};
+use api::{CommandCall, ErrorCode, Local, QueryCall, SystemError};
+use calls::query;
+use ipc::messages::EventKind;
+use ipc::shared::{TestValue, TestVar};
+use ipc::task_table::RunState;
+use mlua::{Function, Lua, MultiValue, Table, Value};
+
+use super::{Host, bool_arg, double_arg, error_here, int_arg, lua_string_arg, round_trip, type_name};
+
+/// HMPL 3.1: `HMPL_STR_MAX_LEN`.
+const STR_MAX_LEN: usize = 512;
+
+fn system_code(e: SystemError) -> i64 {
+    ErrorCode::System(e).code() as i64
+}
+
+pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
+    let spec = local.spec();
+    // One argument, the C function's own semantics: Lua's math library is that function.
+    let libm = |name: &str| lua.globals().get::<Table>("math")?.get::<Function>(name);
+    let math1 = |f: fn(f64) -> f64| lua.create_function(move |lua, x: Value| Ok(f(number(lua, spec, x, 0)?)));
+    let math2 = |f: fn(f64, f64) -> f64| {
+        lua.create_function(move |lua, (x, y): (Value, Value)| {
+            Ok(f(number(lua, spec, x, 0)?, number(lua, spec, y, 1)?))
+        })
+    };
+    match local {
+        // HMPL ch. 2.
+        Local::GetFirmwareVer => text_out(lua, host, || Some(env!("CARGO_PKG_VERSION").as_bytes().to_vec())),
+        Local::GetFirmwareDate => text_out(lua, host, || firmware_date().map(String::into_bytes)),
+        Local::GetModelNum | Local::GetSerialNum => {
+            let shared = host.clone();
+            text_out(lua, host, move || {
+                let (model, serial) = shared.shared.identity();
+                Some(if local == Local::GetModelNum { model } else { serial }).filter(|t| !t.is_empty())
+            })
+        }
+        Local::GetFirmwareHash => lua.create_function(move |_, ()| {
+            host.beat();
+            Ok(match firmware_hash(&host) {
+                Some(hash) => (0, hash as i64),
+                None => (system_code(SystemError::HmplExecFailed), 0),
+            })
+        }),
+        Local::SetHMIScope => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let code = match int_arg(lua, spec, &args, 0)? {
+                1 => 0xB2C8,
+                0 => 0xB2C9,
+                _ => return Ok(system_code(SystemError::HmplArgOutOfRange)),
+            };
+            Ok(host.send_event(EventKind::Event, code, ""))
+        }),
+        // HMPL ch. 3: strings.
+        Local::StringPrint => lua.create_function(move |lua, args: MultiValue| {
+            let formatted = super::locals::format(lua, spec, &args)?;
+            let text = match formatted {
+                Ok(f) if f.cut == 0 && f.text.len() <= STR_MAX_LEN => f.text,
+                Ok(_) => {
+                    eprintln!("warning: StringPrint: the text is longer than HMPL_STR_MAX_LEN (512) (0x138D)");
+                    return Ok((-1, lua.create_string("")?));
+                }
+                Err(()) => return Ok((-1, lua.create_string("")?)),
+            };
+            Ok((text.len() as i64, lua.create_string(&text)?))
+        }),
+        Local::StringLen => lua.create_function(move |lua, args: MultiValue| Ok(c_str(lua, spec, &args, 0)?.len())),
+        Local::IsStringEqual => lua.create_function(move |lua, args: MultiValue| {
+            Ok(c_str(lua, spec, &args, 0)? == c_str(lua, spec, &args, 1)?)
+        }),
+        Local::StrFindChar => lua.create_function(move |lua, args: MultiValue| {
+            let s = c_str(lua, spec, &args, 0)?;
+            let c = character(lua, &args)?;
+            // As C's strchr: the terminator is found too.
+            Ok(if c == 0 { s.len() as i64 } else { offset(s.iter().position(|&b| b == c)) })
+        }),
+        Local::StrFindCharEx => lua.create_function(move |lua, args: MultiValue| {
+            let s = c_str(lua, spec, &args, 0)?;
+            let set = c_str(lua, spec, &args, 1)?;
+            let complement = bool_arg(lua, spec, &args, 2)?;
+            Ok(offset(s.iter().position(|b| set.contains(b) != complement)))
+        }),
+        Local::StrFindStr => lua.create_function(move |lua, args: MultiValue| {
+            let (s, sub) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
+            Ok(offset(if sub.is_empty() { Some(0) } else { s.windows(sub.len()).position(|w| w == sub.as_slice()) }))
+        }),
+        Local::StringCopy => lua.create_function(move |lua, args: MultiValue| {
+            let source = c_str(lua, spec, &args, 0)?;
+            string_result(lua, Vec::new(), Ok(&source))
+        }),
+        Local::StringCopyEx => lua.create_function(move |lua, args: MultiValue| {
+            let source = c_str(lua, spec, &args, 0)?;
+            let part = substring(&source, int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
+            string_result(lua, Vec::new(), part)
+        }),
+        Local::StringCat => lua.create_function(move |lua, args: MultiValue| {
+            let (destination, source) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
+            string_result(lua, destination, Ok(&source))
+        }),
+        Local::StringCatEx => lua.create_function(move |lua, args: MultiValue| {
+            let (destination, source) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
+            let part = substring(&source, int_arg(lua, spec, &args, 2)?, int_arg(lua, spec, &args, 3)?);
+            string_result(lua, destination, part)
+        }),
+        Local::StringToDouble => {
+            lua.create_function(move |lua, args: MultiValue| Ok(string_to_double(&c_str(lua, spec, &args, 0)?)))
+        }
+        // HMPL ch. 3: memory, on tables that stand for C arrays.
+        Local::MemoryCopy => lua.create_function(move |lua, args: MultiValue| {
+            let mut destination = memory(lua, spec.name, &args, 0)?;
+            let source = memory(lua, spec.name, &args, 1)?;
+            let n = int_arg(lua, spec, &args, 2)?;
+            let rc = match byte_count(n, [destination.bytes.len(), source.bytes.len()]) {
+                Ok(n) => {
+                    destination.bytes[..n].copy_from_slice(&source.bytes[..n]);
+                    0
+                }
+                Err(code) => code,
+            };
+            Ok((rc, destination.to_lua(lua)?))
+        }),
+        Local::MemorySet => lua.create_function(move |lua, args: MultiValue| {
+            let mut destination = memory(lua, spec.name, &args, 0)?;
+            // As C's memset: the value is converted to an unsigned char.
+            let value = int_arg(lua, spec, &args, 1)? as u8;
+            let n = int_arg(lua, spec, &args, 2)?;
+            let rc = match byte_count(n, [destination.bytes.len()]) {
+                Ok(n) => {
+                    destination.bytes[..n].fill(value);
+                    0
+                }
+                Err(code) => code,
+            };
+            Ok((rc, destination.to_lua(lua)?))
+        }),
+        Local::IsMemoryEqual => lua.create_function(move |lua, args: MultiValue| {
+            let (a, b) = (memory(lua, spec.name, &args, 0)?, memory(lua, spec.name, &args, 1)?);
+            let n = int_arg(lua, spec, &args, 2)?;
+            Ok(byte_count(n, [a.bytes.len(), b.bytes.len()]).is_ok_and(|n| a.bytes[..n] == b.bytes[..n]))
+        }),
+        // HMPL ch. 4: Lua's math library where it is the C function, Rust's libm otherwise.
+        Local::sin | Local::cos | Local::tan | Local::asin | Local::acos | Local::sqrt => libm(spec.name),
+        Local::atan => math1(f64::atan),
+        Local::atan2 => math2(f64::atan2),
+        Local::abs => lua.create_function(move |lua, args: MultiValue| {
+            let x = int_arg(lua, spec, &args, 0)?;
+            x.checked_abs().ok_or_else(|| error_here(lua, format!("abs: |{x}| does not fit an integer")))
+        }),
+        Local::fabs => math1(f64::abs),
+        Local::ceil => math1(f64::ceil),
+        Local::floor => math1(f64::floor),
+        Local::ldexp => lua.create_function(move |lua, args: MultiValue| {
+            let (x, y) = (double_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            Ok(ldexp(x, y))
+        }),
+        Local::exp => math1(|x| overflow_to_max(x.exp(), x.is_finite())),
+        Local::pow => math2(|x, y| overflow_to_max(x.powf(y), x.is_finite() && y.is_finite() && x != 0.0)),
+        Local::log => math1(f64::ln),
+        Local::log10 => math1(f64::log10),
+        Local::cbrt => math1(f64::cbrt),
+        Local::hypot => math2(f64::hypot),
+        // HMPL 17.3.
+        Local::GetConfigVar => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let id = int_arg(lua, spec, &args, 0)?;
+            Ok(match get_config_var(&host, id) {
+                Ok(value) => (value, 0),
+                Err(why) => {
+                    eprintln!("warning: GetConfigVar(0x{:08X}): {why}", id as u32);
+                    (0.0, -1)
+                }
+            })
+        }),
+        Local::SetConfigVar => lua.create_function(move |lua, args: MultiValue| {
+            host.beat();
+            let (id, value) = (int_arg(lua, spec, &args, 0)?, double_arg(lua, spec, &args, 1)?);
+            set_config_var(lua, &host, id, value)
+        }),
+        other => unreachable!("{other:?} is not a library function"),
+    }
+}
+
+/// Argument `i` of a math function: a number as it is (the fast path of a hot loop), else
+/// read as every other function's argument, for the same error.
+fn number(lua: &Lua, spec: &api::FunctionSpec, value: Value, i: usize) -> mlua::Result<f64> {
+    match value {
+        Value::Number(x) => Ok(x),
+        Value::Integer(n) => Ok(n as f64),
+        other => {
+            let mut args = MultiValue::new();
+            args.resize(i, Value::Nil);
+            args.push_back(other);
+            double_arg(lua, spec, &args, i)
+        }
+    }
+}
+
+/// A ch. 2 function that gives a string: `rc, text`, "N/A" when it cannot be had.
+fn text_out(lua: &Lua, host: Rc<Host>, text: impl Fn() -> Option<Vec<u8>> + 'static) -> mlua::Result<Function> {
+    lua.create_function(move |lua, ()| {
+        host.beat();
+        Ok(match text() {
+            Some(text) => (0, lua.create_string(&text)?),
+            None => (system_code(SystemError::HmplExecFailed), lua.create_string("N/A")?),
+        })
+    })
+}
+
+/// HMPL 2.12: the luamotion executable's modification time, UTC.
+fn firmware_date() -> Option<String> {
+    let modified = std::fs::metadata(std::env::current_exe().ok()?).ok()?.modified().ok()?;
+    Some(utc_date(modified.duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs())))
+}
+
+/// HMPL 2.13: a hash of the luamotion executable's bytes, read once per process; reading
+/// it is waiting on the disk, not a hang.
+fn firmware_hash(host: &Host) -> Option<u64> {
+    static HASH: OnceLock<Option<u64>> = OnceLock::new();
+    *HASH.get_or_init(|| {
+        let slot_state = |state| host.endpoint.borrow().slot().set_state(state);
+        slot_state(RunState::Blocked);
+        let hash = std::env::current_exe().ok().and_then(|p| hash_file(&p).ok());
+        slot_state(RunState::Running);
+        hash
+    })
+}
+
+/// std's SipHash (fixed keys) over the file: the same build gives the same hash.
+fn hash_file(path: &std::path::Path) -> std::io::Result<u64> {
+    use std::hash::Hasher;
+    use std::io::Read;
+    let mut file = std::fs::File::open(path)?;
+    let mut buffer = vec![0u8; 1 << 20];
+    let mut hasher = std::hash::DefaultHasher::new();
+    loop {
+        let n = file.read(&mut buffer)?;
+        if n == 0 {
+            return Ok(hasher.finish());
+        }
+        hasher.write(&buffer[..n]);
+    }
+}
+
+/// `YYYY-MM-DD hh:mm:ss` of seconds since 1970 (UTC), by the civil-from-days algorithm.
+fn utc_date(secs: u64) -> String {
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02}", rem / 3600, rem % 3600 / 60, rem % 60)
+}
+
+/// A `char*` argument as C reads it: up to its first NUL.
+fn c_str(lua: &Lua, spec: &api::FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<u8>> {
+    let s = lua_string_arg(lua, spec, args, i)?;
+    let bytes = s.as_bytes();
+    let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+    Ok(bytes[..end].to_vec())
+}
+
+/// `StrFindChar`'s character: a one-character string or a byte code 0..255.
+fn character(lua: &Lua, args: &MultiValue) -> mlua::Result<u8> {
+    match args.get(1) {
+        Some(Value::String(s)) if s.as_bytes().len() == 1 => Ok(s.as_bytes()[0]),
+        Some(Value::Integer(c)) if (0..=255).contains(c) => Ok(*c as u8),
+        Some(Value::Number(c)) if c.fract() == 0.0 && (0.0..=255.0).contains(c) => Ok(*c as u8),
+        other => {
+            let got = other.cloned().unwrap_or(Value::Nil);
+            let what = match &got {
+                Value::String(_) => "string of another length".to_string(),
+                v => type_name(v),
+            };
+            Err(error_here(
+                lua,
+                format!("bad argument #2 to 'StrFindChar' (a one-character string or 0..255 expected, got {what})"),
+            ))
+        }
+    }
+}
+
+fn offset(found: Option<usize>) -> i64 {
+    found.map_or(-1, |i| i as i64)
+}
+
+/// `copy_len` bytes of `s` from `start` (-1: to the end; past the end: to the end, as
+/// `strncpy` stops at the terminator). A start outside the string or a length below -1
+/// is 0x138F.
+fn substring(s: &[u8], start: i64, len: i64) -> Result<&[u8], i64> {
+    let start = usize::try_from(start).ok().filter(|&p| p <= s.len());
+    let rest = start.map(|p| &s[p..]).ok_or(system_code(SystemError::HmplArgOutOfRange))?;
+    match len {
+        -1 => Ok(rest),
+        n if n >= 0 => Ok(&rest[..rest.len().min(n as usize)]),
+        _ => Err(system_code(SystemError::HmplArgOutOfRange)),
+    }
+}
+
+/// `rc, destination` of the copy and append functions: `destination` with `tail`
+/// appended, or as it was with the code when `tail` failed or the result would be longer
+/// than HMPL_STR_MAX_LEN (0x138D).
+fn string_result(
+    lua: &Lua,
+    mut destination: Vec<u8>,
+    tail: Result<&[u8], i64>,
+) -> mlua::Result<(i64, mlua::LuaString)> {
+    let rc = match tail {
+        Ok(tail) if destination.len() + tail.len() <= STR_MAX_LEN => {
+            destination.extend_from_slice(tail);
+            0
+        }
+        Ok(_) => system_code(SystemError::HmplStrTooLong),
+        Err(code) => code,
+    };
+    Ok((rc, lua.create_string(&destination)?))
+}
+
+/// C's `atof`: leading white space, then the longest prefix that is a decimal number
+/// (sign, digits, point, exponent) or `inf`, `infinity`, `nan`; 0 when there is none.
+fn string_to_double(s: &[u8]) -> f64 {
+    let s = &s[s.iter().position(|b| !b" \t\n\x0B\x0C\r".contains(b)).unwrap_or(s.len())..];
+    let (sign, body) = match s.first() {
+        Some(b'-') => (-1.0, &s[1..]),
+        Some(b'+') => (1.0, &s[1..]),
+        _ => (1.0, s),
+    };
+    let lower: Vec<u8> = body.iter().take(8).map(u8::to_ascii_lowercase).collect();
+    if lower.starts_with(b"inf") {
+        return sign * f64::INFINITY;
+    }
+    if lower.starts_with(b"nan") {
+        return f64::NAN;
+    }
+    let digits = |from: usize| body[from..].iter().take_while(|b| b.is_ascii_digit()).count();
+    let mut end = digits(0);
+    let mut mantissa = end;
+    if body.get(end) == Some(&b'.') {
+        let fraction = digits(end + 1);
+        mantissa += fraction;
+        end += 1 + fraction;
+    }
+    if mantissa == 0 {
+        return 0.0;
+    }
+    if matches!(body.get(end), Some(b'e' | b'E')) {
+        let sign_len = usize::from(matches!(body.get(end + 1), Some(b'+' | b'-')));
+        let exponent = digits(end + 1 + sign_len);
+        if exponent > 0 {
+            end += 1 + sign_len + exponent;
+        }
+    }
+    // Only ASCII digits, point, sign and e: valid UTF-8 and a valid Rust float.
+    std::str::from_utf8(&body[..end]).ok().and_then(|t| t.parse::<f64>().ok()).map_or(0.0, |v| sign * v)
+}
+
+/// C's `ldexp` with HMPL 4.12's overflow: the largest double.
+fn ldexp(x: f64, y: i64) -> f64 {
+    // 2^y in steps that cannot overflow on their own; past ±2200 the result is 0 or infinite.
+    let y = y.clamp(-2200, 2200) as i32;
+    let mut r = x;
+    let mut left = y;
+    while left != 0 {
+        let step = left.clamp(-1000, 1000);
+        r *= 2f64.powi(step);
+        left -= step;
+    }
+    overflow_to_max(r, x.is_finite())
+}
+
+/// HMPL 4.12-4.14: a result too large for a double is the largest double (with its sign),
+/// where C gives HUGE_VAL; infinite inputs and poles stay infinite.
+fn overflow_to_max(r: f64, finite_inputs: bool) -> f64 {
+    if r.is_infinite() && finite_inputs { f64::MAX.copysign(r) } else { r }
+}
+
+/// A table standing for a C array: integers are a C `int[]` (4 bytes each), a table with
+/// a float in it a `double[]` (8 bytes each), little-endian as on the controller.
+struct Memory {
+    doubles: bool,
+    bytes: Vec<u8>,
+}
+
+impl Memory {
+    /// The table the bytes make, of the same element type.
+    fn to_lua(&self, lua: &Lua) -> mlua::Result<Table> {
+        if self.doubles {
+            let values = self.bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")));
+            lua.create_sequence_from(values)
+        } else {
+            let values = self.bytes.chunks_exact(4).map(|c| i32::from_le_bytes(c.try_into().expect("4 bytes")) as i64);
+            lua.create_sequence_from(values)
+        }
+    }
+}
+
+fn memory(lua: &Lua, name: &str, args: &MultiValue, i: usize) -> mlua::Result<Memory> {
+    let bad = |what: String| {
+        error_here(lua, format!("bad argument #{} to '{name}' (table of integers or numbers expected, {what})", i + 1))
+    };
+    let Some(Value::Table(table)) = args.get(i) else {
+        return Err(bad(format!("got {}", type_name(args.get(i).unwrap_or(&Value::Nil)))));
+    };
+    let values: Vec<Value> = table.sequence_values::<Value>().collect::<mlua::Result<_>>()?;
+    let doubles = values.iter().any(|v| matches!(v, Value::Number(_)));
+    let mut bytes = Vec::with_capacity(values.len() * if doubles { 8 } else { 4 });
+    for v in &values {
+        match (v, doubles) {
+            (Value::Integer(n), false) => {
+                let n = i32::try_from(*n).map_err(|_| bad(format!("{n} does not fit a C int")))?;
+                bytes.extend_from_slice(&n.to_le_bytes());
+            }
+            (Value::Integer(n), true) => bytes.extend_from_slice(&(*n as f64).to_le_bytes()),
+            (Value::Number(x), _) => bytes.extend_from_slice(&x.to_le_bytes()),
+            (other, _) => return Err(bad(format!("got a {} in it", type_name(other)))),
+        }
+    }
+    Ok(Memory { doubles, bytes })
+}
+
+/// `byte_num` of a memory function: 0x138F below 0, 0x138B past the end of a table (C
+/// would write or read outside the array).
+fn byte_count(n: i64, lengths: impl IntoIterator<Item = usize>) -> Result<usize, i64> {
+    let n = usize::try_from(n).map_err(|_| system_code(SystemError::HmplArgOutOfRange))?;
+    if lengths.into_iter().any(|len| n > len) {
+        return Err(system_code(SystemError::HmplIllegalMemOp));
+    }
+    Ok(n)
+}
+
+/// HMPL 17.3.1: a system variable from the snapshot or the shared data, an axis or group
+/// variable through its query.
+fn get_config_var(host: &Host, id: i64) -> Result<f64, String> {
+    let not_found = || format!("no such variable in luamotion (0x0001 {})", SystemError::HcvIdNotFound.name());
+    match hcv::lookup(id).ok_or_else(not_found)? {
+        Hcv::System(var) => Ok(match var {
+            SystemHcv::Fclk => host.endpoint.borrow_mut().snapshot().cycle as f64,
+            SystemHcv::TimeInMs => host.endpoint.borrow_mut().snapshot().time_in_ms as f64,
+            SystemHcv::LTest(i) => test_var(host, TestVar::L(i)),
+            SystemHcv::DTest(i) => test_var(host, TestVar::D(i)),
+        }),
+        Hcv::Member { id: member, var } => {
+            let values = [Neutral::Int(member)];
+            let call: QueryCall = call::from_values(var.get, &values).map_err(|e| format!("{e:?}"))?;
+            let answer = query::evaluate(&call, host.endpoint.borrow_mut().snapshot()).map_err(|e| e.to_string())?;
+            Ok(match answer.0 {
+                query::Value::Bool(b) => b as i64 as f64,
+                query::Value::Int(i) => i as f64,
+                query::Value::Double(d) => d,
+                query::Value::Bytes { .. } => return Err(not_found()),
+            })
+        }
+    }
+}
+
+fn test_var(host: &Host, var: TestVar) -> f64 {
+    match host.shared.test_var(var) {
+        Some(TestValue::Int(i)) => i as f64,
+        Some(TestValue::Double(d)) => d,
+        None => 0.0,
+    }
+}
+
+/// HMPL 17.3.2: a system variable in the shared data, an axis or group variable through
+/// its setter (a round trip, refused as the setter refuses).
+fn set_config_var(lua: &Lua, host: &Host, id: i64, value: f64) -> mlua::Result<i64> {
+    let Some(hcv) = hcv::lookup(id) else { return Ok(system_code(SystemError::HcvIdNotFound)) };
+    let integral = value.is_finite() && value.fract() == 0.0 && value.abs() < 9.0e15;
+    match hcv {
+        Hcv::System(SystemHcv::Fclk | SystemHcv::TimeInMs) => Ok(system_code(SystemError::HcvIsReadOnly)),
+        Hcv::System(SystemHcv::LTest(i)) => {
+            if !integral {
+                return Ok(system_code(SystemError::HcvValueOutOfRange));
+            }
+            host.shared.set_test_var(TestVar::L(i), value);
+            Ok(0)
+        }
+        Hcv::System(SystemHcv::DTest(i)) => {
+            host.shared.set_test_var(TestVar::D(i), value);
+            Ok(0)
+        }
+        Hcv::Member { id: member, var } => {
+            let Some(set) = var.set else { return Ok(system_code(SystemError::HcvIsReadOnly)) };
+            let values = [Neutral::Int(member), Neutral::Double(value)];
+            // An `int` setting takes only an integral value.
+            let Ok(call) = call::from_values::<CommandCall>(set, &values) else {
+                return Ok(system_code(SystemError::HcvValueOutOfRange));
+            };
+            Ok(round_trip(lua, host, &call)?.values[0] as i64)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// HMPL 3.13 and C's `atof` on what follows the number.
+    #[test]
+    fn string_to_double_reads_as_atof() {
+        for (text, want) in [
+            ("1.234", 1.234),
+            ("  -12.5e2xyz", -1250.0),
+            ("0.05", 0.05),
+            (".5", 0.5),
+            ("5.", 5.0),
+            ("1e", 1.0),
+            ("abc", 0.0),
+            ("", 0.0),
+            ("-", 0.0),
+            ("+3", 3.0),
+            ("1e400", f64::INFINITY),
+        ] {
+            assert_eq!(string_to_double(text.as_bytes()), want, "{text:?}");
+        }
+        assert_eq!(string_to_double(b"-Infinity"), f64::NEG_INFINITY);
+        assert!(string_to_double(b"nan").is_nan());
+    }
+
+    /// HMPL 3.10, 3.12: -1 to the end; a length past the end stops there.
+    #[test]
+    fn substrings() {
+        let s = b"hello world";
+        assert_eq!(substring(s, 6, 3), Ok(&b"wor"[..]));
+        assert_eq!(substring(s, 6, -1), Ok(&b"world"[..]));
+        assert_eq!(substring(s, 0, -1), Ok(&s[..]));
+        assert_eq!(substring(s, 6, 100), Ok(&b"world"[..]));
+        assert_eq!(substring(s, 11, -1), Ok(&b""[..]));
+        assert_eq!(substring(s, 12, 1), Err(0x138F));
+        assert_eq!(substring(s, -1, 1), Err(0x138F));
+        assert_eq!(substring(s, 0, -2), Err(0x138F));
+    }
+
+    /// HMPL 4.12-4.14: overflow gives the largest double.
+    #[test]
+    fn overflow_gives_the_largest_double() {
+        assert_eq!(ldexp(0.95, 4), 15.2);
+        assert_eq!(ldexp(1.0, 2000), f64::MAX);
+        assert_eq!(ldexp(-1.0, i64::MAX), -f64::MAX);
+        assert_eq!(ldexp(1.0, i64::MIN), 0.0);
+        assert_eq!(ldexp(f64::INFINITY, 1), f64::INFINITY);
+        assert_eq!(overflow_to_max(1000f64.exp(), true), f64::MAX);
+        assert_eq!(overflow_to_max((-10f64).powf(309.0), true), -f64::MAX);
+    }
+
+    #[test]
+    fn dates_are_utc_calendar_dates() {
+        assert_eq!(utc_date(0), "1970-01-01 00:00:00");
+        assert_eq!(utc_date(951_782_400), "2000-02-29 00:00:00");
+        assert_eq!(utc_date(1_798_761_599), "2026-12-31 23:59:59");
+    }
+}
