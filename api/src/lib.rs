@@ -11,6 +11,7 @@ pub mod docs;
 pub mod errors;
 mod functions;
 pub mod hcv;
+pub mod libm;
 pub mod registry;
 pub mod system_vars;
 

@@ -15,7 +15,7 @@ use std::time::Duration;
 
 use api::alarms::{Alarm, Event};
 use api::call::{ArgError, Expected, Got, Value};
-use api::{CommandCall, ErrorCode, Func, FunctionSpec, Local, QueryCall, SdoAbort, SystemError, ValueType};
+use api::{ArgType, CommandCall, ErrorCode, Func, FunctionSpec, Local, QueryCall, SdoAbort, SystemError, ValueType};
 use calls::{query, wire};
 use ipc::messages::Request as WireRequest;
 use ipc::shared::SharedData;
@@ -249,7 +249,28 @@ fn table_value(shared: &SharedData, spec: &FunctionSpec, local: Local, args: &[V
             }
             "0".into()
         }
-        _ => return Err(format!("ERROR {} runs in a script only (its file is the task's)", spec.name)),
+        // HMPL ch. 4: pure functions of numbers, the same as a script's.
+        _ if api::libm::is_math(local) => {
+            let numbers = spec
+                .args
+                .iter()
+                .map(|arg| match arg.ty {
+                    ArgType::Int => source.int().map(|i| i as f64),
+                    _ => source.double(),
+                })
+                .collect::<Result<Vec<f64>, _>>()
+                .map_err(bad)?;
+            let value = api::libm::evaluate(local, &numbers)
+                .ok_or_else(|| format!("ERROR {} takes {} argument(s)", spec.name, spec.args.len()))?;
+            match spec.returns.first() {
+                Some(ValueType::Int) => (value as i64).to_string(),
+                _ => value.to_string(),
+            }
+        }
+        _ if matches!(local, Local::SaveUserTable | Local::LoadUserTable) => {
+            return Err(format!("ERROR {} runs in a script only (the user table's file is a task's)", spec.name));
+        }
+        _ => return Err(format!("ERROR {} runs in a script only", spec.name)),
     };
     if args.len() > spec.args.len() {
         return Err(bad(ArgError::TooMany { takes: spec.args.len(), given: args.len() }));
