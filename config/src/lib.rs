@@ -76,6 +76,8 @@ pub struct MachineConfig {
     pub drl: DrlConfig,
     /// The Modbus TCP server of `luamotion serve` (DXMC manual 8.2).
     pub modbus: ModbusConfig,
+    /// Serial port 1, a pseudo-terminal (DXMC manual 8.2, 8.3).
+    pub serial: SerialConfig,
 }
 
 /// `[drl]`: where DRL projects live and how the one being run is supervised. The running
@@ -144,6 +146,30 @@ pub struct ModbusConfig {
 impl Default for ModbusConfig {
     fn default() -> Self {
         ModbusConfig { bind: "127.0.0.1".into(), port: 502, station: 1, max_connections: 32, idle_timeout_ms: 60_000 }
+    }
+}
+
+/// `[serial]`: serial port 1, a pseudo-terminal any serial program can open. Its Modbus
+/// station is `[modbus] station`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SerialConfig {
+    pub enabled: bool,
+    /// A symlink to the pseudo-terminal (`/dev/pts/N`), made at start (replacing one
+    /// there) and removed at the end; relative to the machine file.
+    pub link: Option<PathBuf>,
+    /// DXMC parameter 5-1, 0x00..0x1D: the character frame and Modbus ASCII, Modbus RTU
+    /// or FreePort. Default 0x16, 8,N,1 Modbus RTU.
+    pub protocol: u8,
+    /// DXMC parameter 5-4: 0 4800, 1 9600, 2 19200, 3 38400 (default), 4 57600, 5 115200 baud.
+    pub baud: u8,
+    /// What is sent comes back, as with 485+ and 485- shorted (FreePort only).
+    pub loopback: bool,
+}
+
+impl Default for SerialConfig {
+    fn default() -> Self {
+        SerialConfig { enabled: true, link: None, protocol: 0x16, baud: 3, loopback: false }
     }
 }
 
@@ -366,6 +392,7 @@ impl Default for MachineConfig {
             tasks: Vec::new(),
             drl: DrlConfig::default(),
             modbus: ModbusConfig::default(),
+            serial: SerialConfig::default(),
         }
     }
 }
@@ -417,7 +444,7 @@ impl MachineConfig {
                 task.program = base.join(&task.program);
             }
         }
-        for dir in [&mut config.drl.projects, &mut config.drl.export].into_iter().flatten() {
+        for dir in [&mut config.drl.projects, &mut config.drl.export, &mut config.serial.link].into_iter().flatten() {
             if dir.is_relative() {
                 *dir = base.join(&*dir);
             }
@@ -492,6 +519,12 @@ impl MachineConfig {
         }
         if !(1..=4096).contains(&self.modbus.max_connections) {
             return Err(invalid("modbus.max_connections", "must be 1..4096"));
+        }
+        if self.serial.protocol > 0x1D {
+            return Err(invalid("serial.protocol", "DXMC parameter 5-1 is 0x00..0x1D"));
+        }
+        if self.serial.baud > 5 {
+            return Err(invalid("serial.baud", "DXMC parameter 5-4 is 0..5 (4800, 9600, 19200, 38400, 57600, 115200)"));
         }
         if self.modbus.idle_timeout_ms == 0 {
             return Err(invalid("modbus.idle_timeout_ms", "must be at least 1 ms"));

@@ -8,6 +8,7 @@ mod clients;
 mod freeport;
 mod locals;
 mod plc;
+mod serial;
 mod system_vars;
 mod timer;
 
@@ -38,6 +39,8 @@ pub struct Host {
     pub endpoint: RefCell<TaskEndpoint>,
     pub shared: Region<SharedData>,
     pub task: u8,
+    /// The controller's namespace (serial port 1's socket is named after it).
+    pub ns: Namespace,
     /// Where `SaveUserTable` keeps its file.
     pub data_dir: PathBuf,
     events: EventSender,
@@ -53,6 +56,7 @@ impl Host {
             endpoint: RefCell::new(endpoint),
             shared,
             task,
+            ns: ns.clone(),
             data_dir,
             events,
             throttle: Cell::new(Throttle::default()),
