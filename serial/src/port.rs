@@ -72,7 +72,8 @@ impl Port {
     /// Opens the pseudo-terminal, its link and the scripts' socket of namespace `ns`, and
     /// starts the thread.
     pub fn open(ns: &str, settings: Settings) -> Result<Port, SerialError> {
-        let pty = Pty::open(LineSettings::new(settings.protocol.frame, settings.baud)).map_err(SerialError::Pty)?;
+        let pty = Pty::open(LineSettings { frame: settings.protocol.frame, baud: settings.baud })
+            .map_err(SerialError::Pty)?;
         let path = pty.path().to_path_buf();
         let name = link::socket_name(ns);
         let listener = link::socket_addr(ns)
@@ -224,7 +225,7 @@ impl Line {
 
     /// Bytes from the peer: the line's settings must match the port's, as a UART's must.
     fn received(&mut self, bytes: &[u8]) {
-        let expected = LineSettings::new(self.protocol.frame, self.baud);
+        let expected = LineSettings { frame: self.protocol.frame, baud: self.baud };
         if let Ok(line) = self.pty.line()
             && line != expected
         {
@@ -232,12 +233,8 @@ impl Line {
             if self.logged_setting != Some(line) {
                 self.logged_setting = Some(line);
                 tracing::warn!(
-                    "serial port 1: the peer's line is {} (speed code {}), the port's {} at {} baud (protocol {:#04x}): \
+                    "serial port 1: the peer's line is {line}, the port's {expected} (protocol {:#04x}): \
                      received bytes dropped",
-                    line.frame,
-                    line.speed,
-                    expected.frame,
-                    self.baud,
                     self.protocol.code
                 );
             }
@@ -319,7 +316,7 @@ impl Line {
                     Some(_) => return (Code::BadArgument, Vec::new()),
                 };
                 if protocol.frame != self.protocol.frame
-                    && let Err(e) = self.pty.configure(LineSettings::new(protocol.frame, self.baud))
+                    && let Err(e) = self.pty.configure(LineSettings { frame: protocol.frame, baud: self.baud })
                 {
                     tracing::warn!("serial port 1: cannot set the line to {}: {e}", protocol.frame);
                 }

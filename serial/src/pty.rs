@@ -20,28 +20,27 @@ fn check(ret: libc::c_int) -> io::Result<libc::c_int> {
     if ret < 0 { Err(io::Error::last_os_error()) } else { Ok(ret) }
 }
 
-/// termios' speed constant for a baud rate of parameter 5-4.
-fn speed(baud: u32) -> libc::speed_t {
-    match baud {
-        4800 => libc::B4800,
-        9600 => libc::B9600,
-        19200 => libc::B19200,
-        57600 => libc::B57600,
-        115_200 => libc::B115200,
-        _ => libc::B38400,
-    }
-}
+/// termios' speed constants of parameter 5-4's baud rates.
+const SPEEDS: [(u32, libc::speed_t); 6] = [
+    (4800, libc::B4800),
+    (9600, libc::B9600),
+    (19200, libc::B19200),
+    (38400, libc::B38400),
+    (57600, libc::B57600),
+    (115_200, libc::B115200),
+];
 
-/// The line settings a peer sees and sets: character frame and baud rate.
+/// The line settings a peer sees and sets: character frame and baud rate (0 for one
+/// parameter 5-4 does not have).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LineSettings {
     pub frame: CharFrame,
-    pub speed: libc::speed_t,
+    pub baud: u32,
 }
 
-impl LineSettings {
-    pub fn new(frame: CharFrame, baud: u32) -> Self {
-        LineSettings { frame, speed: speed(baud) }
+impl std::fmt::Display for LineSettings {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} at {} baud", self.frame, self.baud)
     }
 }
 
@@ -89,8 +88,9 @@ impl Pty {
         // SAFETY: on a termios read from the device.
         unsafe {
             libc::cfmakeraw(&mut t);
-            check(libc::cfsetispeed(&mut t, line.speed))?;
-            check(libc::cfsetospeed(&mut t, line.speed))?;
+            let speed = SPEEDS.iter().find(|(baud, _)| *baud == line.baud).map_or(libc::B38400, |(_, s)| *s);
+            check(libc::cfsetispeed(&mut t, speed))?;
+            check(libc::cfsetospeed(&mut t, speed))?;
         }
         t.c_cflag &= !(libc::CSIZE | libc::PARENB | libc::PARODD | libc::CSTOPB);
         t.c_cflag |= if line.frame.data_bits == 7 { libc::CS7 } else { libc::CS8 };
@@ -120,7 +120,8 @@ impl Pty {
         let stop_bits = if t.c_cflag & libc::CSTOPB != 0 { 2 } else { 1 };
         // SAFETY: on a termios read from the device.
         let speed = unsafe { libc::cfgetospeed(&t) };
-        Ok(LineSettings { frame: CharFrame { data_bits, parity, stop_bits }, speed })
+        let baud = SPEEDS.iter().find(|(_, s)| *s == speed).map_or(0, |(baud, _)| *baud);
+        Ok(LineSettings { frame: CharFrame { data_bits, parity, stop_bits }, baud })
     }
 
     pub fn master_fd(&self) -> libc::c_int {
