@@ -392,6 +392,21 @@ mod tests {
         assert_eq!(ask(&mut client, Op::Tx(vec![b'x'; 257])).0, Code::TooLong);
     }
 
+    /// Connections accepted together are all served (one task each, polled with the rest).
+    #[test]
+    fn several_scripts_share_the_port() {
+        let ns = ns("many");
+        let _port = port(&ns, 0x17, true);
+        let mut clients: Vec<Client> = (0..5).map(|_| Client::connect(&ns).unwrap()).collect();
+        assert_eq!(ask(&mut clients[4], Op::Init { start: None, end: End::Byte(b';'), protocol: None }).0, Code::Ok);
+        for (i, client) in clients.iter_mut().enumerate() {
+            assert_eq!(ask(client, Op::Tx(vec![b'0' + i as u8])).0, Code::Ok);
+        }
+        // One line: each frame is read once, by whichever task asks.
+        let got: Vec<_> = clients.iter_mut().rev().map(|c| ask(c, Op::Rx).1).collect();
+        assert_eq!(got, [b"0", b"1", b"2", b"3", b"4"]);
+    }
+
     #[test]
     fn the_peer_at_the_pseudo_terminal_is_framed_and_checked() {
         let ns = ns("peer");
