@@ -642,6 +642,22 @@ mod tests {
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
     }
 
+    /// `[serial]`: port 1 on by default as 8,N,1 Modbus RTU at 38400; its link is relative to
+    /// the machine file; parameters 5-1 and 5-4 outside their tables are refused by key.
+    #[test]
+    fn serial_port_settings() {
+        let default = MachineConfig::default().serial;
+        assert_eq!((default.enabled, default.protocol, default.baud, default.loopback), (true, 0x16, 3, false));
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("machine.toml");
+        std::fs::write(&path, "[serial]\nlink = \"ttyS1\"\nprotocol = 0x17\n").unwrap();
+        assert_eq!(MachineConfig::load(&path).unwrap().serial.link, Some(dir.path().join("ttyS1")));
+        for (text, key) in [("[serial]\nprotocol = 0x1E\n", "serial.protocol"), ("[serial]\nbaud = 6\n", "serial.baud")]
+        {
+            assert!(matches!(parse(text).validate(), Err(ConfigError::Invalid { key: k, .. }) if k == key), "{text}");
+        }
+    }
+
     /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.
     #[test]
     fn slaves_beside_the_axes() {
