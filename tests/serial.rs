@@ -284,3 +284,20 @@ fn modbus_rtu_on_the_pty_serves_the_tcp_registers() {
     // Still serving after all that.
     assert_eq!(values(&mbpoll_rtu(&link, &["-r", "32", "-c", "1"], &[])), ["[32]: 4321"]);
 }
+
+/// The Modbus ASCII codes of parameter 5-1 are served on the port too (here 0x15, 8,N,1).
+#[test]
+fn modbus_ascii_on_the_pty() {
+    let ns = unique_ns("serial-ascii");
+    let dir = tempfile::tempdir().unwrap();
+    let link = dir.path().join("ttyS1");
+    let machine = dir.path().join("machine.toml");
+    std::fs::write(&machine, "[serial]\nprotocol = 0x15\n").unwrap();
+    let server = common::serve::serve(
+        &ns,
+        dir.path(),
+        &["--config", machine.to_str().unwrap(), "--serial-link", link.to_str().unwrap()],
+    );
+    peer_done(peer(&link, "ascii"));
+    assert!(server.stderr().contains("protocol 0x15"), "{}", server.stderr());
+}

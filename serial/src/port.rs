@@ -1,7 +1,7 @@
 //! Serial port 1's thread ("serial1"): it owns the pseudo-terminal and the scripts' socket
 //! and waits on both with poll(2). In a FreePort protocol it cuts what the peer sends
-//! into frames for `FreePort.Serial.Rx` and sends `Tx`'s frames; in Modbus RTU it answers
-//! requests through the handler the controller gives it.
+//! into frames for `FreePort.Serial.Rx` and sends `Tx`'s frames; in Modbus RTU or ASCII it
+//! answers requests through the handler the controller gives it.
 
 use std::io::{self, Read, Write};
 use std::os::fd::AsRawFd;
@@ -12,6 +12,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use crate::ascii;
 use crate::format;
 use crate::framing::{Deframer, Framing, Received};
 use crate::link::{self, Code, MAX_DATA, Op};
@@ -142,6 +143,10 @@ struct Line {
     station: u8,
     deframer: Deframer,
     rtu: Assembler,
+    ascii: ascii::Assembler,
+    /// The line as the pseudo-terminal keeps the port's settings: a Linux pseudo-terminal
+    /// records the baud rate and stop bits but always says 8 bits without parity.
+    expected: LineSettings,
     /// When the last byte from the peer came (RTU's silence).
     last_byte: Instant,
     /// Bytes were dropped for a wrong line setting since the last `Rx`.
@@ -154,7 +159,7 @@ struct Line {
 
 impl Line {
     fn new(pty: Pty, settings: Settings, handler: Arc<Mutex<Option<Handler>>>) -> Self {
-        Line {
+        let mut line = Line {
             pty,
             protocol: settings.protocol,
             baud: settings.baud,
@@ -163,12 +168,21 @@ impl Line {
             // Until a script's Init: no delimiters, every read is a frame.
             deframer: Deframer::new(Framing::default(), MAX_DATA, MAX_FRAMES),
             rtu: Assembler::default(),
+            ascii: ascii::Assembler::default(),
+            expected: LineSettings { frame: settings.protocol.frame, baud: settings.baud },
             last_byte: Instant::now(),
             line_error: false,
             logged_setting: None,
             handler,
             unserved_logged: false,
-        }
+        };
+        line.expect_line();
+        line
+    }
+
+    /// Reads back what the pseudo-terminal made of the port's settings.
+    fn expect_line(&mut self) {
+        self.expected = self.pty.line().unwrap_or(LineSettings { frame: self.protocol.frame, baud: self.baud });
     }
 
     fn run(&mut self, listener: &UnixListener, stop: &AtomicBool) {
@@ -225,7 +239,7 @@ impl Line {
 
     /// Bytes from the peer: the line's settings must match the port's, as a UART's must.
     fn received(&mut self, bytes: &[u8]) {
-        let expected = LineSettings { frame: self.protocol.frame, baud: self.baud };
+        let expected = self.expected;
         if let Ok(line) = self.pty.line()
             && line != expected
         {
@@ -233,8 +247,12 @@ impl Line {
             if self.logged_setting != Some(line) {
                 self.logged_setting = Some(line);
                 tracing::warn!(
-                    "serial port 1: the peer's line is {line}, the port's {expected} (protocol {:#04x}): \
-                     received bytes dropped",
+                    "serial port 1: the peer's line is {} baud with {} stop bit(s), the port's {} at {} baud \
+                     (protocol {:#04x}): received bytes dropped",
+                    line.baud,
+                    line.frame.stop_bits,
+                    self.protocol.frame,
+                    self.baud,
                     self.protocol.code
                 );
             }
@@ -252,7 +270,11 @@ impl Line {
                     self.serve(request);
                 }
             }
-            Kind::ModbusAscii => self.unserved("Modbus ASCII is not implemented"),
+            Kind::ModbusAscii => {
+                for request in self.ascii.push(bytes) {
+                    self.serve(request);
+                }
+            }
         }
     }
 
@@ -263,7 +285,7 @@ impl Line {
         }
     }
 
-    /// A Modbus RTU request: answered when it is for this station, done without an
+    /// A Modbus request: answered when it is for this station, done without an
     /// answer when broadcast (writes only), ignored otherwise.
     fn serve(&mut self, request: rtu::Request) {
         let broadcast = request.address == 0;
@@ -275,7 +297,11 @@ impl Line {
             return self.unserved("`luamotion run` has no register console; `luamotion serve` has");
         };
         if !broadcast {
-            self.pty.write(&rtu::frame(self.station, &response));
+            let frame = match self.protocol.kind {
+                Kind::ModbusAscii => ascii::frame(self.station, &response),
+                _ => rtu::frame(self.station, &response),
+            };
+            self.pty.write(&frame);
         }
     }
 
@@ -321,8 +347,10 @@ impl Line {
                     tracing::warn!("serial port 1: cannot set the line to {}: {e}", protocol.frame);
                 }
                 self.protocol = protocol;
+                self.expect_line();
                 self.deframer = Deframer::new(Framing { start, end: end.bytes() }, MAX_DATA, MAX_FRAMES);
                 self.rtu = Assembler::default();
+                self.ascii = ascii::Assembler::default();
                 self.line_error = false;
                 (Code::Ok, format::word(start, end).to_le_bytes().to_vec())
             }
@@ -390,6 +418,19 @@ mod tests {
         assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"3.1415".to_vec()));
         assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()));
         assert_eq!(ask(&mut client, Op::Tx(vec![b'x'; 257])).0, Code::TooLong);
+    }
+
+    #[test]
+    fn modbus_ascii_on_a_7_bit_line() {
+        let ns = ns("ascii");
+        let port = port(&ns, 0x00, false); // 7,N,2 Modbus ASCII
+        port.serve_modbus(Box::new(|pdu| vec![pdu[0], 2, 0x12, 0x34]));
+        let mut peer = OpenOptions::new().read(true).write(true).open(&port.path).unwrap();
+        peer.write_all(b":010300010001FA\r\n").unwrap();
+        let expected = ascii::frame(1, &[0x03, 2, 0x12, 0x34]);
+        let mut answer = vec![0u8; expected.len()];
+        peer.read_exact(&mut answer).unwrap();
+        assert_eq!(answer, expected);
     }
 
     /// Connections accepted together are all served (one task each, polled with the rest).

@@ -5,6 +5,7 @@ when the controller's side does not behave.
     python serial_peer.py LINK frames     FreePort frames, bad input, a wrong line
     python serial_peer.py LINK stop       waits for READY, 1 s, then sends "stop"
     python serial_peer.py LINK rtu        Modbus RTU frames with bad CRCs and garbage
+    python serial_peer.py LINK ascii      Modbus ASCII frames, one with a bad LRC
 """
 import os
 import sys
@@ -78,5 +79,19 @@ elif scenario == "rtu":
     got = port.read(1)
     if got:
         sys.exit(f"a frame for station 7 was answered: {got!r}")
+elif scenario == "ascii":
+    port.timeout = 0.5
+
+    def ascii_frame(data):
+        lrc = (-sum(data)) & 0xFF
+        return b":" + (data + bytes([lrc])).hex().upper().encode() + b"\r\n"
+
+    read = bytes([1, 0x03, 0x6B, 0x03, 0x00, 0x01])  # the run speed, 100 %
+    port.write(ascii_frame(read)[:-5] + b"00\r\n")  # a wrong LRC
+    got = port.read(1)
+    if got:
+        sys.exit(f"a frame with a wrong LRC was answered: {got!r}")
+    port.write(b"noise" + ascii_frame(read))
+    expect(ascii_frame(bytes([1, 0x03, 0x02, 0x00, 100])))
 else:
     sys.exit(f"no scenario {scenario}")
