@@ -2019,6 +2019,39 @@ function START_ASCII_AGENT(parser) end
 ---@return integer
 function ASCII_ServerBroadcast(message, length) end
 
+FreePort.Serial = {}
+--- Switches port 1 to FreePort with these delimiters and `Protocol` (a FreePort code of
+--- parameter 5-1: 0x09..0x0E, 0x10, 0x12, 0x14, 0x17, 0x1A, 0x1D; omitted: the line's
+--- frame as it is) and clears the receive buffer: `code, P309`, the FreePort format
+--- word of parameter 5-5 (DCBAUZYX; `Init(1, ":", ";")` gives 0x00113B3A). 0 or 1, 9, 10.
+---DXMC 8.3 FreePort (script process)
+---@param port integer
+---@param SrtByte any
+---@param EndByte any
+---@param Protocol any
+---@return integer
+---@return integer
+function FreePort.Serial.Init(port, SrtByte, EndByte, Protocol) end
+
+--- Sends `Msg` as one frame (converted as `FreePort.Eth.Tx` does): `code, Msg`. 0 or 1,
+--- 6 (more than 256 bytes), 9, 10, 13.
+---DXMC 8.3 FreePort (script process)
+---@param port integer
+---@param Msg any
+---@return integer
+---@return any
+function FreePort.Serial.Tx(port, Msg) end
+
+--- The next received frame without its start and end bytes, never waiting:
+--- `code, data, count`; `0, "", 0` when none is complete. 6 for a frame longer than 256
+--- bytes (dropped), 9, 10, 11, 12, 13.
+---DXMC 8.3 FreePort (script process)
+---@param port integer
+---@return integer
+---@return string
+---@return integer
+function FreePort.Serial.Rx(port) end
+
 --- Connects to an ASCII server (`ip` an IP address, `port` a string): `rc, socket_id`.
 --- 0x17D5 failed (refused, bad address, 8 sockets open), 0x17D4 timeout.
 ---HMPL 22.2.3 (script process)

@@ -65,6 +65,8 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let plc_tasks =
         config.tasks.iter().filter(|t| t.id != drl_task && t.id != agent_task).map(|t| (t.id, t.autorun)).collect();
 
+    // Before the tasks start, so their first FreePort.Serial call finds it.
+    let serial = args.controller.serial_port(&config);
     let (console, inbox) = rt_core::console::channel();
     let options = rt_core::RunOptions {
         ns: ns.clone(),
@@ -95,11 +97,17 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
             return Err(e.into());
         }
     };
+    if let Some(port) = &serial {
+        // Modbus RTU on the serial port: the same register logic as Modbus TCP.
+        port.serve_modbus(Box::new(server.pdu_handler()));
+    }
     println!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
     println!("Native ASCII on {}; task {agent_task} carries out its commands", ascii.address);
-    // The controller ends on Ctrl-C or SIGTERM; the servers go with it.
+    // The controller ends on Ctrl-C or SIGTERM; the servers go with it, the serial port
+    // before the Modbus server (its Modbus handler holds the console's channel).
     let report = controller.join();
     drop(ascii);
+    drop(serial);
     drop(server);
     let report = report?;
     Ok(report.interrupted.map_or(ExitCode::SUCCESS, crate::exit_code_of_signal))

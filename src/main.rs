@@ -143,6 +143,10 @@ pub struct ControllerArgs {
     /// file's, 4000]; 0 asks the OS for a free one, which the agent prints.
     #[arg(long)]
     ascii_user_port: Option<u16>,
+    /// A symlink to serial port 1's pseudo-terminal, made at start and removed at the end
+    /// [default: the machine file's `[serial] link`, else none].
+    #[arg(long)]
+    serial_link: Option<PathBuf>,
 }
 
 impl ControllerArgs {
@@ -169,6 +173,42 @@ impl ControllerArgs {
             executable: std::env::current_exe().context("locate the luamotion binary")?,
             subcommand: vec!["script".into(), "--ascii-user".into(), format!("{bind}:{port}")],
         })
+    }
+
+    /// Opens serial port 1 unless the machine file disables it, and says where it is. A
+    /// port that cannot be opened is a warning: the controller runs without it (scripts'
+    /// `FreePort.Serial` calls return 10).
+    fn serial_port(&self, config: &MachineConfig) -> Option<serial::Port> {
+        let s = &config.serial;
+        if !s.enabled {
+            return None;
+        }
+        let protocol = serial::protocol::Protocol::from_code(s.protocol.into())?;
+        let settings = serial::Settings {
+            protocol,
+            baud: serial::protocol::BAUDS[s.baud as usize],
+            loopback: s.loopback,
+            station: config.modbus.station,
+            link: self.serial_link.clone().or_else(|| s.link.clone()),
+        };
+        match serial::Port::open(&self.ns, settings) {
+            Ok(port) => {
+                let link = port.link.as_ref().map(|l| format!(" (link {})", l.display())).unwrap_or_default();
+                eprintln!(
+                    "serial port 1: {}{link}, protocol {:#04x} ({} {:?}), {} baud",
+                    port.path.display(),
+                    protocol.code,
+                    protocol.frame,
+                    protocol.kind,
+                    serial::protocol::BAUDS[s.baud as usize]
+                );
+                Some(port)
+            }
+            Err(e) => {
+                tracing::warn!("serial port 1 is not available: {e}");
+                None
+            }
+        }
     }
 }
 
@@ -275,9 +315,13 @@ fn run(controller: &ControllerArgs, trace: Option<PathBuf>, scripts: Vec<PathBuf
         return Ok(ExitCode::from(2));
     }
     let data_dir = controller.data_dir();
+    // Before the tasks start, so their first FreePort.Serial call finds it.
+    let serial = controller.serial_port(&config);
     let options =
         rt_core::RunOptions { ns, launcher, exit_when_tasks_end: true, data_dir, trace, stop: None, console: None };
-    let report = rt_core::run(config, options)?;
+    let report = rt_core::run(config, options);
+    drop(serial);
+    let report = report?;
 
     let mut failed = false;
     for task in &report.tasks {

@@ -741,6 +741,25 @@ declare_functions! {
     /// to every client of the User ASCII agent. 0; 0x138D for more than 128 bytes; 0x1452
     /// when no agent runs.
     ["HMPL 22.2.2"] fn ASCII_ServerBroadcast(message: Str, length: Int) -> Int;
+    // DXMC 8.3 FreePort on serial port 1, the controller's pseudo-terminal (`[serial]` in
+    // the machine file): start byte (none, 0..0xFF or a 1-char string), end (none, a byte,
+    // a 1-char string or CR_LF), at most 256 data bytes a frame. Codes: those of
+    // `FreePort.Eth` (0 ok, 1 bad argument, 6 frame too long) and 9 no such port (only
+    // port 1), 10 no serial port (disabled, or the controller is gone), 11 line error
+    // (the peer's frame or baud rate is not the port's: bytes dropped), 12 overrun (frames
+    // dropped, the receive queue of 64 was full), 13 the port speaks Modbus: Init first.
+    /// Switches port 1 to FreePort with these delimiters and `Protocol` (a FreePort code of
+    /// parameter 5-1: 0x09..0x0E, 0x10, 0x12, 0x14, 0x17, 0x1A, 0x1D; omitted: the line's
+    /// frame as it is) and clears the receive buffer: `code, P309`, the FreePort format
+    /// word of parameter 5-5 (DCBAUZYX; `Init(1, ":", ";")` gives 0x00113B3A). 0 or 1, 9, 10.
+    ["DXMC 8.3 FreePort" as "FreePort.Serial.Init"] fn SerialInit(port: Int, SrtByte: Any, EndByte: Any, Protocol: Any) -> (Int, Int);
+    /// Sends `Msg` as one frame (converted as `FreePort.Eth.Tx` does): `code, Msg`. 0 or 1,
+    /// 6 (more than 256 bytes), 9, 10, 13.
+    ["DXMC 8.3 FreePort" as "FreePort.Serial.Tx"] fn SerialTx(port: Int, Msg: Any) -> (Int, Any);
+    /// The next received frame without its start and end bytes, never waiting:
+    /// `code, data, count`; `0, "", 0` when none is complete. 6 for a frame longer than 256
+    /// bytes (dropped), 9, 10, 11, 12, 13.
+    ["DXMC 8.3 FreePort" as "FreePort.Serial.Rx"] fn SerialRx(port: Int) -> (Int, Str, Int);
     // HMPL 22.2, 22.3: the task as a TCP client of an ASCII or a Modbus TCP server. Every
     // call returns 0 or a system error code; out-parameters are further returns. A call
     // waits at most 3 s (connect) or 2 s (the others) (docs/decisions.md).

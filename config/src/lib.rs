@@ -80,6 +80,8 @@ pub struct MachineConfig {
     pub ascii: AsciiConfig,
     /// What `GetModelNum` and `GetSerialNum` report (HMPL 2.14, 2.15).
     pub identity: IdentityConfig,
+    /// Serial port 1, a pseudo-terminal (DXMC manual 8.2, 8.3).
+    pub serial: SerialConfig,
 }
 
 /// `[identity]`: the controller's product model and serial number (HMPL 2.14, 2.15).
@@ -200,6 +202,30 @@ impl Default for AsciiConfig {
             max_connections: 32,
             idle_timeout_ms: 60_000,
         }
+    }
+}
+
+/// `[serial]`: serial port 1, a pseudo-terminal any serial program can open. Its Modbus
+/// station is `[modbus] station`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SerialConfig {
+    pub enabled: bool,
+    /// A symlink to the pseudo-terminal (`/dev/pts/N`), made at start (replacing one
+    /// there) and removed at the end; relative to the machine file.
+    pub link: Option<PathBuf>,
+    /// DXMC parameter 5-1, 0x00..0x1D: the character frame and Modbus ASCII, Modbus RTU
+    /// or FreePort. Default 0x16, 8,N,1 Modbus RTU.
+    pub protocol: u8,
+    /// DXMC parameter 5-4: 0 4800, 1 9600, 2 19200, 3 38400 (default), 4 57600, 5 115200 baud.
+    pub baud: u8,
+    /// What is sent comes back, as with 485+ and 485- shorted (FreePort only).
+    pub loopback: bool,
+}
+
+impl Default for SerialConfig {
+    fn default() -> Self {
+        SerialConfig { enabled: true, link: None, protocol: 0x16, baud: 3, loopback: false }
     }
 }
 
@@ -424,6 +450,7 @@ impl Default for MachineConfig {
             modbus: ModbusConfig::default(),
             ascii: AsciiConfig::default(),
             identity: IdentityConfig::default(),
+            serial: SerialConfig::default(),
         }
     }
 }
@@ -475,7 +502,7 @@ impl MachineConfig {
                 task.program = base.join(&task.program);
             }
         }
-        for dir in [&mut config.drl.projects, &mut config.drl.export].into_iter().flatten() {
+        for dir in [&mut config.drl.projects, &mut config.drl.export, &mut config.serial.link].into_iter().flatten() {
             if dir.is_relative() {
                 *dir = base.join(&*dir);
             }
@@ -578,6 +605,12 @@ impl MachineConfig {
         }
         if !(1..=4096).contains(&self.modbus.max_connections) {
             return Err(invalid("modbus.max_connections", "must be 1..4096"));
+        }
+        if self.serial.protocol > 0x1D {
+            return Err(invalid("serial.protocol", "DXMC parameter 5-1 is 0x00..0x1D"));
+        }
+        if self.serial.baud > 5 {
+            return Err(invalid("serial.baud", "DXMC parameter 5-4 is 0..5 (4800, 9600, 19200, 38400, 57600, 115200)"));
         }
         if self.modbus.idle_timeout_ms == 0 {
             return Err(invalid("modbus.idle_timeout_ms", "must be at least 1 ms"));
@@ -737,6 +770,22 @@ mod tests {
         let long = "m".repeat(65);
         let config = parse(&format!("[[axes]]\nname = \"x\"\n[identity]\nmodel = \"{long}\"\n"));
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "identity.model"));
+    }
+
+    /// `[serial]`: port 1 on by default as 8,N,1 Modbus RTU at 38400; its link is relative to
+    /// the machine file; parameters 5-1 and 5-4 outside their tables are refused by key.
+    #[test]
+    fn serial_port_settings() {
+        let default = MachineConfig::default().serial;
+        assert_eq!((default.enabled, default.protocol, default.baud, default.loopback), (true, 0x16, 3, false));
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("machine.toml");
+        std::fs::write(&path, "[serial]\nlink = \"ttyS1\"\nprotocol = 0x17\n").unwrap();
+        assert_eq!(MachineConfig::load(&path).unwrap().serial.link, Some(dir.path().join("ttyS1")));
+        for (text, key) in [("[serial]\nprotocol = 0x1E\n", "serial.protocol"), ("[serial]\nbaud = 6\n", "serial.baud")]
+        {
+            assert!(matches!(parse(text).validate(), Err(ConfigError::Invalid { key: k, .. }) if k == key), "{text}");
+        }
     }
 
     /// `[[slaves]]`: none by default; a kind the bus cannot hold is refused by name.

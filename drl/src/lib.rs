@@ -37,6 +37,8 @@ pub enum ServerError {
 /// A running Modbus server and its console thread; both end when it is dropped.
 pub struct Server {
     pub address: SocketAddr,
+    /// The console's requests, for Modbus on other lines (serial port 1); dropped first.
+    requests: Option<mpsc::SyncSender<console::Request>>,
     runtime: Option<tokio::runtime::Runtime>,
     console: Option<JoinHandle<()>>,
 }
@@ -48,15 +50,24 @@ impl Server {
         let (requests, inbox) = mpsc::sync_channel(QUEUE);
         let console = listener::start_owner("drl-console", move |ready| console::run(setup, inbox, ready))?;
         let (runtime, listener, address) = listener::listen("modbus", bind, port)?;
-        runtime.spawn(modbus::serve(listener, requests, limits));
+        runtime.spawn(modbus::serve(listener, requests.clone(), limits));
         tracing::info!(%address, "Modbus TCP server up");
-        Ok(Server { address, runtime: Some(runtime), console: Some(console) })
+        Ok(Server { address, requests: Some(requests), runtime: Some(runtime), console: Some(console) })
+    }
+
+    /// Answers a Modbus request PDU with the TCP server's register logic, waiting for the
+    /// console. Whoever holds it must be gone before the server is dropped (the console
+    /// ends when the last of these goes).
+    pub fn pdu_handler(&self) -> impl FnMut(&[u8]) -> Vec<u8> + Send + 'static {
+        let requests = self.requests.clone().expect("taken only on drop");
+        move |pdu| modbus::answer_pdu(&requests, pdu)
     }
 }
 
 impl Drop for Server {
     fn drop(&mut self) {
         // The runtime's end drops the last request sender: the console saves DH and ends.
+        self.requests = None;
         if let Some(runtime) = self.runtime.take() {
             runtime.shutdown_timeout(std::time::Duration::from_millis(200));
         }

@@ -1,5 +1,5 @@
-//! The Modbus TCP server (DXMC manual 8.2: FC 03, 06 and 16, at most 10 words per request)
-//! and the client `luamotion drl` uses. Every request goes to the console thread, which
+//! The Modbus TCP server (DXMC manual 8.2: FC 03, 06 and 16, at most 10 words per request),
+//! its PDUs answered for Modbus RTU too (`answer_pdu`), and the client `luamotion drl` uses. Every request goes to the console thread, which
 //! answers them one at a time.
 //!
 //! The server reads the frames itself (MBAP header, then the PDU) rather than through
@@ -19,7 +19,7 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::oneshot;
 use tokio_modbus::prelude::*;
 
-use crate::console::{Op, Request as ConsoleRequest};
+use crate::console::{Answer, Op, Request as ConsoleRequest};
 use crate::registers::Refusal;
 
 impl From<Refusal> for ExceptionCode {
@@ -141,6 +141,15 @@ enum Answered {
 }
 
 async fn answer(console: &SyncSender<ConsoleRequest>, op: Op) -> Result<Answered, ExceptionCode> {
+    let (reply, echo) = submit(console, op)?;
+    answered(reply.await, echo)
+}
+
+/// How a write is echoed: its address and its value (FC 06) or count (FC 16).
+type Echo = Option<(u16, u16)>;
+
+/// Queues `op` with the console.
+fn submit(console: &SyncSender<ConsoleRequest>, op: Op) -> Result<(oneshot::Receiver<Answer>, Echo), ExceptionCode> {
     let (tx, rx) = oneshot::channel();
     let echo = match &op {
         Op::Read { .. } => None,
@@ -149,16 +158,40 @@ async fn answer(console: &SyncSender<ConsoleRequest>, op: Op) -> Result<Answered
     };
     // A full queue means the console thread is far behind: the client is told the device is busy.
     console.try_send((op, tx)).map_err(|_| ExceptionCode::ServerDeviceBusy)?;
-    let words = rx.await.map_err(|_| ExceptionCode::ServerDeviceFailure)?.map_err(ExceptionCode::from)?;
+    Ok((rx, echo))
+}
+
+fn answered(answer: Result<Answer, oneshot::error::RecvError>, echo: Echo) -> Result<Answered, ExceptionCode> {
+    let words = answer.map_err(|_| ExceptionCode::ServerDeviceFailure)?.map_err(ExceptionCode::from)?;
     Ok(match echo {
         None => Answered::Read(words),
         Some((address, value_or_count)) => Answered::Written { address, value_or_count },
     })
 }
 
+/// A request PDU answered by the console, waiting for it (Modbus RTU on serial port 1:
+/// the same register logic and exceptions as Modbus TCP, outside an async runtime).
+pub fn answer_pdu(console: &SyncSender<ConsoleRequest>, pdu: &[u8]) -> Vec<u8> {
+    let Some(&function) = pdu.first() else { return Vec::new() };
+    let response =
+        decode(pdu).and_then(|op| submit(console, op)).and_then(|(reply, echo)| answered(reply.blocking_recv(), echo));
+    response_pdu(function, response)
+}
+
 /// The response frame: the request's header with the new length, then the PDU. An
 /// exception carries the function code with bit 7 set (a code that has it already keeps it).
 fn encode(header: &[u8], function: u8, response: Result<Answered, ExceptionCode>) -> Vec<u8> {
+    let pdu = response_pdu(function, response);
+    let mut frame = Vec::with_capacity(HEADER + pdu.len());
+    frame.extend(&header[..4]);
+    frame.extend((pdu.len() as u16 + 1).to_be_bytes());
+    frame.push(header[6]);
+    frame.extend(pdu);
+    frame
+}
+
+/// The response PDU: the words read, the write echoed, or the exception.
+fn response_pdu(function: u8, response: Result<Answered, ExceptionCode>) -> Vec<u8> {
     let mut pdu = Vec::with_capacity(MAX_PDU);
     match response {
         Ok(Answered::Read(words)) => {
@@ -172,12 +205,7 @@ fn encode(header: &[u8], function: u8, response: Result<Answered, ExceptionCode>
         }
         Err(exception) => pdu.extend([function | 0x80, u8::from(exception)]),
     }
-    let mut frame = Vec::with_capacity(HEADER + pdu.len());
-    frame.extend(&header[..4]);
-    frame.extend((pdu.len() as u16 + 1).to_be_bytes());
-    frame.push(header[6]);
-    frame.extend(pdu);
-    frame
+    pdu
 }
 
 /// A Modbus TCP client of the same registers (`luamotion drl`).

@@ -4,7 +4,7 @@
 //! listener's port can be bound again at once (std sets SO_REUSEADDR on Unix).
 
 use std::cell::RefCell;
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::BTreeMap;
 use std::io::{ErrorKind, Read, Write};
 use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream};
 use std::rc::Rc;
@@ -12,6 +12,7 @@ use std::time::Duration;
 
 use api::Local;
 use mlua::{Function, Lua, MultiValue, Value};
+use serial::framing::{Deframer, Framing, Received};
 
 use super::{Host, int_arg, lua_string_arg};
 
@@ -47,50 +48,19 @@ const READ_PER_CALL: usize = 64 * 1024;
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
 const SEND_TIMEOUT: Duration = Duration::from_secs(1);
 
-/// How a session delimits its frames.
-#[derive(Clone, Debug, Default)]
-struct Framing {
-    start: Option<u8>,
-    end: Vec<u8>,
-}
-
-impl Framing {
-    fn frame(&self, data: &[u8]) -> Vec<u8> {
-        let mut out = Vec::with_capacity(data.len() + 3);
-        out.extend(self.start);
-        out.extend_from_slice(data);
-        out.extend_from_slice(&self.end);
-        out
-    }
-}
-
-/// One received frame, or one that was too long and was dropped.
-type Frame = Result<Vec<u8>, ()>;
-
 struct Session {
     listener: Option<TcpListener>,
     peer: Option<TcpStream>,
-    framing: Framing,
-    /// Bytes received and not yet a frame.
-    pending: Vec<u8>,
-    /// Bytes of the frame under way beyond `MAX_DATA` are dropped until its end.
-    overflowing: bool,
+    received: Deframer,
     /// The peer has sent its last byte (end of stream).
     peer_done: bool,
-    frames: VecDeque<Frame>,
 }
 
 impl Session {
     fn new(listener: Option<TcpListener>, peer: Option<TcpStream>, framing: Framing) -> Self {
-        Session {
-            listener,
-            peer,
-            framing,
-            pending: Vec::new(),
-            overflowing: false,
-            peer_done: false,
-            frames: VecDeque::new(),
-        }
+        // The frames a task has not read are not bounded here: a peer sends at most
+        // `READ_PER_CALL` bytes a call.
+        Session { listener, peer, received: Deframer::new(framing, MAX_DATA, usize::MAX), peer_done: false }
     }
 
     /// Takes a waiting peer (server) and reads it.
@@ -140,51 +110,11 @@ impl Session {
                 break false;
             }
         };
-        self.receive(&arrived);
+        self.received.receive(&arrived);
         if gone {
             self.peer_done = true;
-            self.pending.clear();
-            self.overflowing = false;
+            self.received.drop_unfinished();
         }
-    }
-
-    fn receive(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.pending.push(b);
-            let end = &self.framing.end;
-            if !end.is_empty() && self.pending.ends_with(end) {
-                self.pending.truncate(self.pending.len() - end.len());
-                let data = self.take_data();
-                self.frames.push_back(if self.overflowing { Err(()) } else { Ok(data) });
-                self.overflowing = false;
-            } else if self.pending.len() > MAX_DATA + 1 + end.len() {
-                // Keep the tail an end sequence may finish; count the rest as lost.
-                self.overflowing = true;
-                let keep = end.len().saturating_sub(1);
-                self.pending.drain(..self.pending.len() - keep);
-            }
-        }
-        if self.framing.end.is_empty() && !self.pending.is_empty() {
-            // No end bytes: whatever arrived is the frame (DXMC 8.3 with EByte nil).
-            let data = self.take_data();
-            if !data.is_empty() {
-                self.frames.push_back(Ok(data));
-            }
-        }
-    }
-
-    /// The pending bytes without what precedes and includes the start byte.
-    fn take_data(&mut self) -> Vec<u8> {
-        let mut data = std::mem::take(&mut self.pending);
-        if let Some(start) = self.framing.start
-            && let Some(at) = data.iter().position(|&b| b == start)
-        {
-            data.drain(..=at);
-        }
-        if data.len() > MAX_DATA {
-            self.overflowing = true;
-        }
-        data
     }
 
     /// Rx: the oldest frame. A peer that has stopped sending stays until Rx finds none of
@@ -192,9 +122,10 @@ impl Session {
     /// connection, as `nc -N` leaves it); a peer that has gone altogether fails those sends.
     fn next_frame(&mut self) -> (Code, Vec<u8>) {
         self.poll();
-        match self.frames.pop_front() {
-            Some(Ok(data)) => (Code::Ok, data),
-            Some(Err(())) => (Code::TooLong, Vec::new()),
+        match self.received.pop() {
+            Some(Received::Frame(data)) => (Code::Ok, data),
+            // No overrun: the queue is unbounded.
+            Some(Received::TooLong | Received::Overrun(_)) => (Code::TooLong, Vec::new()),
             None if self.peer_done => {
                 self.peer = None;
                 self.peer_done = false;
@@ -208,7 +139,7 @@ impl Session {
     fn send(&mut self, data: &[u8]) -> Code {
         self.poll();
         let Some(peer) = &mut self.peer else { return Code::NotConnected };
-        let packet = self.framing.frame(data);
+        let packet = self.received.framing().frame(data);
         let sent = peer
             .set_nonblocking(false)
             .and_then(|()| peer.set_write_timeout(Some(SEND_TIMEOUT)))
@@ -235,7 +166,7 @@ fn with_session<T>(id: i64, f: impl FnOnce(&mut Session) -> T) -> Result<T, Code
 
 /// A start byte (at most one: nil, 0..0xFF or a 1-character string) or end bytes (nil, a
 /// byte, `CR_LF` or a string of at most 2).
-fn delimiter(value: Option<&Value>, most: usize) -> Option<Vec<u8>> {
+pub(super) fn delimiter(value: Option<&Value>, most: usize) -> Option<Vec<u8>> {
     match value.unwrap_or(&Value::Nil) {
         Value::Nil => Some(Vec::new()),
         Value::Integer(n) => u8::try_from(*n).ok().map(|b| vec![b]),
@@ -275,7 +206,7 @@ fn open(id: i64, open: impl FnOnce() -> Result<Session, Code>) -> Code {
 }
 
 /// A message as the bytes of its frame, `None` for what has none.
-fn message_bytes(msg: &Value) -> Option<Vec<u8>> {
+pub(super) fn message_bytes(msg: &Value) -> Option<Vec<u8>> {
     match msg {
         Value::String(s) => Some(s.as_bytes().to_vec()),
         Value::Integer(n) => Some(n.to_string().into_bytes()),
@@ -363,9 +294,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 let id = int_arg(lua, spec, &args, 0)?;
                 with_session(id, |s| {
                     s.poll();
-                    s.frames.clear();
-                    s.pending.clear();
-                    s.overflowing = false;
+                    s.received.clear();
                     Code::Ok
                 })
                 .unwrap_or_else(|c| c)

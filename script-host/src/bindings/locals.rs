@@ -139,6 +139,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         | Local::EthBuffClear
         | Local::EthGetSessions
         | Local::EthConnectCheck => super::freeport::local(lua, host, local),
+        Local::SerialInit | Local::SerialTx | Local::SerialRx => super::serial::local(lua, host, local),
         Local::ASCII_ClientConnect
         | Local::ASCII_ClientRecv
         | Local::ASCII_ClientSend

@@ -10,6 +10,7 @@ mod freeport;
 mod library;
 mod locals;
 mod plc;
+mod serial;
 mod system_vars;
 mod timer;
 
@@ -41,6 +42,8 @@ pub struct Host {
     pub endpoint: RefCell<TaskEndpoint>,
     pub shared: Region<SharedData>,
     pub task: u8,
+    /// The controller's namespace (serial port 1's socket is named after it).
+    pub ns: Namespace,
     /// Where `SaveUserTable` keeps its file.
     pub data_dir: PathBuf,
     /// Where `START_ASCII_AGENT` listens (HMPL 22.1, `[ascii]` of the machine file).
@@ -58,6 +61,7 @@ impl Host {
             endpoint: RefCell::new(endpoint),
             shared,
             task,
+            ns: ns.clone(),
             data_dir,
             user_ascii: agent::DEFAULT_ADDRESS.to_string(),
             events,
