@@ -119,6 +119,9 @@ enum Cmd {
         /// StartTaskFunc: the function to run after the program's top level.
         #[arg(long)]
         entry: Option<String>,
+        /// Where FreePort.Eth.OpenAsServer listens (the machine file's `[freeport] bind`).
+        #[arg(long, default_value = "127.0.0.1")]
+        freeport_bind: std::net::IpAddr,
         /// Where START_ASCII_AGENT listens, HOST:PORT.
         #[arg(long, default_value = script_host::bindings::DEFAULT_USER_ASCII)]
         ascii_user: String,
@@ -166,12 +169,19 @@ impl ControllerArgs {
     }
 
     /// How the controller starts script processes: this binary's `script`, told where a
-    /// User ASCII agent listens (`bind`: the machine file's `[ascii] bind` or `--bind`).
+    /// User ASCII agent listens (`bind`: the machine file's `[ascii] bind` or `--bind`)
+    /// and where FreePort servers do (`[freeport] bind`).
     fn launcher(&self, config: &MachineConfig, bind: &str) -> Result<ScriptLauncher> {
         let port = self.ascii_user_port.unwrap_or(config.ascii.user_port);
         Ok(ScriptLauncher {
             executable: std::env::current_exe().context("locate the luamotion binary")?,
-            subcommand: vec!["script".into(), "--ascii-user".into(), format!("{bind}:{port}")],
+            subcommand: vec![
+                "script".into(),
+                "--ascii-user".into(),
+                format!("{bind}:{port}"),
+                "--freeport-bind".into(),
+                config.freeport.bind.to_string(),
+            ],
         })
     }
 
@@ -245,7 +255,17 @@ fn main() -> ExitCode {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Cmd::Script { ns, task, controller_pid, memory_limit_mib, data_dir, entry, ascii_user, program } => {
+        Cmd::Script {
+            ns,
+            task,
+            controller_pid,
+            memory_limit_mib,
+            data_dir,
+            entry,
+            freeport_bind,
+            ascii_user,
+            program,
+        } => {
             let args = script_host::ScriptArgs {
                 ns: match Namespace::new(&ns) {
                     Ok(ns) => ns,
@@ -261,6 +281,7 @@ fn main() -> ExitCode {
                 entry,
                 program,
                 user_ascii: ascii_user,
+                freeport_bind,
             };
             Ok(script(args))
         }

@@ -355,3 +355,42 @@ fn two_hundred_clients_at_once_are_closed_and_the_peer_is_served() {
     let out = shut_down(child);
     assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
 }
+
+/// `[freeport] bind` sets where programs' servers listen: on 127.0.0.2 the server answers
+/// there and not on 127.0.0.1.
+#[test]
+fn the_machine_file_sets_the_servers_address() {
+    let ns = unique_ns("fp-bind");
+    let dir = tempfile::tempdir().unwrap();
+    let port = free_port();
+    program(
+        dir.path(),
+        "serve.lua",
+        &format!(
+            "Print(\"open %d\", FreePort.Eth.OpenAsServer(1, {port}, nil, \";\"))\n\
+             while true do\n  local rc, data, n = FreePort.Eth.Rx(1)\n  if n > 0 then FreePort.Eth.Tx(1, data) end\n  Sleep(1)\nend\n"
+        ),
+    );
+    let machine = dir.path().join("machine.toml");
+    std::fs::write(
+        &machine,
+        "[freeport]\nbind = \"127.0.0.2\"\n[[axes]]\n[[tasks]]\nid = 0\nprogram = \"serve.lua\"\nautorun = true\n",
+    )
+    .unwrap();
+    let child = start_run(&ns, &["--config", machine.to_str().unwrap()]);
+    let mut peer = None;
+    assert!(
+        eventually(Duration::from_secs(20), || {
+            peer = TcpStream::connect(("127.0.0.2", port)).ok();
+            peer.is_some()
+        }),
+        "the server listens on 127.0.0.2:{port}"
+    );
+    let mut peer = peer.unwrap();
+    peer.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+    peer.write_all(b"there;").unwrap();
+    assert_eq!(read_exactly(&mut peer, 6), "there;");
+    assert!(TcpStream::connect(("127.0.0.1", port)).is_err(), "nothing listens on 127.0.0.1:{port}");
+    let out = shut_down(child);
+    assert_eq!(out.lines_of_task(0).first().map(String::as_str), Some("open 0"), "{}", out.stderr);
+}

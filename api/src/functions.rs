@@ -701,8 +701,8 @@ declare_functions! {
     // session, 3 session id in use, 4 open failed, 5 not connected, 6 frame too long,
     // 7 send failed, 8 too many sessions (32 a task). Sessions end with the task.
     /// Listens on TCP `Port` (3000..10000) as session `SessionID`; one peer at a time, the
-    /// next one is accepted when the last has gone. Listens on 127.0.0.1 unless
-    /// `LUAMOTION_FREEPORT_BIND` names another address. 0 or 1, 3, 4, 8. The codes of all
+    /// next one is accepted when the last has gone. Listens on 127.0.0.1 unless the
+    /// machine file's `[freeport] bind` names another address. 0 or 1, 3, 4, 8. The codes of all
     /// `FreePort.Eth` functions: 0 ok, 1 bad argument, 2 no such session, 3 session id in
     /// use, 4 open failed, 5 not connected, 6 frame too long, 7 send failed, 8 too many
     /// sessions (32 a task).

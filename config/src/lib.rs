@@ -82,6 +82,8 @@ pub struct MachineConfig {
     pub identity: IdentityConfig,
     /// Serial port 1, a pseudo-terminal (DXMC manual 8.2, 8.3).
     pub serial: SerialConfig,
+    /// The programs' `FreePort.Eth` servers (DXMC 8.3).
+    pub freeport: FreePortConfig,
 }
 
 /// `[identity]`: the controller's product model and serial number (HMPL 2.14, 2.15).
@@ -202,6 +204,21 @@ impl Default for AsciiConfig {
             max_connections: 32,
             idle_timeout_ms: 60_000,
         }
+    }
+}
+
+/// `[freeport]`: where `FreePort.Eth.OpenAsServer` listens (DXMC 8.3 names only the port).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FreePortConfig {
+    /// The address programs' servers listen on. Default 127.0.0.1: serving other hosts
+    /// is a choice made here, as for `[modbus]` and `[ascii]`.
+    pub bind: std::net::IpAddr,
+}
+
+impl Default for FreePortConfig {
+    fn default() -> Self {
+        FreePortConfig { bind: std::net::IpAddr::from([127, 0, 0, 1]) }
     }
 }
 
@@ -451,6 +468,7 @@ impl Default for MachineConfig {
             ascii: AsciiConfig::default(),
             identity: IdentityConfig::default(),
             serial: SerialConfig::default(),
+            freeport: FreePortConfig::default(),
         }
     }
 }

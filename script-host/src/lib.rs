@@ -35,6 +35,8 @@ pub struct ScriptArgs {
     pub program: PathBuf,
     /// Where `START_ASCII_AGENT` listens, `host:port` (HMPL 22.1).
     pub user_ascii: String,
+    /// Where `FreePort.Eth.OpenAsServer` listens.
+    pub freeport_bind: std::net::IpAddr,
 }
 
 /// Why a program did not end normally.
@@ -82,7 +84,11 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
 
     let memory_limit = args.memory_limit_mib as usize * 1024 * 1024;
     let lua = sandbox::new_vm(memory_limit).map_err(|e| ScriptError::lua(e.to_string()))?;
-    let host = Rc::new(Host::new(endpoint, &args.ns, args.data_dir.clone())?.with_user_ascii(args.user_ascii.clone()));
+    let host = Rc::new(
+        Host::new(endpoint, &args.ns, args.data_dir.clone())?
+            .with_user_ascii(args.user_ascii.clone())
+            .with_freeport_bind(args.freeport_bind),
+    );
     bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_system_variables(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_print(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;

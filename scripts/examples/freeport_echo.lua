@@ -1,5 +1,5 @@
 -- freeport_echo.lua: a DRL FreePort Ethernet echo server (DXMC 8.3 FreePort).
--- Listens on TCP port 9000 (127.0.0.1; set LUAMOTION_FREEPORT_BIND=0.0.0.0 for all
+-- Listens on TCP port 9000 (127.0.0.1; `[freeport] bind = "0.0.0.0"` in the machine file for all
 -- interfaces), frames end with ";", and each frame comes back as "echo:<frame>;".
 -- The frame "quit" ends the program. Try it: `nc 127.0.0.1 9000`, type `hi;`.
 local PORT = 9000

@@ -241,8 +241,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     return Ok(MultiValue::from_vec(vec![Value::Integer(code(Code::BadArgument))]));
                 };
                 open(id, || {
-                    let ip = std::env::var("LUAMOTION_FREEPORT_BIND").ok().and_then(|a| a.parse::<IpAddr>().ok());
-                    let address = SocketAddr::new(ip.unwrap_or(IpAddr::from([127, 0, 0, 1])), port);
+                    let address = SocketAddr::new(host.freeport_bind, port);
                     let listener = TcpListener::bind(address).map_err(|_| Code::OpenFailed)?;
                     listener.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
                     Ok(Session::new(Some(listener), None, framing))

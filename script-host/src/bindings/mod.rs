@@ -48,6 +48,8 @@ pub struct Host {
     pub data_dir: PathBuf,
     /// Where `START_ASCII_AGENT` listens (HMPL 22.1, `[ascii]` of the machine file).
     pub user_ascii: String,
+    /// Where `FreePort.Eth.OpenAsServer` listens (`[freeport] bind`).
+    pub freeport_bind: std::net::IpAddr,
     events: EventSender,
     throttle: Cell<Throttle>,
 }
@@ -64,6 +66,7 @@ impl Host {
             ns: ns.clone(),
             data_dir,
             user_ascii: agent::DEFAULT_ADDRESS.to_string(),
+            freeport_bind: std::net::IpAddr::from([127, 0, 0, 1]),
             events,
             throttle: Cell::new(Throttle::default()),
         })
@@ -72,6 +75,12 @@ impl Host {
     /// The User ASCII agent listens on `address` (`host:port`).
     pub fn with_user_ascii(mut self, address: String) -> Self {
         self.user_ascii = address;
+        self
+    }
+
+    /// FreePort servers listen on `address`.
+    pub fn with_freeport_bind(mut self, address: std::net::IpAddr) -> Self {
+        self.freeport_bind = address;
         self
     }
 
