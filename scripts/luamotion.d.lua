@@ -784,6 +784,16 @@ function SimDriveFault(slv_id, error_code) end
 ---@return integer
 function SimSetGPI(gpi_idx, on_off) end
 
+--- Simulator only: the switch on input `gpi_idx` (1..) of a digital I/O terminal
+--- (`[[slaves]] device = "digital_io"`), as wired to it. Returns 0, or -1 for no such
+--- terminal or input (a drive's inputs are not simulated).
+---luamotion sim (command (round trip to the core))
+---@param slv_slot_id integer
+---@param gpi_idx integer
+---@param on_off integer
+---@return integer
+function SimSetSlvGPI(slv_slot_id, gpi_idx, on_off) end
+
 --- Disables every axis and clears its path planning.
 ---HMPL 2.7 (command (round trip to the core))
 ---@return integer
@@ -838,6 +848,28 @@ function SetGPIInvert(gpi_idx, invert) end
 ---@param invert integer
 ---@return integer
 function SetGPOInvert(gpo_idx, invert) end
+
+--- Sets output `gpo_idx` of a slave on (1) or off (0).
+---HMPL 9.3.1 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param gpo_idx integer
+---@param on_off integer
+---@return integer
+function SetSlvGPO(slv_slot_id, gpo_idx, on_off) end
+
+--- Toggles output `gpo_idx` of a slave.
+---HMPL 9.3.2 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param gpo_idx integer
+---@return integer
+function ToggleSlvGPO(slv_slot_id, gpo_idx) end
+
+--- Sets all outputs of a slave from a bitmask (bit 0 is output 1).
+---HMPL 9.3.3 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param all_gpo_state integer
+---@return integer
+function SetSlvAllGPO(slv_slot_id, all_gpo_state) end
 
 --- Chooses the input whose rising edge is the E-stop (default 8; 0: none).
 ---HMPL 9.2.6 (command (round trip to the core))
@@ -1337,6 +1369,46 @@ function GetAllGPIInvertSt() end
 ---HMPL 9.4.6 (query (local snapshot))
 ---@return integer
 function GetAllGPOInvertSt() end
+
+--- Input `gpi_idx` of a slave: 1 on, 0 off.
+---HMPL 9.5.1 (query (local snapshot))
+---@param slv_slot_id integer
+---@param gpi_idx integer
+---@return integer
+function GetSlvGPI(slv_slot_id, gpi_idx) end
+
+--- Output `gpo_idx` of a slave as the master last sent it: 1 on, 0 off.
+---HMPL 9.5.2 (query (local snapshot))
+---@param slv_slot_id integer
+---@param gpo_idx integer
+---@return integer
+function GetSlvGPO(slv_slot_id, gpo_idx) end
+
+--- All inputs of a slave as a bitmask (inputs 1 and 4 on: 9).
+---HMPL 9.5.3 (query (local snapshot))
+---@param slv_slot_id integer
+---@return integer
+function GetSlvAllGPI(slv_slot_id) end
+
+--- All outputs of a slave as a bitmask (outputs 2 and 3 on: 6).
+---HMPL 9.5.4 (query (local snapshot))
+---@param slv_slot_id integer
+---@return integer
+function GetSlvAllGPO(slv_slot_id) end
+
+--- The inputs from `start_idx` on: bit k is input start_idx + k (start 8, inputs 8 and 11 on: 9).
+---HMPL 9.5.5 (query (local snapshot))
+---@param slv_slot_id integer
+---@param start_idx integer
+---@return integer
+function GetSlvAllGPIByStartIdx(slv_slot_id, start_idx) end
+
+--- The outputs from `start_idx` on: bit k is output start_idx + k (start 8, outputs 9 and 10 on: 6).
+---HMPL 9.5.6 (query (local snapshot))
+---@param slv_slot_id integer
+---@param start_idx integer
+---@return integer
+function GetSlvAllGPOByStartIdx(slv_slot_id, start_idx) end
 
 --- The group of an axis, -1 when it is in none.
 ---HMPL 8.3.5 (query (local snapshot))

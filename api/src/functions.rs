@@ -248,6 +248,10 @@ declare_functions! {
     /// Simulator only: the electrical level of controller input `gpi_idx` (1..8), before
     /// inversion, as a switch wired to it would set it. Returns 0 or -1.
     ["luamotion sim"] fn SimSetGPI(gpi_idx: Int, on_off: Int) -> Int;
+    /// Simulator only: the switch on input `gpi_idx` (1..) of a digital I/O terminal
+    /// (`[[slaves]] device = "digital_io"`), as wired to it. Returns 0, or -1 for no such
+    /// terminal or input (a drive's inputs are not simulated).
+    ["luamotion sim"] fn SimSetSlvGPI(slv_slot_id: Int, gpi_idx: Int, on_off: Int) -> Int;
 
     // HMPL ch. 2: system.
     /// Disables every axis and clears its path planning.
@@ -273,6 +277,15 @@ declare_functions! {
     ["HMPL 9.2.4", ascii] fn SetGPIInvert(gpi_idx: Int, invert: Int) -> Int;
     /// Inverts output `gpo_idx` (1) or not (0).
     ["HMPL 9.2.5", ascii] fn SetGPOInvert(gpo_idx: Int, invert: Int) -> Int;
+
+    // HMPL 9.3: a slave's digital outputs (`slv_id | HMPL_SLOT_n`, channels 1..), written
+    // into its process data (a terminal's 0x7000:01, a drive's 0x60FE:01 when mapped); 0 or -1.
+    /// Sets output `gpo_idx` of a slave on (1) or off (0).
+    ["HMPL 9.3.1", ascii] fn SetSlvGPO(slv_slot_id: Int, gpo_idx: Int, on_off: Int) -> Int;
+    /// Toggles output `gpo_idx` of a slave.
+    ["HMPL 9.3.2", ascii] fn ToggleSlvGPO(slv_slot_id: Int, gpo_idx: Int) -> Int;
+    /// Sets all outputs of a slave from a bitmask (bit 0 is output 1).
+    ["HMPL 9.3.3", ascii] fn SetSlvAllGPO(slv_slot_id: Int, all_gpo_state: Int) -> Int;
     /// Chooses the input whose rising edge is the E-stop (default 8; 0: none).
     ["HMPL 9.2.6", ascii] fn BindEMO(gpi_idx: Int) -> Int;
 
@@ -464,6 +477,22 @@ declare_functions! {
     ["HMPL 9.4.5", ascii] fn GetAllGPIInvertSt() -> Int;
     /// The inverted outputs as a bitmask.
     ["HMPL 9.4.6", ascii] fn GetAllGPOInvertSt() -> Int;
+
+    // HMPL 9.5: a slave's digital I/O read from its process data (a terminal's 0x6000:01
+    // and 0x7000:01, a drive's 0x60FD and 0x60FE:01 when mapped); -1 for no such slave,
+    // channel, or object in the process data.
+    /// Input `gpi_idx` of a slave: 1 on, 0 off.
+    ["HMPL 9.5.1", ascii] fn GetSlvGPI(slv_slot_id: Int, gpi_idx: Int) -> Int;
+    /// Output `gpo_idx` of a slave as the master last sent it: 1 on, 0 off.
+    ["HMPL 9.5.2", ascii] fn GetSlvGPO(slv_slot_id: Int, gpo_idx: Int) -> Int;
+    /// All inputs of a slave as a bitmask (inputs 1 and 4 on: 9).
+    ["HMPL 9.5.3", ascii] fn GetSlvAllGPI(slv_slot_id: Int) -> Int;
+    /// All outputs of a slave as a bitmask (outputs 2 and 3 on: 6).
+    ["HMPL 9.5.4", ascii] fn GetSlvAllGPO(slv_slot_id: Int) -> Int;
+    /// The inputs from `start_idx` on: bit k is input start_idx + k (start 8, inputs 8 and 11 on: 9).
+    ["HMPL 9.5.5", ascii] fn GetSlvAllGPIByStartIdx(slv_slot_id: Int, start_idx: Int) -> Int;
+    /// The outputs from `start_idx` on: bit k is output start_idx + k (start 8, outputs 9 and 10 on: 6).
+    ["HMPL 9.5.6", ascii] fn GetSlvAllGPOByStartIdx(slv_slot_id: Int, start_idx: Int) -> Int;
 
     // HMPL 8.3 and 8.4: group settings and status, read from the snapshot.
     /// The group of an axis, -1 when it is in none.

@@ -5,8 +5,8 @@
 use api::{ErrorCode, QueryCall, SystemError};
 
 use ipc::messages::{
-    AxisSnapshot, GPIO_PINS, GroupSnapshot, PdoEntrySnapshot, Snapshot, TaskState, fault_status, group_fault_status,
-    group_motion_status, motion_status,
+    AxisSnapshot, DigitalWord, GPIO_PINS, GroupSnapshot, PdoEntrySnapshot, SLAVE_DIGITAL_INPUTS, SLAVE_DIGITAL_OUTPUTS,
+    Snapshot, TaskState, channel_mask, fault_status, group_fault_status, group_motion_status, motion_status,
 };
 
 /// A query's answer.
@@ -169,6 +169,16 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
         QueryCall::GetAllGPO {} => Value::Int(s.gpio.gpo as i64).into(),
         QueryCall::GetAllGPIInvertSt {} => Value::Int(s.gpio.gpi_invert as i64).into(),
         QueryCall::GetAllGPOInvertSt {} => Value::Int(s.gpio.gpo_invert as i64).into(),
+        QueryCall::GetSlvGPI { slv_slot_id, gpi_idx } => slave_channels(s, slv_slot_id, Inputs, gpi_idx, true),
+        QueryCall::GetSlvGPO { slv_slot_id, gpo_idx } => slave_channels(s, slv_slot_id, Outputs, gpo_idx, true),
+        QueryCall::GetSlvAllGPI { slv_slot_id } => slave_channels(s, slv_slot_id, Inputs, 1, false),
+        QueryCall::GetSlvAllGPO { slv_slot_id } => slave_channels(s, slv_slot_id, Outputs, 1, false),
+        QueryCall::GetSlvAllGPIByStartIdx { slv_slot_id, start_idx } => {
+            slave_channels(s, slv_slot_id, Inputs, start_idx, false)
+        }
+        QueryCall::GetSlvAllGPOByStartIdx { slv_slot_id, start_idx } => {
+            slave_channels(s, slv_slot_id, Outputs, start_idx, false)
+        }
         QueryCall::IsTaskStop { task_id } => {
             let task = usize::try_from(task_id).ok().and_then(|t| s.tasks.get(t));
             let task = task.ok_or(ErrorCode::System(SystemError::NotValidTaskid))?;
@@ -181,6 +191,33 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
 fn pin(bits: u32, pin: i64) -> Answer {
     let value = if (1..=GPIO_PINS).contains(&pin) { (bits >> (pin - 1)) as i64 & 1 } else { -1 };
     Value::Int(value).into()
+}
+
+/// Which of a slave's digital channels (HMPL 9.5).
+#[derive(Clone, Copy)]
+enum Channels {
+    Inputs,
+    Outputs,
+}
+use Channels::{Inputs, Outputs};
+
+/// HMPL 9.5: a slave's channels from `first` (1-based) on, bit 0 = channel `first`; only
+/// that channel's bit when `one`. -1 for no such slave, slot or channel, or when the
+/// channels are not in the slave's process data.
+fn slave_channels(s: &Snapshot, slv_slot_id: i64, which: Channels, first: i64, one: bool) -> Answer {
+    let read = || {
+        let (id, slot) = api::constants::split_slave_slot(slv_slot_id);
+        let slave = s.slaves.get(usize::try_from(id).ok()?).filter(|_| slot == 0 && id < s.slave_count as i64)?;
+        let (words, count): (&[DigitalWord], u8) = match which {
+            Inputs => (&SLAVE_DIGITAL_INPUTS, slave.digital_inputs),
+            Outputs => (&SLAVE_DIGITAL_OUTPUTS, slave.digital_outputs),
+        };
+        let skip = u32::try_from(first - 1).ok().filter(|&k| k < count as u32)?;
+        let (raw, word) = words.iter().find_map(|w| Some((read_pdo(s, id, w.index as i64, w.sub as i64)?.0, w)))?;
+        let channels = ((raw as u64 >> word.first_bit) as u32 & channel_mask(count)) >> skip;
+        Some(if one { channels & 1 } else { channels } as i64)
+    };
+    Value::Int(read().unwrap_or(-1)).into()
 }
 
 /// An object in a slave's process data: its value (sign-extended) and length in bytes.

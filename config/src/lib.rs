@@ -251,14 +251,25 @@ impl Default for SerialConfig {
 #[serde(deny_unknown_fields)]
 pub struct SlaveConfig {
     pub device: SlaveDevice,
+    /// Digital input channels of a `digital_io` terminal, 0..=32.
+    #[serde(default)]
+    pub inputs: u8,
+    /// Digital output channels of a `digital_io` terminal, 0..=32.
+    #[serde(default)]
+    pub outputs: u8,
 }
 
-/// The kinds of device a `[[slaves]]` entry may name. None is built yet, so every kind is
-/// refused with the name it gave (docs/decisions.md, "`[[slaves]]`"); I/O and analog
-/// terminals come next.
+/// Channels a `digital_io` terminal may have: one 32-bit process-data word each way.
+pub const MAX_TERMINAL_CHANNELS: u8 = 32;
+
+/// The kinds of device a `[[slaves]]` entry may name; any other is refused with the name
+/// it gave (docs/decisions.md, "`[[slaves]]`"). Analog terminals come next.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
-pub enum SlaveDevice {}
+pub enum SlaveDevice {
+    /// A digital I/O terminal (HMPL 9.3, 9.5): `inputs` and `outputs` channels.
+    DigitalIo,
+}
 
 /// How the RT thread asks the OS for real-time service. Each is tried and, where the OS
 /// refuses, logged and skipped.
@@ -586,6 +597,13 @@ impl MachineConfig {
         if self.rt.priority > 99 {
             return Err(invalid("rt.priority", "SCHED_FIFO priorities are 1..99 (0: plain thread)"));
         }
+        for (i, slave) in self.slaves.iter().enumerate() {
+            for (key, count) in [("inputs", slave.inputs), ("outputs", slave.outputs)] {
+                if count > MAX_TERMINAL_CHANNELS {
+                    return Err(invalid(format!("slaves[{i}].{key}"), "a digital_io terminal has 0..32 channels"));
+                }
+            }
+        }
         if self.axes.is_empty() || self.axes.len() > MAX_AXES {
             return Err(invalid("axes", format!("a machine has 1 to {MAX_AXES} axes, not {}", self.axes.len())));
         }
@@ -822,5 +840,19 @@ mod tests {
             }
             other => panic!("expected the kind refused, got {other:?}"),
         }
+    }
+
+    /// A `digital_io` terminal: its channel counts, at most 32 each way.
+    #[test]
+    fn digital_io_terminals() {
+        let config = parse("[[axes]]\nname = \"x\"\n\n[[slaves]]\ndevice = \"digital_io\"\ninputs = 16\noutputs = 8\n");
+        let slave = &config.slaves[0];
+        assert_eq!((slave.device, slave.inputs, slave.outputs), (SlaveDevice::DigitalIo, 16, 8));
+        assert!(config.validate().is_ok());
+        let config = parse("[[axes]]\nname = \"x\"\n\n[[slaves]]\ndevice = \"digital_io\"\noutputs = 33\n");
+        assert!(
+            matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[0].outputs"),
+            "33 outputs"
+        );
     }
 }

@@ -365,6 +365,32 @@ pub const MAX_PDO_BYTES: usize = 20 * PDOS_PER_DIRECTION;
 /// One drive per axis.
 pub const MAX_SLAVES: usize = MAX_AXES;
 
+/// Where a slave's digital channels sit in its process data (HMPL 9.3, 9.5): an object
+/// and the bit of channel 1; channel n is the bit n - 1 above it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DigitalWord {
+    /// Object index.
+    pub index: u16,
+    /// Object sub-index.
+    pub sub: u8,
+    /// The bit of channel 1.
+    pub first_bit: u8,
+}
+
+/// Digital inputs, the first object mapped wins: a digital I/O terminal's word, then a
+/// CiA 402 drive's 0x60FD (bit 0 negative limit, 1 positive limit, 2 home switch).
+pub const SLAVE_DIGITAL_INPUTS: [DigitalWord; 2] =
+    [DigitalWord { index: 0x6000, sub: 1, first_bit: 0 }, DigitalWord { index: 0x60FD, sub: 0, first_bit: 0 }];
+/// Digital outputs: a terminal's word, then a drive's 0x60FE:01, whose O1 is bit 17
+/// (CoE manual tables 4-19 to 4-21; bit 16 is the brake).
+pub const SLAVE_DIGITAL_OUTPUTS: [DigitalWord; 2] =
+    [DigitalWord { index: 0x7000, sub: 1, first_bit: 0 }, DigitalWord { index: 0x60FE, sub: 1, first_bit: 17 }];
+
+/// The bits of `n` channels from bit 0.
+pub fn channel_mask(n: u8) -> u32 {
+    if n >= 32 { u32::MAX } else { (1 << n) - 1 }
+}
+
 /// One mapped object of a PDO and its byte offset in the slave's process data.
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
 #[repr(C)]

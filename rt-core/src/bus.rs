@@ -1,11 +1,12 @@
 //! The bus the controller builds from the machine file: one drive per axis, in axis order
 //! (slave n drives axis n), then the `[[slaves]]` devices in file order; and what the
-//! simulation does to its drives. The master (`ecat/`) knows none of these devices.
+//! simulation does to its drives and terminals. The master (`ecat/`) knows none of these devices.
 
-use crate::config::{AxisConfig, MachineConfig};
+use crate::config::{AxisConfig, MachineConfig, SlaveConfig, SlaveDevice};
 use crate::drive::{Drive, FaultInjectionError};
-use crate::ecat::Network;
 use crate::ecat::network::SlaveSetup;
+use crate::ecat::{Device, Network};
+use crate::terminal::{DigitalIoTerminal, NoSuchChannel};
 
 impl Network {
     /// One drive per axis, in ring order.
@@ -16,7 +17,7 @@ impl Network {
     /// The machine's bus: the axes' drives, then the `[[slaves]]` devices.
     pub fn for_machine(config: &MachineConfig) -> Self {
         let mut slaves: Vec<SlaveSetup> = config.axes.iter().map(drive).collect();
-        slaves.extend(config.slaves.iter().map(|slave| match slave.device {}));
+        slaves.extend(config.slaves.iter().map(slave));
         Network::with_slaves(slaves)
     }
 
@@ -27,6 +28,23 @@ impl Network {
             None => Err(FaultInjectionError::NotADrive(slave)),
         }
     }
+
+    /// Simulation only: the switch on input `channel` of the digital I/O terminal at
+    /// `slave` (a drive's inputs are not simulated).
+    pub fn set_terminal_input(&mut self, slave: usize, channel: i64, on: bool) -> Result<(), NoSuchChannel> {
+        match self.slaves_mut().get_mut(slave).and_then(|s| s.device_mut_as::<DigitalIoTerminal>()) {
+            Some(terminal) => terminal.set_input(channel, on),
+            None => Err(NoSuchChannel(channel)),
+        }
+    }
+}
+
+/// A `[[slaves]]` device with its own PDO mapping.
+fn slave(config: &SlaveConfig) -> SlaveSetup {
+    let device: Box<dyn Device> = match config.device {
+        SlaveDevice::DigitalIo => Box::new(DigitalIoTerminal::new(config.inputs, config.outputs)),
+    };
+    SlaveSetup { device, rx_pdo: None, tx_pdo: None }
 }
 
 /// An axis' drive, with the PDO mapping the master writes to it.

@@ -23,6 +23,7 @@ pub mod rt_alloc;
 pub mod signals;
 pub mod supervisor;
 pub mod tasks;
+pub mod terminal;
 pub mod trace;
 
 /// The machine file lives in its own crate; re-exported so that `rt_core::config` and

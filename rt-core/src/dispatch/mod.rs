@@ -523,6 +523,17 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::SetGPIInvert { gpi_idx, invert } => io::pin(m.io.set_gpi_invert(gpi_idx, invert)),
         C::SetGPOInvert { gpo_idx, invert } => io::pin(m.io.set_gpo_invert(gpo_idx, invert)),
         C::BindEMO { gpi_idx } => io::pin(m.io.bind_emo(gpi_idx)),
+        C::SimSetSlvGPI { slv_slot_id, gpi_idx, on_off } => io::sim_set_slave_input(m, slv_slot_id, gpi_idx, on_off),
+        C::SetSlvGPO { slv_slot_id, gpo_idx, on_off } => io::change_slave_outputs(m, slv_slot_id, |now, mask| {
+            let bit = io::channel_bit(gpo_idx, mask)?;
+            Ok(if on_off != 0 { now | bit } else { now & !bit })
+        }),
+        C::ToggleSlvGPO { slv_slot_id, gpo_idx } => {
+            io::change_slave_outputs(m, slv_slot_id, |now, mask| Ok(now ^ io::channel_bit(gpo_idx, mask)?))
+        }
+        C::SetSlvAllGPO { slv_slot_id, all_gpo_state } => {
+            io::change_slave_outputs(m, slv_slot_id, |_, mask| io::all_channels(all_gpo_state, mask))
+        }
         // HMPL ch. 2: system.
         C::DisableAll {} => {
             m.kernel.disable_all();

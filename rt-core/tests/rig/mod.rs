@@ -39,7 +39,7 @@ impl Rig {
     }
 
     pub fn with_config(config: MachineConfig, reaction: FaultReaction) -> Self {
-        let mut network = Network::new(&config.axes);
+        let mut network = Network::for_machine(&config);
         network.start(config.period_ns()).unwrap();
         let kernel = Kernel::new(&config, &network);
         let attached = |id| TaskConfig {
