@@ -212,7 +212,7 @@ fn slave_channels(s: &Snapshot, slv_slot_id: i64, which: Channels, first: i64, o
             Inputs => (&SLAVE_DIGITAL_INPUTS, slave.digital_inputs),
             Outputs => (&SLAVE_DIGITAL_OUTPUTS, slave.digital_outputs),
         };
-        let skip = u32::try_from(first - 1).ok().filter(|&k| k < count as u32)?;
+        let skip = u32::try_from(first.checked_sub(1)?).ok().filter(|&k| k < count as u32)?;
         let (raw, word) = words.iter().find_map(|w| Some((read_pdo(s, id, w.index as i64, w.sub as i64)?.0, w)))?;
         let channels = ((raw as u64 >> word.first_bit) as u32 & channel_mask(count)) >> skip;
         Some(if one { channels & 1 } else { channels } as i64)

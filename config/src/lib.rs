@@ -597,6 +597,11 @@ impl MachineConfig {
         if self.rt.priority > 99 {
             return Err(invalid("rt.priority", "SCHED_FIFO priorities are 1..99 (0: plain thread)"));
         }
+        // The snapshot has a fixed room for slaves: drives and terminals share it.
+        if self.axes.len() + self.slaves.len() > ipc::messages::MAX_SLAVES {
+            let max = ipc::messages::MAX_SLAVES;
+            return Err(invalid("slaves", format!("a bus holds at most {max} slaves, the axes' drives included")));
+        }
         for (i, slave) in self.slaves.iter().enumerate() {
             for (key, count) in [("inputs", slave.inputs), ("outputs", slave.outputs)] {
                 if count > MAX_TERMINAL_CHANNELS {
@@ -853,6 +858,13 @@ mod tests {
         assert!(
             matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[0].outputs"),
             "33 outputs"
+        );
+        let mut full = MachineConfig::default();
+        full.axes = vec![full.axes[0].clone(); MAX_AXES];
+        full.slaves = parse("[[slaves]]\ndevice = \"digital_io\"\n").slaves;
+        assert!(
+            matches!(full.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves"),
+            "96 drives and a terminal: more slaves than the snapshot holds"
         );
     }
 }

@@ -97,6 +97,20 @@ fn terminal_outputs_and_inputs() {
             -1,
         ),
         ("9.5.2: output 0", &[], GetSlvGPO, &[TERMINAL, 0], -1),
+        (
+            "9.5.2: the lowest integer",
+            &[(SetSlvGPO, &[TERMINAL, i64::MIN, 1], -1), (ToggleSlvGPO, &[i64::MIN, i64::MIN], -1)],
+            GetSlvGPO,
+            &[TERMINAL, i64::MIN],
+            -1,
+        ),
+        (
+            "9.5.6: the lowest integer",
+            &[(SetSlvAllGPO, &[i64::MAX, i64::MIN], -1)],
+            GetSlvAllGPOByStartIdx,
+            &[TERMINAL, i64::MIN],
+            -1,
+        ),
         ("9.5.6: start 17 of 16", &[], GetSlvAllGPOByStartIdx, &[TERMINAL, 17], -1),
         ("9.3.1: a drive without 0x60FE:01 in its PDO", &[(SetSlvGPO, &[DRIVE, 1, 1], -1)], GetSlvGPO, &[DRIVE, 1], -1),
         (
@@ -145,12 +159,18 @@ fn terminal_inputs() {
         ("9.5.1: input 17 of 16", GetSlvGPI, &[TERMINAL, 17], -1),
         ("9.5.1: a drive's 0x60FD, no limit reached", GetSlvGPI, &[DRIVE, 1], 0),
         ("9.5.3: no such slave", GetSlvAllGPI, &[3], -1),
+        ("9.5.5: the lowest integer", GetSlvAllGPIByStartIdx, &[TERMINAL, i64::MIN], -1),
+        ("9.5.1: the lowest slave", GetSlvGPI, &[i64::MIN, 1], -1),
     ];
     for &(section, function, args, answer) in rows {
         assert_eq!(query(&rig, function, args), answer, "{section}: {function:?}{args:?}");
     }
-    let refused: &[(&str, &[i64])] =
-        &[("input 17", &[TERMINAL, 17, 1]), ("a drive", &[DRIVE, 1, 1]), ("no slave", &[3, 1, 1])];
+    let refused: &[(&str, &[i64])] = &[
+        ("input 17", &[TERMINAL, 17, 1]),
+        ("a drive", &[DRIVE, 1, 1]),
+        ("no slave", &[3, 1, 1]),
+        ("the lowest integer", &[TERMINAL, i64::MIN, 1]),
+    ];
     for &(what, args) in refused {
         assert_eq!(call(&mut rig, Command::SimSetSlvGPI, args), -1, "{what}");
     }

@@ -51,7 +51,7 @@ pub(super) fn change_slave_outputs(
 
 /// Output channel `pin`'s bit among `mask`'s channels.
 pub(super) fn channel_bit(pin: i64, mask: u32) -> Result<u32, Failure> {
-    let bit = u32::try_from(pin - 1).ok().filter(|&b| b < 32).map(|b| 1u32 << b);
+    let bit = pin.checked_sub(1).and_then(|b| u32::try_from(b).ok()).filter(|&b| b < 32).map(|b| 1u32 << b);
     bit.filter(|&b| b & mask != 0).ok_or_else(out_of_range)
 }
 
