@@ -10,13 +10,13 @@ use ipc::messages::channel_mask;
 use crate::coe::{ALL_VARIANTS, Access, DataType, ObjId, ObjectDef, ObjectStore, id};
 use crate::ecat::Device;
 
+/// A row of the dictionary; `(access, pdo)` is its access and whether a PDO may map it.
 const fn row(
     index: u16,
     sub: u8,
     name: &'static str,
     ty: DataType,
-    access: Access,
-    pdo: bool,
+    (access, pdo): (Access, bool),
     max: u32,
     default: u32,
 ) -> ObjectDef {
@@ -35,25 +35,29 @@ const fn row(
     }
 }
 
-use Access::{ReadOnly as RO, ReadWrite as RW};
+/// Read-only, read-write; `_PDO`: mappable too.
+const RO: (Access, bool) = (Access::ReadOnly, false);
+const RW: (Access, bool) = (Access::ReadWrite, false);
+const RO_PDO: (Access, bool) = (Access::ReadOnly, true);
+const RW_PDO: (Access, bool) = (Access::ReadWrite, true);
 use DataType::{UInt8, UInt16, UInt32};
 
 /// The terminal's dictionary: the communication objects and its two process-data words.
 static OBJECTS: &[ObjectDef] = &[
     // CiA 401 (generic I/O modules) as the device profile.
-    row(0x1000, 0, "Device type", UInt32, RO, false, u32::MAX, 401),
-    row(0x1600, 0, "RxPDO mapping: number of objects", UInt8, RW, false, 1, 1),
-    row(0x1600, 1, "RxPDO mapping: outputs", UInt32, RW, false, u32::MAX, 0x7000_0120),
-    row(0x1A00, 0, "TxPDO mapping: number of objects", UInt8, RW, false, 1, 1),
-    row(0x1A00, 1, "TxPDO mapping: inputs", UInt32, RW, false, u32::MAX, 0x6000_0120),
-    row(0x1C12, 0, "SM2 PDO assignment: number of assigned RxPDOs", UInt8, RW, false, 1, 1),
-    row(0x1C12, 1, "PDO mapping index of assigned RxPDO 1", UInt16, RW, false, 0x1600, 0x1600),
-    row(0x1C13, 0, "SM3 PDO assignment: number of assigned TxPDOs", UInt8, RW, false, 1, 1),
-    row(0x1C13, 1, "PDO mapping index of assigned TxPDO 1", UInt16, RW, false, 0x1A00, 0x1A00),
-    row(0x1C32, 1, "Synchronization type", UInt16, RW, false, 2, 0),
-    row(0x1C32, 2, "Cycle time", UInt32, RW, false, u32::MAX, 0),
-    row(0x6000, 1, "Digital inputs, channel n = bit n - 1", UInt32, RO, true, u32::MAX, 0),
-    row(0x7000, 1, "Digital outputs, channel n = bit n - 1", UInt32, RW, true, u32::MAX, 0),
+    row(0x1000, 0, "Device type", UInt32, RO, u32::MAX, 401),
+    row(0x1600, 0, "RxPDO mapping: number of objects", UInt8, RW, 1, 1),
+    row(0x1600, 1, "RxPDO mapping: outputs", UInt32, RW, u32::MAX, 0x7000_0120),
+    row(0x1A00, 0, "TxPDO mapping: number of objects", UInt8, RW, 1, 1),
+    row(0x1A00, 1, "TxPDO mapping: inputs", UInt32, RW, u32::MAX, 0x6000_0120),
+    row(0x1C12, 0, "SM2 PDO assignment: number of assigned RxPDOs", UInt8, RW, 1, 1),
+    row(0x1C12, 1, "PDO mapping index of assigned RxPDO 1", UInt16, RW, 0x1600, 0x1600),
+    row(0x1C13, 0, "SM3 PDO assignment: number of assigned TxPDOs", UInt8, RW, 1, 1),
+    row(0x1C13, 1, "PDO mapping index of assigned TxPDO 1", UInt16, RW, 0x1A00, 0x1A00),
+    row(0x1C32, 1, "Synchronization type", UInt16, RW, 2, 0),
+    row(0x1C32, 2, "Cycle time", UInt32, RW, u32::MAX, 0),
+    row(0x6000, 1, "Digital inputs, channel n = bit n - 1", UInt32, RO_PDO, u32::MAX, 0),
+    row(0x7000, 1, "Digital outputs, channel n = bit n - 1", UInt32, RW_PDO, u32::MAX, 0),
 ];
 
 const INPUTS: ObjId = id(OBJECTS, 0x6000, 1);
