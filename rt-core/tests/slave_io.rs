@@ -128,6 +128,16 @@ fn terminal_outputs_and_inputs() {
             &[DRIVE_WITH_OUTPUTS, 0x60FE, 1],
             0x1F << 17,
         ),
+        (
+            "9.3.2: a drive's O2 toggled, the other outputs and the brake (bit 16) kept",
+            &[
+                (WritePDO, &[DRIVE_WITH_OUTPUTS, 0x60FE, 1, 0x1F << 17 | 1 << 16], 0),
+                (ToggleSlvGPO, &[DRIVE_WITH_OUTPUTS, 2], 0),
+            ],
+            ReadPDO,
+            &[DRIVE_WITH_OUTPUTS, 0x60FE, 1],
+            0x1D << 17 | 1 << 16,
+        ),
     ];
     for &(section, commands, function, args, answer) in rows {
         for &(command, command_args, rc) in commands {
