@@ -1,7 +1,8 @@
 //! The RT thread's invariant: after start-up, a cycle never calls the system allocator,
 //! even while a task's commands are served (axis moves, a group's lines and arcs with
 //! look-ahead and corner blends), replies published and wake-ups sent, and a FUN147 box
-//! runs its step table on the group interpolator.
+//! runs its step table on the group interpolator, and a digital I/O terminal's output
+//! toggles (HMPL 9.3).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -19,7 +20,7 @@ use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
 use rt_core::MachineConfig;
-use rt_core::config::TaskConfig;
+use rt_core::config::{SlaveConfig, SlaveDevice, TaskConfig};
 use rt_core::cycle::CycleWork;
 use rt_core::ecat::Network;
 use rt_core::fun147_boxes::Contacts;
@@ -46,6 +47,9 @@ fn typed(command: Command, values: &[Value]) -> Request {
     calls::wire::encode(&call, &mut request).unwrap();
     request
 }
+
+/// The digital I/O terminal after the six axes' drives.
+const TERMINAL: i64 = 6;
 
 fn int(v: i64) -> Value {
     Value::Int(v)
@@ -131,6 +135,13 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
             &[int(0), text("Q1"), text("D0"), text("M1"), text("M2"), text("M3"), text("M4"), text("M5"), text("M6")],
         );
         assert_ne!(task.call(&mut { refused }).unwrap().rc, 0);
+        // HMPL 9.3: the terminal's output 1 toggled and its input 1 switched.
+        for mut io in [
+            request(Command::ToggleSlvGPO, &[TERMINAL, 1], &[]),
+            request(Command::SimSetSlvGPI, &[TERMINAL, 1, i % 2], &[]),
+        ] {
+            assert_eq!(task.call(&mut io).unwrap().rc, 0);
+        }
         let target = task.snapshot().cycle + 1;
         task.wait_until_cycle(target).unwrap();
     }
@@ -150,7 +161,8 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let mut config = MachineConfig::default();
     let first = config.axes[0].clone();
     config.axes = (0..6).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
-    let mut network = Network::new(&config.axes);
+    config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8 });
+    let mut network = Network::for_machine(&config);
     network.start(config.period_ns()).unwrap();
     let kernel = Kernel::new(&config, &network);
     // Task 0 is played by a thread of this test: attached, as a tool would be.
