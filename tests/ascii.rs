@@ -497,3 +497,24 @@ fn ascii_jog_example_jogs_an_axis() {
     let out = finish(child, Duration::from_secs(20));
     assert!(out.stderr.contains("stopped"), "{}", out.stderr);
 }
+
+/// HMPL 9.3, 9.5 over the Native server: an HMI sets and reads a digital I/O terminal's
+/// outputs and reads the input a script switched (slave 4, after the four drives).
+#[test]
+fn native_drives_a_terminals_outputs_and_reads_its_inputs() {
+    let ns = unique_ns("ascii-dio");
+    let dir = tempfile::tempdir().unwrap();
+    let terminal = "[[slaves]]\ndevice = \"digital_io\"\ninputs = 8\noutputs = 8\n";
+    let config = machine(dir.path(), &["SimSetSlvGPI(4, 3, 1)"], terminal);
+    let serving = serve(&ns, dir.path(), &["--config", config.to_str().unwrap()]);
+    let mut c = Client::connect(serving.ascii_port);
+    assert_eq!(c.ask("SetSlvAllGPO(4, 0x81)"), "0");
+    assert_eq!(c.ask("ToggleSlvGPO(4, 8)"), "0");
+    assert_eq!(c.ask("SetSlvGPO(4, 2, 1)"), "0");
+    assert_eq!(c.ask("GetSlvAllGPO(4)"), "3", "outputs 1 and 2");
+    let refused = "ERROR 0x0000138F eERR_HMPL_ARG_OUT_OF_RANGE (argument out of range)";
+    assert_eq!(c.ask("SetSlvGPO(4, 9, 1)"), refused, "8 outputs: -1, with its reason");
+    c.ask_until("GetSlvAllGPI(4)", |a| a == "4");
+    assert_eq!(c.ask("GetSlvGPI(4, 3)"), "1");
+    assert_eq!(c.ask("GetSlvAllGPIByStartIdx(4, 3)"), "1");
+}
