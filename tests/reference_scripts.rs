@@ -1,5 +1,6 @@
-//! The scripts of `scripts/reference/` run on the built-in machine and print what the
-//! manual's examples lead a user to expect.
+//! The scripts of `scripts/reference/` run on the built-in machine, or on the machine file
+//! of the same name beside them (`ch10_analog.toml` for `ch10_analog.lua`), and print what
+//! the manual's examples lead a user to expect.
 
 mod common;
 
@@ -218,7 +219,12 @@ fn check(script: &str) {
     let (_, expected) = SCRIPTS.iter().find(|(s, _)| *s == script).expect("in SCRIPTS");
     let whole = WHOLE_LINES.contains(&script);
     let path = repo_path(&format!("scripts/reference/{script}"));
-    let out = run(&unique_ns("ref"), &[path.to_str().unwrap()]);
+    let machine = path.with_extension("toml");
+    let mut args = vec![path.to_str().unwrap()];
+    if machine.exists() {
+        args.extend(["--config", machine.to_str().unwrap()]);
+    }
+    let out = run(&unique_ns("ref"), &args);
     assert!(out.status.success(), "{script}\n{}\n{}", out.stdout, out.stderr);
     let lines = out.lines_of_task(0);
     let mut rest = lines.iter();
