@@ -4,6 +4,7 @@
 
 use std::fmt::Write;
 
+use crate::catalogue::Offered;
 use crate::constants::{CONSTANTS, Constant, error_ids, numbered};
 use crate::registry::{ArgType, FunctionSpec, Kind, ValueType, all};
 use crate::system_vars::SystemVar;
@@ -96,7 +97,32 @@ pub fn markdown() -> String {
     }
     out.push_str("\nEvery error name of HMPL ch. 18 is also a constant holding its error id (`EEEE`), ");
     out.push_str("e.g. `GetAxisLastErr(0) & 0xFFFF == eERR_AXIS_CMD_INVALID_DISABLED`.\n");
+    catalogue(&mut out);
     out
+}
+
+/// The manual's 340 catalogue entries, how a script reaches each, and how the simulator
+/// differs where it does.
+fn catalogue(out: &mut String) {
+    out.push_str("\n## The HMPL catalogue\n\n");
+    let _ = write!(
+        out,
+        "All {} entries of the HMPL manual's catalogue (ch. 2 to 22), in its order. The last column says what \
+         a program sees differently on this simulator than on a controller with a machine; an empty cell \
+         means the entry behaves as the manual says.\n\n",
+        crate::catalogue::ENTRIES.len()
+    );
+    out.push_str("| HMPL | entry | in luamotion | in simulation |\n|---|---|---|---|\n");
+    for (section, name) in crate::catalogue::ENTRIES {
+        let how = match crate::catalogue::offered(name) {
+            Some(Offered::Function(f)) => kind_name(f.kind()).to_string(),
+            Some(Offered::Variable(_)) => "system variable (see Variables)".to_string(),
+            Some(Offered::Construct(how)) => how.to_string(),
+            None => "**missing**".to_string(),
+        };
+        let sim = crate::catalogue::SIMULATION.iter().find(|(n, _)| *n == name).map_or("", |(_, note)| note);
+        let _ = writeln!(out, "| {section} | `{name}` | {how} | {sim} |");
+    }
 }
 
 /// `scripts/luamotion.d.lua`, for completion and checks in editors.

@@ -6,6 +6,7 @@
 
 pub mod alarms;
 pub mod call;
+pub mod catalogue;
 pub mod constants;
 pub mod docs;
 pub mod errors;
