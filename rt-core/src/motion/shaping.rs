@@ -65,18 +65,19 @@ impl ShaperParams {
     }
 
     /// The residual vibration ratio V(f, ζ) of the shaper on a mode of frequency `f` (Hz)
-    /// and damping `zeta`: the vibration a shaped move leaves over the one the same move
-    /// leaves unshaped (Singer and Seering's percentage vibration, as a fraction).
+    /// and damping `zeta`: the amplitude of the vibration a shaped move leaves over the one
+    /// the same move leaves unshaped, compared at the same time after the move's start,
+    /// |Σ Aᵢ·exp(ζωtᵢ)·exp(jω_d·tᵢ)|. (Singer and Seering's V carries a further
+    /// exp(-ζω·t_N): it compares with the unshaped vibration t_N earlier.)
     pub fn residual_vibration(&self, f: f64, zeta: f64) -> f64 {
         let (impulses, n) = self.impulses();
         let wn = 2.0 * PI * f;
         let wd = wn * (1.0 - zeta * zeta).sqrt();
-        let last = impulses[n - 1].1;
         let (mut c, mut s) = (0.0, 0.0);
         for &(a, t) in &impulses[..n] {
-            let decay = a * (-zeta * wn * (last - t)).exp();
-            c += decay * (wd * t).cos();
-            s += decay * (wd * t).sin();
+            let grown = a * (zeta * wn * t).exp();
+            c += grown * (wd * t).cos();
+            s += grown * (wd * t).sin();
         }
         (c * c + s * s).sqrt()
     }
