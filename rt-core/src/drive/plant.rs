@@ -78,7 +78,7 @@ impl Plant {
             ki: omega * omega / 8.0,
             integral: 0.0,
             hard_stops: (hard_stops.0.unwrap_or(f64::NEG_INFINITY), hard_stops.1.unwrap_or(f64::INFINITY)),
-            load: (config.load_frequency_hz > 0.0).then(|| FlexibleLoad {
+            load: (config.load_frequency_hz > 0.0).then_some(FlexibleLoad {
                 omega: 2.0 * std::f64::consts::PI * config.load_frequency_hz,
                 zeta: config.load_damping,
                 mass_ratio: config.load_mass_ratio,

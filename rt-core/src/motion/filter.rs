@@ -17,8 +17,9 @@ pub const MAX_STAGES: usize = 4;
 pub enum Stage {
     /// The moving average that turns a T-curve into an S-curve (HMPL 5.1, 5.3.16).
     Smoothing(Smoother),
-    /// VSF and input shaping (HMPL 15.2 to 15.7).
-    Vibration(Vibration),
+    /// VSF and input shaping (HMPL 15.2 to 15.7), boxed at start-up: it is larger than
+    /// the smoothing.
+    Vibration(Box<Vibration>),
 }
 
 impl Stage {
@@ -97,7 +98,7 @@ impl FilterChain {
     pub fn for_axis(max_smooth_samples: usize, min_shaper_hz: f64, period_s: f64) -> Self {
         let mut chain = Self::new();
         chain.add(Stage::Smoothing(Smoother::new(max_smooth_samples))).expect("an empty chain has room");
-        chain.add(Stage::Vibration(Vibration::new(min_shaper_hz, period_s))).expect("room for two stages");
+        chain.add(Stage::Vibration(Box::new(Vibration::new(min_shaper_hz, period_s)))).expect("room for two stages");
         chain
     }
 

@@ -222,9 +222,10 @@ pub struct Vsf {
     at_rest: bool,
 }
 
-/// Below this the notch's output counts as on its input (axis units): a billionth of a
-/// millimetre or degree, far below a count.
-const VSF_SETTLED: f64 = 1e-9;
+/// Below this the notch's output counts as on its input (axis units, per s and s² for the
+/// velocity and acceleration): a nanometre (or microdegree), far below a count of any
+/// drive, where the filter's exponential tail no longer moves the motor.
+const VSF_SETTLED: f64 = 1e-6;
 
 impl Vsf {
     pub fn new(period_s: f64) -> Self {
@@ -270,6 +271,24 @@ impl Vsf {
     pub fn set_enabled(&mut self, on: bool, pos: f64) {
         self.enabled = on;
         self.rest_at(pos);
+    }
+
+    /// The residual vibration ratio of the notch on a mode of frequency `f` (Hz) and
+    /// damping `zeta`, as `ShaperParams::residual_vibration`: the mode's free vibration
+    /// e^(s·t), s = -ζω + jω_d, passes a linear filter scaled by |H| at s, here the
+    /// discrete |H(z)| at z = e^(s·T). (The filter's own transient, e^(-ζ_vsf·ω_vsf·t),
+    /// is gone a few of its time constants after the move.)
+    pub fn residual_vibration(&self, f: f64, zeta: f64) -> f64 {
+        let w = 2.0 * PI * f;
+        let (re, im) = (-zeta * w * self.period_s, w * (1.0 - zeta * zeta).sqrt() * self.period_s);
+        // z⁻¹ and z⁻² as (re, im).
+        let r = (-re).exp();
+        let z1 = (r * (-im).cos(), r * (-im).sin());
+        let z2 = (z1.0 * z1.0 - z1.1 * z1.1, 2.0 * z1.0 * z1.1);
+        let [b0, b1, b2, a1, a2] = self.coefficients;
+        let num = (b0 + b1 * z1.0 + b2 * z2.0, b1 * z1.1 + b2 * z2.1);
+        let den = (1.0 + a1 * z1.0 + a2 * z2.0, a1 * z1.1 + a2 * z2.1);
+        num.0.hypot(num.1) / den.0.hypot(den.1)
     }
 
     /// At rest at `pos`: the states of a constant input that the filter passes unchanged.
