@@ -180,3 +180,48 @@ fn group_motion_takes_the_groups_shaper_not_the_axis() {
     }
     assert_eq!(shaped.last(), plain.last(), "the same end");
 }
+
+/// The slave's reference, cycle by cycle, after GearOut hands its motion (100 mm/s, the
+/// master's) to its own generator, with `filter` on the slave from before the gear.
+fn after_gear_out(filter: impl FnOnce(&mut Rig)) -> Vec<f64> {
+    use Command::*;
+    let mut rig = rig();
+    rig.enable(0);
+    rig.enable(1);
+    filter(&mut rig);
+    assert_eq!(rig.call(0, EnableGear, &[0, 1], &[]), 0);
+    assert_eq!(rig.call(0, GearIn, &[0, 1], &[1.0]), 0);
+    assert_eq!(rig.call(0, MoveVel, &[0], &[100.0]), 0);
+    rig.cycles(300);
+    assert_eq!(rig.call(0, GearOut, &[1], &[]), 0);
+    (0..300)
+        .map(|_| {
+            rig.cycle();
+            rig.machine.kernel.axes()[1].reference().pos
+        })
+        .collect()
+}
+
+/// A motion handed over from a coupling passes the slave's VSF and shaper unfiltered until
+/// it has come to rest (as its smoothing, docs/decisions.md "Gear"): their history holds
+/// where the axis stood before the gear, and would pull it back there.
+#[test]
+fn a_motion_handed_over_from_the_gear_passes_the_filters() {
+    use Command::*;
+    let in_shape = |rig: &mut Rig| {
+        assert_eq!(set_shaper(rig, SetAxisInShape, 1, 5.0, 0.1, 0), 0);
+        assert_eq!(rig.call(0, EnableAxisInShape, &[1], &[]), 0);
+    };
+    let vsf = |rig: &mut Rig| {
+        assert_eq!(rig.call(0, SetAxisVsf, &[1], &[5.0, 1.0]), 0);
+        assert_eq!(rig.call(0, EnableAxisVsf, &[1], &[]), 0);
+    };
+    let plain = after_gear_out(|_| {});
+    for (name, refs) in [("InShape", after_gear_out(in_shape)), ("VSF", after_gear_out(vsf))] {
+        for (i, pair) in refs.windows(2).enumerate() {
+            let step = pair[1] - pair[0];
+            assert!((0.0..=0.1 + 1e-9).contains(&step), "{name}, cycle {i}: a step of {step} mm at 100 mm/s");
+        }
+        assert_eq!(refs, plain, "{name}: the handed-over motion unfiltered");
+    }
+}

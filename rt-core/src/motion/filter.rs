@@ -73,9 +73,9 @@ pub struct ChainFull;
 
 pub struct FilterChain {
     stages: Vec<Stage>,
-    /// The smoothing passes samples through until a motion handed over from a coupling
-    /// (a gear slave after GearOut) has come to rest: its window would start full of a
-    /// standstill behind a moving reference and pull the output back (docs/decisions.md,
+    /// The smoothing, VSF and shaper pass samples through until a motion handed over from
+    /// a coupling (a gear slave after GearOut) has come to rest: their history would hold
+    /// a standstill behind a moving reference and pull the output back (docs/decisions.md,
     /// "Gear").
     smoothing_suspended: bool,
 }
@@ -125,7 +125,15 @@ impl FilterChain {
     #[inline]
     pub fn push(&mut self, mut k: Kinematics) -> Kinematics {
         for stage in &mut self.stages {
-            k = stage.push(k);
+            k = match stage {
+                // A motion handed over passes the vibration filters too, which rest on it:
+                // their history lies where the coupling took the axis from.
+                Stage::Vibration(v) if self.smoothing_suspended => {
+                    v.rest_at(k.pos);
+                    k
+                }
+                _ => stage.push(k),
+            };
         }
         k
     }
@@ -232,6 +240,26 @@ mod tests {
         assert!(!chain.is_smoothing_suspended());
         let out = chain.push(at(5.5));
         assert!((out.pos - 4.6).abs() < 1e-12, "averaged over 10 again: {}", out.pos);
+    }
+
+    /// A motion handed over from a coupling passes an enabled shaper unchanged, and the
+    /// shaper takes the axis' own motion from where it came to rest.
+    #[test]
+    fn a_suspended_chain_passes_the_vibration_filters_too() {
+        use crate::motion::shaping::ShaperParams;
+        let mut chain = FilterChain::for_axis(50, 1.5, 1e-3);
+        let v = chain.vibration().unwrap();
+        v.shaper.configure(ShaperParams { freq_hz: 10.0, damping: 0.0, robust: false });
+        v.shaper.set_enabled(true, 0.0);
+        chain.suspend_smoothing(4.0);
+        for i in 0..10 {
+            let k = Kinematics { pos: 4.0 + 0.1 * i as f64, vel: 100.0, acc: 0.0 };
+            assert_eq!(chain.push(k), k, "unshaped while suspended");
+        }
+        // At rest where the handed-over motion ended, 4.9.
+        chain.resume_smoothing(1, 4.9);
+        let out = chain.push(at(5.9));
+        assert!((out.pos - 5.4).abs() < 1e-12, "half the step now, half 50 ms later: {}", out.pos);
     }
 
     #[test]

@@ -70,6 +70,10 @@ impl Axis {
         };
         let params = ShaperParams { freq_hz, damping, robust };
         let (stage, pos) = self.vibration_at_rest()?;
+        if !stage.shaper.fits(params) {
+            // The room reserved at start-up holds every shaper of HMPL 15.7's ranges.
+            return Err(self.fail(AxisError::FrequencyLimit));
+        }
         stage.shaper.configure(params);
         stage.shaper.rest_at(pos);
         Ok(())

@@ -53,10 +53,15 @@ impl crate::motion::Kernel {
             SHAPER_ROBUST => true,
             _ => return Err(self.refuse_group(g as u8, GroupError::CmdInvalidInputshapingParameterIncomplete)),
         };
+        let params = ShaperParams { freq_hz, damping, robust };
+        if !self.groups[g].shapers[0].fits(params) {
+            // The room reserved at start-up holds every shaper of HMPL 15.10's ranges.
+            return Err(self.refuse_group(g as u8, GroupError::CmdInvalidFrequency));
+        }
         let grp = &mut self.groups[g];
         let pose = grp.pose_cmd.pos;
         for (shaper, &p) in grp.shapers.iter_mut().zip(&pose) {
-            shaper.configure(ShaperParams { freq_hz, damping, robust });
+            shaper.configure(params);
             shaper.rest_at(p);
         }
         Ok(())
