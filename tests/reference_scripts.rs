@@ -184,18 +184,6 @@ const SCRIPTS: &[(&str, &[&str])] = &[
         ],
     ),
     (
-        "ch18_errors.lua",
-        &[
-            "MoveAbs on a disabled axis   0x83020078",
-            "after ClearAxisLastErr       0x00000000",
-            "SetVelScale(120)             0x8302017C",
-            "drive fault                  0x830203F2",
-            "the drive reports 0x2310 (0x603F); IsDriveErr true",
-            "GetSystemLastErr             0x0000138F",
-            "chapter 18 done",
-        ],
-    ),
-    (
         "ch15_filters.lua",
         &[
             "example 1: SetAxisInShape 0, EnableAxisInShape 0", // HMPL 15.1.1, 15.5, 15.7
@@ -218,6 +206,18 @@ const SCRIPTS: &[(&str, &[&str])] = &[
             "the shaped line moved by (20.000, 10.000)",
             "SetGrpInShape(gid, 2.0, 0.1, 1): 0x82000118",
             "chapter 15 done",
+        ],
+    ),
+    (
+        "ch18_errors.lua",
+        &[
+            "MoveAbs on a disabled axis   0x83020078",
+            "after ClearAxisLastErr       0x00000000",
+            "SetVelScale(120)             0x8302017C",
+            "drive fault                  0x830203F2",
+            "the drive reports 0x2310 (0x603F); IsDriveErr true",
+            "GetSystemLastErr             0x0000138F",
+            "chapter 18 done",
         ],
     ),
     ("ch20_homing.lua", &["Home success", "switch edge is the origin; homed true", "chapter 20 done"]),
