@@ -890,7 +890,7 @@ function EnableAxisVsf(axis_id) end
 ---@return integer
 function DisableAxisVsf(axis_id) end
 
---- Sets the VSF's frequency (0.1..200 Hz, below half the cycle rate) and damping ratio
+--- Sets the VSF's frequency (0.1..200 Hz, below 0.45 of the cycle rate) and damping ratio
 --- (0.7..1.5, 1.0 recommended: the notch's width).
 ---HMPL 15.4 (command (round trip to the core))
 ---@param axis_id integer

@@ -297,7 +297,7 @@ declare_functions! {
     ["HMPL 15.2", ascii] fn EnableAxisVsf(axis_id: Int[Axis]) -> Int;
     /// Turns the axis' VSF off.
     ["HMPL 15.3", ascii] fn DisableAxisVsf(axis_id: Int[Axis]) -> Int;
-    /// Sets the VSF's frequency (0.1..200 Hz, below half the cycle rate) and damping ratio
+    /// Sets the VSF's frequency (0.1..200 Hz, below 0.45 of the cycle rate) and damping ratio
     /// (0.7..1.5, 1.0 recommended: the notch's width).
     ["HMPL 15.4", ascii] fn SetAxisVsf(axis_id: Int[Axis], frequency: Double[VsfFrequency], damping_ratio: Double[VsfDamping]) -> Int;
     /// Turns the axis' input shaper on; 0x83II0064 while the VSF is on.

@@ -49,7 +49,7 @@ impl Axis {
     }
 
     /// SetAxisVsf (HMPL 15.4); the registry has checked the ranges, the cycle limits the
-    /// frequency to below half its rate.
+    /// frequency to below 0.45 of its rate (the bilinear transform's room below Nyquist).
     pub fn set_vsf(&mut self, freq_hz: f64, damping: f64) -> Result<(), AxisError> {
         let params = VsfParams { freq_hz, damping };
         let (stage, pos) = self.vibration_at_rest()?;
