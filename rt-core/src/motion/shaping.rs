@@ -208,6 +208,9 @@ pub struct VsfParams {
     pub damping: f64,
 }
 
+/// The VSF until SetAxisVsf: the manual gives no default (docs/decisions.md, "Filters").
+pub const DEFAULT_VSF: VsfParams = VsfParams { freq_hz: 10.0, damping: 1.0 };
+
 /// The vibration suppression filter of one axis: a notch, one biquad per quantity
 /// (transposed direct form II).
 pub struct Vsf {
@@ -233,7 +236,7 @@ impl Vsf {
             coefficients: [1.0, 0.0, 0.0, 0.0, 0.0],
             state: [[0.0; 2]; 3],
             input: Kinematics::default(),
-            params: VsfParams { freq_hz: 10.0, damping: 1.0 },
+            params: DEFAULT_VSF,
             enabled: false,
             period_s,
             at_rest: true,
