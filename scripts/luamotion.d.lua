@@ -877,6 +877,72 @@ function SetSlvAllGPO(slv_slot_id, all_gpo_state) end
 ---@return integer
 function BindEMO(gpi_idx) end
 
+--- Turns the axis' vibration suppression filter (a notch at `SetAxisVsf`'s frequency) on;
+--- 0x83II00C8 while input shaping is on.
+---HMPL 15.2 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function EnableAxisVsf(axis_id) end
+
+--- Turns the axis' VSF off.
+---HMPL 15.3 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function DisableAxisVsf(axis_id) end
+
+--- Sets the VSF's frequency (0.1..200 Hz, below 0.45 of the cycle rate) and damping ratio
+--- (0.7..1.5, 1.0 recommended: the notch's width).
+---HMPL 15.4 (command (round trip to the core))
+---@param axis_id integer
+---@param frequency number
+---@param damping_ratio number
+---@return integer
+function SetAxisVsf(axis_id, frequency, damping_ratio) end
+
+--- Turns the axis' input shaper on; 0x83II0064 while the VSF is on.
+---HMPL 15.5 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function EnableAxisInShape(axis_id) end
+
+--- Turns the axis' input shaper off.
+---HMPL 15.6 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function DisableAxisInShape(axis_id) end
+
+--- Sets the axis' input shaper: the load's frequency (1.5..300 Hz, default 5.5), damping
+--- ratio (0..0.3, default 0.03) and type (1 SHAPER_NORMAL: ZV, 0 SHAPER_ROBUST: ZVD).
+---HMPL 15.7 (command (round trip to the core))
+---@param axis_id integer
+---@param frequency number
+---@param damping_ratio number
+---@param shaper_type integer
+---@return integer
+function SetAxisInShape(axis_id, frequency, damping_ratio, shaper_type) end
+
+--- Turns the group's input shaper on (every coordinate of its path).
+---HMPL 15.8 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function EnableGrpInShape(group_id) end
+
+--- Turns the group's input shaper off.
+---HMPL 15.9 (command (round trip to the core))
+---@param group_id integer
+---@return integer
+function DisableGrpInShape(group_id) end
+
+--- Sets the group's input shaper: frequency 3.0..300 Hz, damping 0..0.3, type as
+--- SetAxisInShape (0x82II005A for another type).
+---HMPL 15.10 (command (round trip to the core))
+---@param group_id integer
+---@param frequency number
+---@param damping_ratio number
+---@param shaper_type integer
+---@return integer
+function SetGrpInShape(group_id, frequency, damping_ratio, shaper_type) end
+
 --- Starts a task's program in its own process; returns once it runs. 0x0107 no such
 --- task id, 0x0108 already running, 0x010A no program configured.
 ---HMPL 16.2 (command (round trip to the core))
@@ -2268,6 +2334,8 @@ CS_PCS = 2 -- HMPL table 8.1.2.1 (value: luamotion)
 CS_OFFSET = 4 -- HMPL table 8.1.2.1 (value: luamotion)
 CS_GLOBAL = 8 -- HMPL table 8.1.2.1, not supported (value: luamotion)
 CS_ACS = 16 -- HMPL table 8.1.2.1 (value: luamotion)
+SHAPER_NORMAL = 1 -- HMPL 15.7
+SHAPER_ROBUST = 0 -- HMPL 15.7
 HOME_METHOD_1 = 1
 HOME_METHOD_2 = 2
 HOME_METHOD_7 = 7

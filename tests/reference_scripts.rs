@@ -184,6 +184,31 @@ const SCRIPTS: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "ch15_filters.lua",
+        &[
+            "example 1: SetAxisInShape 0, EnableAxisInShape 0", // HMPL 15.1.1, 15.5, 15.7
+            "EnableAxisVsf with InShape on: 0x830000C8",        // HMPL 15.1
+            "no filter: move",
+            "ZV at 8 Hz: move",
+            "the shaper adds 63 ms: half the load's period (62.5 ms) in whole cycles",
+            "ZVD at 8 Hz: move",
+            "the robust shaper adds 126 ms: the load's period (125 ms) in whole cycles",
+            "SetAxisInShape while moving: 0x83000082", // HMPL 15.7 remark 1
+            "DisableAxisInShape while moving: 0x83000082",
+            "SetAxisVsf 0, EnableAxisVsf 0", // HMPL 15.2, 15.4
+            "EnableAxisInShape with VSF on: 0x83000064",
+            "VSF at 8 Hz: move",
+            "the notch's tail adds",
+            "SetAxisVsf(0, 0.05, 1.0): 0x8300047E, SetAxisVsf(0, 10, 0.5): 0x83000474",
+            "SetAxisInShape(0, 1.0, 0.03, 1): 0x8300047E",
+            "example 2: SetGrpInShape 0, EnableGrpInShape 0", // HMPL 15.1.1, 15.8, 15.10
+            "EnableGrpInShape while moving: 0x82000046",
+            "the shaped line moved by (20.000, 10.000)",
+            "SetGrpInShape(gid, 2.0, 0.1, 1): 0x82000118",
+            "chapter 15 done",
+        ],
+    ),
+    (
         "ch18_errors.lua",
         &[
             "MoveAbs on a disabled axis   0x83020078",
@@ -277,6 +302,11 @@ fn chapter_8_group_line() {
 #[test]
 fn chapter_8_helix() {
     check("ch08_helix.lua");
+}
+
+#[test]
+fn chapter_15_filters() {
+    check("ch15_filters.lua");
 }
 
 #[test]

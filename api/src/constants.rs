@@ -43,6 +43,8 @@ pub const CONSTANTS: &[(&str, Constant, &str)] = &[
     ("CS_OFFSET", Constant::Int(0x4), "HMPL table 8.1.2.1 (value: luamotion)"),
     ("CS_GLOBAL", Constant::Int(0x8), "HMPL table 8.1.2.1, not supported (value: luamotion)"),
     ("CS_ACS", Constant::Int(0x10), "HMPL table 8.1.2.1 (value: luamotion)"),
+    ("SHAPER_NORMAL", Constant::Int(1), "HMPL 15.7"),
+    ("SHAPER_ROBUST", Constant::Int(0), "HMPL 15.7"),
 ];
 
 /// `HOME_METHOD_n` (HMPL 20.1), `HMPL_AXIS_n` (HMPL 23) and `CS_WCSn` (HMPL 8.1.2) as globals.

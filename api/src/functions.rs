@@ -289,6 +289,32 @@ declare_functions! {
     /// Chooses the input whose rising edge is the E-stop (default 8; 0: none).
     ["HMPL 9.2.6", ascii] fn BindEMO(gpi_idx: Int) -> Int;
 
+    // HMPL ch. 15: filters on the reference, after the smoothing; VSF and InShape never
+    // together on one axis; every one refused while the axis or group moves (0x83II0082,
+    // 0x82II0046). Axis InShape leaves group motion alone: the group has its own.
+    /// Turns the axis' vibration suppression filter (a notch at `SetAxisVsf`'s frequency) on;
+    /// 0x83II00C8 while input shaping is on.
+    ["HMPL 15.2", ascii] fn EnableAxisVsf(axis_id: Int[Axis]) -> Int;
+    /// Turns the axis' VSF off.
+    ["HMPL 15.3", ascii] fn DisableAxisVsf(axis_id: Int[Axis]) -> Int;
+    /// Sets the VSF's frequency (0.1..200 Hz, below 0.45 of the cycle rate) and damping ratio
+    /// (0.7..1.5, 1.0 recommended: the notch's width).
+    ["HMPL 15.4", ascii] fn SetAxisVsf(axis_id: Int[Axis], frequency: Double[VsfFrequency], damping_ratio: Double[VsfDamping]) -> Int;
+    /// Turns the axis' input shaper on; 0x83II0064 while the VSF is on.
+    ["HMPL 15.5", ascii] fn EnableAxisInShape(axis_id: Int[Axis]) -> Int;
+    /// Turns the axis' input shaper off.
+    ["HMPL 15.6", ascii] fn DisableAxisInShape(axis_id: Int[Axis]) -> Int;
+    /// Sets the axis' input shaper: the load's frequency (1.5..300 Hz, default 5.5), damping
+    /// ratio (0..0.3, default 0.03) and type (1 SHAPER_NORMAL: ZV, 0 SHAPER_ROBUST: ZVD).
+    ["HMPL 15.7", ascii] fn SetAxisInShape(axis_id: Int[Axis], frequency: Double[ShaperFrequency], damping_ratio: Double[ShaperDamping], shaper_type: Int) -> Int;
+    /// Turns the group's input shaper on (every coordinate of its path).
+    ["HMPL 15.8", ascii] fn EnableGrpInShape(group_id: Int[Group]) -> Int;
+    /// Turns the group's input shaper off.
+    ["HMPL 15.9", ascii] fn DisableGrpInShape(group_id: Int[Group]) -> Int;
+    /// Sets the group's input shaper: frequency 3.0..300 Hz, damping 0..0.3, type as
+    /// SetAxisInShape (0x82II005A for another type).
+    ["HMPL 15.10", ascii] fn SetGrpInShape(group_id: Int[Group], frequency: Double[GroupShaperFrequency], damping_ratio: Double[GroupShaperDamping], shaper_type: Int) -> Int;
+
     // HMPL ch. 16: task control.
     /// Starts a task's program in its own process; returns once it runs. 0x0107 no such
     /// task id, 0x0108 already running, 0x010A no program configured.

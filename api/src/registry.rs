@@ -159,6 +159,18 @@ pub enum Quantity {
     TransitionParameter,
     /// A look-ahead parameter: finite and not negative (HMPL 8.3.34).
     LookAheadParameter,
+    /// The VSF's frequency, 0.1..200 Hz (HMPL 15.4).
+    VsfFrequency,
+    /// The VSF's damping ratio, 0.7..1.5 (HMPL 15.4).
+    VsfDamping,
+    /// An axis' input-shaper frequency, 1.5..300 Hz (HMPL 15.7).
+    ShaperFrequency,
+    /// An input shaper's damping ratio, 0..0.3 (HMPL 15.7).
+    ShaperDamping,
+    /// A group's input-shaper frequency, 3.0..300 Hz (HMPL 15.10).
+    GroupShaperFrequency,
+    /// A group's input-shaper damping ratio, 0..0.3 (HMPL 15.10).
+    GroupShaperDamping,
 }
 
 /// Which error a value out of range records: the axis' or the group's (HMPL ch. 18).
@@ -206,6 +218,10 @@ impl Quantity {
             Quantity::MotionProfile => G(GroupError::CmdInvalidLinVel),
             Quantity::TransitionParameter => G(GroupError::CmdInvalidTransVel),
             Quantity::LookAheadParameter => G(GroupError::CmdLookaheadInvalidParam),
+            Quantity::VsfFrequency | Quantity::ShaperFrequency => A(AxisError::FrequencyLimit),
+            Quantity::VsfDamping | Quantity::ShaperDamping => A(AxisError::DampingratioLimit),
+            Quantity::GroupShaperFrequency => G(GroupError::CmdInvalidFrequency),
+            Quantity::GroupShaperDamping => G(GroupError::CmdInvalidDampingratio),
         }
     }
 }

@@ -384,6 +384,10 @@ impl TravelConfig {
     }
 }
 
+/// The highest natural frequency of a flexible load: the servo loops run at 16 kHz, and
+/// their integration of a spring needs many steps per period.
+pub const MAX_LOAD_FREQUENCY_HZ: f64 = 1000.0;
+
 /// The motor and load behind a drive (see rt-core's `drive::plant`).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -398,6 +402,14 @@ pub struct PlantConfig {
     pub rated_acc: f64,
     /// Peak force over rated force.
     pub peak_ratio: f64,
+    /// A flexible load: a second mass on a spring and damper behind the motor, ringing at
+    /// this natural frequency (Hz) when the motor stands still; 0 (the default) is a rigid
+    /// load. HMPL 15.1's cantilever, for the VSF and input shaping of ch. 15.
+    pub load_frequency_hz: f64,
+    /// The flexible load's damping ratio, 0..1.
+    pub load_damping: f64,
+    /// The flexible load's mass over the motor's (its inertia, `inertia_ratio`), > 0..10.
+    pub load_mass_ratio: f64,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -514,7 +526,16 @@ impl Default for AxisConfig {
 
 impl Default for PlantConfig {
     fn default() -> Self {
-        PlantConfig { bandwidth_hz: 100.0, inertia_ratio: 1.0, friction: 0.02, rated_acc: 20_000.0, peak_ratio: 3.0 }
+        PlantConfig {
+            bandwidth_hz: 100.0,
+            inertia_ratio: 1.0,
+            friction: 0.02,
+            rated_acc: 20_000.0,
+            peak_ratio: 3.0,
+            load_frequency_hz: 0.0,
+            load_damping: 0.02,
+            load_mass_ratio: 0.1,
+        }
     }
 }
 
@@ -708,6 +729,18 @@ impl AxisConfig {
         if !(p.peak_ratio >= 1.0 && p.peak_ratio.is_finite()) {
             return Err(invalid(format!("{key}.plant.peak_ratio"), "peak force is at least the rated force (>= 1)"));
         }
+        if !(0.0..=MAX_LOAD_FREQUENCY_HZ).contains(&p.load_frequency_hz) {
+            return Err(invalid(
+                format!("{key}.plant.load_frequency_hz"),
+                "0 (a rigid load) or a frequency up to 1000 Hz",
+            ));
+        }
+        if !(0.0..1.0).contains(&p.load_damping) {
+            return Err(invalid(format!("{key}.plant.load_damping"), "a damping ratio in 0..1"));
+        }
+        if !(p.load_mass_ratio > 0.0 && p.load_mass_ratio <= 10.0) {
+            return Err(invalid(format!("{key}.plant.load_mass_ratio"), "a mass ratio in > 0..10"));
+        }
         let t = &self.travel;
         if let (Some(n), Some(p)) = (t.negative_limit, t.positive_limit)
             && n >= p
@@ -826,6 +859,28 @@ mod tests {
         for (text, key) in [("[serial]\nprotocol = 0x1E\n", "serial.protocol"), ("[serial]\nbaud = 6\n", "serial.baud")]
         {
             assert!(matches!(parse(text).validate(), Err(ConfigError::Invalid { key: k, .. }) if k == key), "{text}");
+        }
+    }
+
+    /// `[axes.plant]`'s flexible load: rigid by default; a frequency, damping or mass ratio
+    /// outside its range is refused by key.
+    #[test]
+    fn a_flexible_load_is_off_by_default_and_checked() {
+        let plant = &parse("[[axes]]\nname = \"x\"\n").axes[0].plant;
+        assert_eq!(plant.load_frequency_hz, 0.0, "rigid");
+        let text = "[[axes]]\nname = \"x\"\n[axes.plant]\nload_frequency_hz = 8.0\nload_damping = 0.05\n";
+        let config = parse(text);
+        assert!(config.validate().is_ok());
+        assert_eq!((config.axes[0].plant.load_frequency_hz, config.axes[0].plant.load_damping), (8.0, 0.05));
+        for (line, key) in [
+            ("load_frequency_hz = -1.0", "axes[0].plant.load_frequency_hz"),
+            ("load_frequency_hz = 1001.0", "axes[0].plant.load_frequency_hz"),
+            ("load_damping = 1.0", "axes[0].plant.load_damping"),
+            ("load_mass_ratio = 0.0", "axes[0].plant.load_mass_ratio"),
+            ("load_mass_ratio = 11.0", "axes[0].plant.load_mass_ratio"),
+        ] {
+            let config = parse(&format!("[[axes]]\nname = \"x\"\n[axes.plant]\n{line}\n"));
+            assert!(matches!(config.validate(), Err(ConfigError::Invalid { key: k, .. }) if k == key), "{line}");
         }
     }
 

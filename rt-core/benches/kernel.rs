@@ -21,6 +21,7 @@ use rt_core::motion::Kernel;
 use rt_core::motion::filter::FilterChain;
 use rt_core::motion::generator::{Generator, Move, Profile};
 use rt_core::motion::group::motion::PathCommand;
+use rt_core::motion::shaping::AXIS_MIN_SHAPER_HZ;
 use rt_core::profile::{Limits, Trapezoid};
 
 const PERIOD_S: f64 = 1e-3;
@@ -41,7 +42,7 @@ fn planning(c: &mut Criterion) {
     });
     group.bench_function("move_abs_through_generator_smoothed", |b| {
         let mut generator = Generator::new(PERIOD_S, Profile { vel: 500.0, acc: 5_000.0, dec: 3_000.0 });
-        let mut filters = FilterChain::for_axis(501);
+        let mut filters = FilterChain::for_axis(501, AXIS_MIN_SHAPER_HZ, PERIOD_S);
         filters.set_smoothing(100, 0.0);
         let mut target = 0.0;
         b.iter(|| {

@@ -29,6 +29,12 @@ impl Network {
         }
     }
 
+    /// Simulation only: where the flexible load behind the drive at `slave` is (counts, drive
+    /// coordinates); `None` for a rigid load or a slave that is not a drive.
+    pub fn load_position(&self, slave: usize) -> Option<f64> {
+        self.slaves().get(slave).and_then(|s| s.device_as::<Drive>()).and_then(Drive::load_position)
+    }
+
     /// Simulation only: the switch on input `channel` of the digital I/O terminal at
     /// `slave` (a drive's inputs are not simulated).
     pub fn set_terminal_input(&mut self, slave: usize, channel: i64, on: bool) -> Result<(), NoSuchChannel> {

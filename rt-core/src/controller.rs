@@ -76,8 +76,8 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         .map_err(|source| ControllerError::DataDir { path: options.data_dir.clone(), source })?;
     let (trace, trace_writer) = match &options.trace {
         Some(path) => {
-            let (sender, writer) = trace::start(path, config.axes.len())
-                .map_err(|source| ControllerError::Trace { path: path.clone(), source })?;
+            let (sender, writer) =
+                trace::start(path, &config).map_err(|source| ControllerError::Trace { path: path.clone(), source })?;
             (Some(sender), Some(writer))
         }
         None => (None, None),

@@ -213,7 +213,8 @@ impl CycleWork {
         self.endpoint.publish(&self.snapshot);
         self.endpoint.wake(cycle);
         if let Some(trace) = &self.trace {
-            trace.push(TraceRow::of(&self.snapshot, self.lateness_ns, self.previous_execution_ns));
+            let row = TraceRow::of(&self.snapshot, self.lateness_ns, self.previous_execution_ns);
+            trace.push(row.with_loads(&self.machine.kernel, &self.machine.network));
         }
     }
 }

@@ -1,5 +1,6 @@
 //! The trace (`luamotion run --trace FILE`): every cycle's reference, feedback and status
-//! words of the first axes, written to a CSV file by a thread of its own. The RT thread
+//! words of the first axes, and for an axis with a flexible load (`[axes.plant]
+//! load_frequency_hz`) where the load is, written to a CSV file by a thread of its own. The RT thread
 //! only pushes a fixed-size row into a preallocated queue; a full queue drops the row and
 //! counts it.
 
@@ -13,6 +14,10 @@ use std::time::Duration;
 use crossbeam::queue::ArrayQueue;
 use ipc::messages::Snapshot;
 
+use crate::config::MachineConfig;
+use crate::ecat::Network;
+use crate::motion::Kernel;
+
 /// Axes a trace row holds.
 pub const TRACED_AXES: usize = 8;
 /// Rows in flight: 16 s at 1 ms.
@@ -24,6 +29,8 @@ pub struct TracedAxis {
     pub pos_fb: f64,
     pub motion_status: u32,
     pub fault_status: u32,
+    /// Simulation only: the flexible load's position, axis coordinates.
+    pub load_pos: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -51,9 +58,19 @@ impl TraceRow {
                 pos_fb: axis.pos_fb,
                 motion_status: axis.motion_status,
                 fault_status: axis.fault_status,
+                load_pos: None,
             };
         }
         row
+    }
+
+    /// Adds each axis' flexible load, which no snapshot carries (a drive measures only its
+    /// motor).
+    pub fn with_loads(mut self, kernel: &Kernel, network: &Network) -> Self {
+        for (out, axis) in self.axes.iter_mut().zip(kernel.axes()) {
+            out.load_pos = axis.load_position(network);
+        }
+        self
     }
 }
 
@@ -87,25 +104,33 @@ impl TraceWriter {
     }
 }
 
-/// Opens `path` and starts the writer for `axes` axes.
-pub fn start(path: &Path, axes: usize) -> std::io::Result<(TraceSender, TraceWriter)> {
+/// Opens `path` and starts the writer for the axes of `config`.
+pub fn start(path: &Path, config: &MachineConfig) -> std::io::Result<(TraceSender, TraceWriter)> {
+    let axes = config.axes.len().min(TRACED_AXES);
+    let mut loads = [false; TRACED_AXES];
+    for (load, axis) in loads.iter_mut().zip(&config.axes) {
+        *load = axis.plant.load_frequency_hz > 0.0;
+    }
     let file = std::fs::File::create(path)?;
     let queue = Arc::new(ArrayQueue::new(CAPACITY));
     let dropped = Arc::new(AtomicU64::new(0));
     let stop = Arc::new(AtomicBool::new(false));
-    let axes = axes.min(TRACED_AXES);
     let thread = {
         let (queue, stop) = (queue.clone(), stop.clone());
-        std::thread::Builder::new().name("trace".into()).spawn(move || write(file, &queue, &stop, axes))?
+        std::thread::Builder::new().name("trace".into()).spawn(move || write(file, &queue, &stop, &loads[..axes]))?
     };
     Ok((TraceSender { queue, dropped: dropped.clone() }, TraceWriter { stop, thread, dropped }))
 }
 
-fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, axes: usize) -> std::io::Result<u64> {
+/// One row per cycle; `loads` says, per traced axis, whether it has a load column.
+fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, loads: &[bool]) -> std::io::Result<u64> {
     let mut out = std::io::BufWriter::new(file);
     let mut header = String::from("cycle,overruns,lateness_us,previous_execution_us");
-    for a in 0..axes {
+    for (a, &load) in loads.iter().enumerate() {
         header += &format!(",a{a}_ref_pos,a{a}_pos_fb,a{a}_motion_status,a{a}_fault_status");
+        if load {
+            header += &format!(",a{a}_load_pos");
+        }
     }
     writeln!(out, "{header}")?;
     let mut rows = 0;
@@ -114,8 +139,11 @@ fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, a
         while let Some(row) = queue.pop() {
             let us = |ns: u64| ns as f64 / 1000.0;
             write!(out, "{},{},{},{}", row.cycle, row.overruns, us(row.lateness_ns), us(row.previous_execution_ns))?;
-            for axis in &row.axes[..axes] {
+            for (axis, &load) in row.axes.iter().zip(loads) {
                 write!(out, ",{},{},{},{}", axis.ref_pos, axis.pos_fb, axis.motion_status, axis.fault_status)?;
+                if load {
+                    write!(out, ",{}", axis.load_pos.unwrap_or(f64::NAN))?;
+                }
             }
             writeln!(out)?;
             rows += 1;

@@ -6,6 +6,7 @@
 
 use rt_core::motion::filter::FilterChain;
 use rt_core::motion::generator::{Generator, Move, Profile};
+use rt_core::motion::shaping::AXIS_MIN_SHAPER_HZ;
 use rt_core::profile::Kinematics;
 
 const PERIOD: f64 = 1e-3;
@@ -22,7 +23,11 @@ struct Smoothed {
 impl Smoothed {
     fn new(period_s: f64, profile: Profile, max_smooth_samples: usize) -> Self {
         let generator = Generator::new(period_s, profile);
-        Smoothed { generator, filters: FilterChain::for_axis(max_smooth_samples), output: Kinematics::default() }
+        Smoothed {
+            generator,
+            filters: FilterChain::for_axis(max_smooth_samples, AXIS_MIN_SHAPER_HZ, period_s),
+            output: Kinematics::default(),
+        }
     }
 
     fn set_smooth_samples(&mut self, samples: usize) {

@@ -2,7 +2,8 @@
 //! even while a task's commands are served (axis moves, a group's lines and arcs with
 //! look-ahead and corner blends), replies published and wake-ups sent, and a FUN147 box
 //! runs its step table on the group interpolator, and a digital I/O terminal's output
-//! toggles (HMPL 9.3).
+//! toggles (HMPL 9.3), with input shaping on axis 0 (which carries a flexible load) and
+//! on the group, and the VSF on axis 1 (HMPL ch. 15).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -15,7 +16,7 @@ use api::call::Value;
 use calls::plc::SharedPlc;
 use fun147::{Plc, Reg, Relay};
 use ipc::messages::Request;
-use ipc::messages::motion_status::ENABLED;
+use ipc::messages::motion_status::{ENABLED, INPUT_SHAPE, VSF};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
@@ -68,15 +69,15 @@ fn profile() -> Value {
     list(&[100.0, 5000.0, 5000.0, 0.0])
 }
 
-/// A task that enables axis 0 and moves it back and forth without pause, while axes 4 and
-/// 5, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
+/// A task that enables axes 0 and 1 and moves them back and forth without pause, while axes
+/// 4 and 5, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
 fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
-    for a in [0, 4, 5] {
+    for a in [0, 1, 4, 5] {
         task.call(&mut request(Command::Enable, &[a], &[])).unwrap();
     }
     let enabled = |a: usize, task: &mut TaskEndpoint| task.snapshot().axes[a].motion_status & ENABLED != 0;
-    while ![0, 4, 5].iter().all(|&a| enabled(a, &mut task)) {
+    while ![0, 1, 4, 5].iter().all(|&a| enabled(a, &mut task)) {
         let target = task.snapshot().cycle + 1;
         task.wait_until_cycle(target).unwrap();
     }
@@ -87,6 +88,13 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         request(Command::SetGrpBufferMode, &[0, 6], &[]),
         request(Command::SetGrpTransMode, &[0, 2], &[]),
         request(Command::SetGrpTransPrm, &[0], &[50.0, 0.2, 0.0, 0.0]),
+        // HMPL ch. 15: a robust shaper on axis 0, the VSF on axis 1, a shaper on the group.
+        typed(Command::SetAxisInShape, &[int(0), Value::Double(20.0), Value::Double(0.05), int(0)]),
+        request(Command::EnableAxisInShape, &[0], &[]),
+        request(Command::SetAxisVsf, &[1], &[30.0, 1.0]),
+        request(Command::EnableAxisVsf, &[1], &[]),
+        typed(Command::SetGrpInShape, &[int(0), Value::Double(10.0), Value::Double(0.1), int(1)]),
+        request(Command::EnableGrpInShape, &[0], &[]),
     ] {
         let mut setup = setup;
         assert_eq!(task.call(&mut setup).unwrap().rc, 0);
@@ -94,7 +102,9 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut i = 0;
     while !stop.load(Ordering::Acquire) {
         i += 1;
-        task.call(&mut request(Command::MoveAbs, &[0], &[(i % 2) as f64])).unwrap();
+        for a in [0, 1] {
+            task.call(&mut request(Command::MoveAbs, &[a], &[(i % 2) as f64])).unwrap();
+        }
         let mut path = match i % 5 {
             0 => request(Command::LineAbs2D, &[0], &[1.0, 0.0]),
             1 => request(Command::ArcCW2D, &[0], &[1.0, 0.5, 1.0, 1.0]),
@@ -161,6 +171,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let mut config = MachineConfig::default();
     let first = config.axes[0].clone();
     config.axes = (0..6).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
+    config.axes[0].plant.load_frequency_hz = 20.0;
     config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8 });
     let mut network = Network::for_machine(&config);
     network.start(config.period_ns()).unwrap();
@@ -198,6 +209,9 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let system = rt_alloc::owner_system_allocations() - system_before;
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
+    let filters = work.machine_mut().kernel.axis_snapshot(0).motion_status & INPUT_SHAPE != 0
+        && work.machine_mut().kernel.axis_snapshot(1).motion_status & VSF != 0
+        && work.machine_mut().kernel.groups()[0].in_shape();
     let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
     let plc = SharedPlc(shared.plc());
     let (box_running, box_error) = (plc.relay(Relay::M(110)), plc.word(Reg::D(4061)));
@@ -210,6 +224,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
 
     assert!(enabled, "the task's commands were applied");
     assert!(grouped, "the group's commands were applied");
+    assert!(filters, "the filters of ch. 15 were on");
     assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");

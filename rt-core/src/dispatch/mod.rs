@@ -21,7 +21,7 @@ use ipc::messages::{Reply, Request};
 
 use crate::ecat::{AlState, SdoError};
 use crate::machine::Machine;
-use crate::motion::axis::Ignore;
+use crate::motion::axis::{Ignore, VibrationFilter as Vibration};
 use crate::motion::group::settings as group_settings;
 use crate::tasks::Entry;
 use axis::{axis, home_number, motion};
@@ -523,6 +523,24 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::SetGPIInvert { gpi_idx, invert } => io::pin(m.io.set_gpi_invert(gpi_idx, invert)),
         C::SetGPOInvert { gpo_idx, invert } => io::pin(m.io.set_gpo_invert(gpo_idx, invert)),
         C::BindEMO { gpi_idx } => io::pin(m.io.bind_emo(gpi_idx)),
+        // HMPL ch. 15: filters.
+        C::EnableAxisVsf { axis_id } => axis(m, axis_id, |ax| ax.switch_vibration_filter(Vibration::Vsf, true)),
+        C::DisableAxisVsf { axis_id } => axis(m, axis_id, |ax| ax.switch_vibration_filter(Vibration::Vsf, false)),
+        C::SetAxisVsf { axis_id, frequency, damping_ratio } => {
+            axis(m, axis_id, |ax| ax.set_vsf(frequency, damping_ratio))
+        }
+        C::EnableAxisInShape { axis_id } => axis(m, axis_id, |ax| ax.switch_vibration_filter(Vibration::InShape, true)),
+        C::DisableAxisInShape { axis_id } => {
+            axis(m, axis_id, |ax| ax.switch_vibration_filter(Vibration::InShape, false))
+        }
+        C::SetAxisInShape { axis_id, frequency, damping_ratio, shaper_type } => {
+            axis(m, axis_id, |ax| ax.set_in_shape(frequency, damping_ratio, shaper_type))
+        }
+        C::EnableGrpInShape { group_id } => groups::group(m, |k| k.switch_group_shaper(group_id, true)),
+        C::DisableGrpInShape { group_id } => groups::group(m, |k| k.switch_group_shaper(group_id, false)),
+        C::SetGrpInShape { group_id, frequency, damping_ratio, shaper_type } => {
+            groups::group(m, |k| k.set_group_shaper(group_id, frequency, damping_ratio, shaper_type))
+        }
         C::SimSetSlvGPI { slv_slot_id, gpi_idx, on_off } => io::sim_set_slave_input(m, slv_slot_id, gpi_idx, on_off),
         C::SetSlvGPO { slv_slot_id, gpo_idx, on_off } => io::change_slave_outputs(m, slv_slot_id, |now, mask| {
             let bit = io::channel_bit(gpo_idx, mask)?;

@@ -182,6 +182,13 @@ impl Drive {
         self.plant.position
     }
 
+    /// Simulation only: where a flexible load is, in drive coordinates (counts, as the
+    /// position actual value); `None` for a rigid load. No object carries it: a drive
+    /// measures only its motor.
+    pub fn load_position(&self) -> Option<f64> {
+        self.plant.load_position().map(|p| p + self.shift)
+    }
+
     /// The state of the brake (bit 16, 1 = released) and outputs O1..O5 (bits 17..21).
     pub fn outputs(&self) -> u32 {
         self.outputs

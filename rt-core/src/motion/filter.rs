@@ -1,10 +1,12 @@
 //! An axis' filter chain: "filters modify the PG position commands" (HMPL 15.1). The
 //! reference the profile generator produces passes each stage in order before it becomes
-//! the axis' reference. The first stage is the smoothing of HMPL 5.1 (fig. 5.1.2); VSF
-//! and input shaping (HMPL 15.2 to 15.7) join as further stages, and a group's output
-//! will pass its axes' chains too. The stages are added at start-up into room reserved
-//! then: nothing in the cycle allocates.
+//! the axis' reference. The first stage is the smoothing of HMPL 5.1 (fig. 5.1.2), the
+//! second VSF and input shaping (HMPL 15.2 to 15.7, `shaping.rs`; at most one of them on).
+//! A group's output passes its own shapers instead (HMPL 15.1: axis InShape has no effect
+//! on group motion). The stages are added at start-up into room reserved then: nothing in
+//! the cycle allocates.
 
+use crate::motion::shaping::Vibration;
 use crate::motion::smoothing::Smoother;
 use crate::profile::Kinematics;
 
@@ -15,6 +17,9 @@ pub const MAX_STAGES: usize = 4;
 pub enum Stage {
     /// The moving average that turns a T-curve into an S-curve (HMPL 5.1, 5.3.16).
     Smoothing(Smoother),
+    /// VSF and input shaping (HMPL 15.2 to 15.7), boxed at start-up: it is larger than
+    /// the smoothing.
+    Vibration(Box<Vibration>),
 }
 
 impl Stage {
@@ -22,24 +27,42 @@ impl Stage {
     fn push(&mut self, k: Kinematics) -> Kinematics {
         match self {
             Stage::Smoothing(s) => s.push(k),
+            Stage::Vibration(v) => v.push(k),
         }
     }
 
     fn rest_at(&mut self, pos: f64) {
         match self {
             Stage::Smoothing(s) => s.rest_at(pos),
+            Stage::Vibration(v) => v.rest_at(pos),
         }
     }
 
     fn settled(&self) -> bool {
         match self {
             Stage::Smoothing(s) => s.settled(),
+            Stage::Vibration(v) => v.settled(),
         }
     }
 
     fn as_smoother(&mut self) -> Option<&mut Smoother> {
         match self {
             Stage::Smoothing(s) => Some(s),
+            Stage::Vibration(_) => None,
+        }
+    }
+
+    fn as_vibration(&mut self) -> Option<&mut Vibration> {
+        match self {
+            Stage::Vibration(v) => Some(v),
+            Stage::Smoothing(_) => None,
+        }
+    }
+
+    fn vibration(&self) -> Option<&Vibration> {
+        match self {
+            Stage::Vibration(v) => Some(v),
+            Stage::Smoothing(_) => None,
         }
     }
 }
@@ -50,9 +73,9 @@ pub struct ChainFull;
 
 pub struct FilterChain {
     stages: Vec<Stage>,
-    /// The smoothing passes samples through until a motion handed over from a coupling
-    /// (a gear slave after GearOut) has come to rest: its window would start full of a
-    /// standstill behind a moving reference and pull the output back (docs/decisions.md,
+    /// The smoothing, VSF and shaper pass samples through until a motion handed over from
+    /// a coupling (a gear slave after GearOut) has come to rest: their history would hold
+    /// a standstill behind a moving reference and pull the output back (docs/decisions.md,
     /// "Gear").
     smoothing_suspended: bool,
 }
@@ -70,11 +93,22 @@ impl FilterChain {
     }
 
     /// The chain an axis starts with: smoothing (off until a smooth time is set), with
-    /// room for `max_smooth_samples`.
-    pub fn for_axis(max_smooth_samples: usize) -> Self {
+    /// room for `max_smooth_samples`, then VSF and input shaping (off), with room for a
+    /// shaper down to `min_shaper_hz` at a cycle of `period_s`.
+    pub fn for_axis(max_smooth_samples: usize, min_shaper_hz: f64, period_s: f64) -> Self {
         let mut chain = Self::new();
         chain.add(Stage::Smoothing(Smoother::new(max_smooth_samples))).expect("an empty chain has room");
+        chain.add(Stage::Vibration(Box::new(Vibration::new(min_shaper_hz, period_s)))).expect("room for two stages");
         chain
+    }
+
+    /// The VSF and input-shaping stage, if the chain has one.
+    pub fn vibration(&mut self) -> Option<&mut Vibration> {
+        self.stages.iter_mut().find_map(Stage::as_vibration)
+    }
+
+    pub fn vibration_ref(&self) -> Option<&Vibration> {
+        self.stages.iter().find_map(Stage::vibration)
     }
 
     /// Appends a stage (at start-up: the room is reserved, so this never allocates).
@@ -91,7 +125,15 @@ impl FilterChain {
     #[inline]
     pub fn push(&mut self, mut k: Kinematics) -> Kinematics {
         for stage in &mut self.stages {
-            k = stage.push(k);
+            k = match stage {
+                // A motion handed over passes the vibration filters too, which rest on it:
+                // their history lies where the coupling took the axis from.
+                Stage::Vibration(v) if self.smoothing_suspended => {
+                    v.rest_at(k.pos);
+                    k
+                }
+                _ => stage.push(k),
+            };
         }
         k
     }
@@ -160,7 +202,7 @@ mod tests {
     #[test]
     fn a_step_through_the_smoothing_stage_is_the_moving_average() {
         let n = 8;
-        let mut chain = FilterChain::for_axis(50);
+        let mut chain = FilterChain::for_axis(50, 1.5, 1e-3);
         chain.set_smoothing(n, 0.0);
         let step = at(1.0);
         for i in 1..=2 * n {
@@ -175,7 +217,7 @@ mod tests {
 
     #[test]
     fn the_smoothing_stage_gives_what_the_smoother_alone_gives() {
-        let mut chain = FilterChain::for_axis(100);
+        let mut chain = FilterChain::for_axis(100, 1.5, 1e-3);
         let mut alone = Smoother::new(100);
         chain.set_smoothing(37, 5.0);
         alone.reset(5.0, 37);
@@ -188,7 +230,7 @@ mod tests {
 
     #[test]
     fn a_suspended_smoothing_passes_through_until_resumed() {
-        let mut chain = FilterChain::for_axis(50);
+        let mut chain = FilterChain::for_axis(50, 1.5, 1e-3);
         chain.set_smoothing(10, 0.0);
         chain.suspend_smoothing(4.0);
         assert!(chain.is_smoothing_suspended());
@@ -200,9 +242,29 @@ mod tests {
         assert!((out.pos - 4.6).abs() < 1e-12, "averaged over 10 again: {}", out.pos);
     }
 
+    /// A motion handed over from a coupling passes an enabled shaper unchanged, and the
+    /// shaper takes the axis' own motion from where it came to rest.
+    #[test]
+    fn a_suspended_chain_passes_the_vibration_filters_too() {
+        use crate::motion::shaping::ShaperParams;
+        let mut chain = FilterChain::for_axis(50, 1.5, 1e-3);
+        let v = chain.vibration().unwrap();
+        v.shaper.configure(ShaperParams { freq_hz: 10.0, damping: 0.0, robust: false });
+        v.shaper.set_enabled(true, 0.0);
+        chain.suspend_smoothing(4.0);
+        for i in 0..10 {
+            let k = Kinematics { pos: 4.0 + 0.1 * i as f64, vel: 100.0, acc: 0.0 };
+            assert_eq!(chain.push(k), k, "unshaped while suspended");
+        }
+        // At rest where the handed-over motion ended, 4.9.
+        chain.resume_smoothing(1, 4.9);
+        let out = chain.push(at(5.9));
+        assert!((out.pos - 5.4).abs() < 1e-12, "half the step now, half 50 ms later: {}", out.pos);
+    }
+
     #[test]
     fn reset_keeps_the_window_and_rests_every_stage() {
-        let mut chain = FilterChain::for_axis(50);
+        let mut chain = FilterChain::for_axis(50, 1.5, 1e-3);
         chain.set_smoothing(4, 0.0);
         chain.push(at(1.0));
         assert!(!chain.settled());

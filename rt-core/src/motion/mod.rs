@@ -15,6 +15,7 @@ pub mod homing;
 pub mod power;
 pub mod pvt;
 pub mod settings;
+pub mod shaping;
 pub mod smoothing;
 pub mod source;
 

@@ -10,6 +10,9 @@
 mod limits;
 mod ranges;
 mod status;
+mod vibration;
+
+pub use vibration::VibrationFilter;
 
 use api::AxisError;
 use ipc::messages::fault_status;
@@ -25,6 +28,7 @@ use crate::motion::homing::Homing;
 use crate::motion::power::PowerEvent;
 use crate::motion::pvt::{Pvt, PvtError, PvtPoint};
 use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
+use crate::motion::shaping::AXIS_MIN_SHAPER_HZ;
 use crate::motion::source::{Engagement, ReferenceSource};
 use crate::profile::Kinematics;
 
@@ -90,7 +94,7 @@ impl Axis {
             link: DriveLink::new(id as usize, config, network),
             source: ReferenceSource::Profile,
             generator: Generator::new(period_s, settings.profile()),
-            filters: FilterChain::for_axis(max_samples),
+            filters: FilterChain::for_axis(max_samples, AXIS_MIN_SHAPER_HZ, period_s),
             settings,
             period_s,
             cycle: 0,
@@ -181,6 +185,12 @@ impl Axis {
 
     pub fn pos_fb(&self) -> f64 {
         self.pos_fb
+    }
+
+    /// Simulation only: where the drive's flexible load is, axis coordinates (the motor's
+    /// feedback plus the load's deflection); `None` for a rigid load.
+    pub fn load_position(&self, network: &Network) -> Option<f64> {
+        network.load_position(self.link.slave()).map(|counts| self.link.units(counts) - self.pos_offset)
     }
 
     /// The drive's position before the axis' offset (the gantry transform works on it).

@@ -7,6 +7,7 @@ use api::{AxisError, Quantity, Refusal};
 
 use super::Axis;
 use crate::motion::settings::MAX_SMOOTH_TIME_MS;
+use crate::motion::shaping::{AXIS_MIN_SHAPER_HZ, MAX_SHAPER_DAMPING};
 
 /// The longest time argument (acceleration, deceleration and in-position times, PVT
 /// times), ms: beyond a minute it is a mistake of units, not a setting.
@@ -63,6 +64,10 @@ impl Axis {
                     && (!(per_mille.is_finite() && per_mille > 0.0) || (v * per_mille).abs() <= MAX_TORQUE_PER_MILLE)
             }
             Quantity::PvtTime => within(0.0, MAX_TIME_MS),
+            Quantity::VsfFrequency => within(0.1, 200.0),
+            Quantity::VsfDamping => within(0.7, 1.5),
+            Quantity::ShaperFrequency => within(AXIS_MIN_SHAPER_HZ, 300.0),
+            Quantity::ShaperDamping => within(0.0, MAX_SHAPER_DAMPING),
             Quantity::Group
             | Quantity::PathCoordinate
             | Quantity::PathAngle
@@ -80,7 +85,9 @@ impl Axis {
             | Quantity::GroupJogVelocity
             | Quantity::MotionProfile
             | Quantity::TransitionParameter
-            | Quantity::LookAheadParameter => false,
+            | Quantity::LookAheadParameter
+            | Quantity::GroupShaperFrequency
+            | Quantity::GroupShaperDamping => false,
         }
     }
 

@@ -63,6 +63,7 @@ impl Axis {
         if self.is_gear_slave() {
             motion |= motion_status::SYNCHRONOUS | motion_status::GEAR;
         }
+        motion |= self.vibration_status();
         if self.homed {
             motion |= motion_status::HOMED;
         }

@@ -12,6 +12,7 @@
 mod commands;
 pub mod motion;
 pub mod settings;
+mod vibration;
 
 use api::{ErrorCode, GroupError};
 use ipc::messages::{GroupSnapshot, MAX_GROUP_AXES, fault_status, group_fault_status, group_motion_status};
@@ -20,6 +21,7 @@ use path::blend::{TransitionMode, TransitionParams};
 use path::frames::{CoordSys, Frames};
 use path::planner::{Limits, Planner, Sample};
 
+use crate::motion::shaping::{GROUP_MIN_SHAPER_HZ, InputShaper};
 use crate::motion::smoothing::Smoother;
 use crate::profile::Kinematics;
 use settings::{GroupSettings, KIN_CARTESIAN, MAX_SMOOTH_MS};
@@ -49,6 +51,8 @@ pub struct Group {
     planner: Planner,
     /// The S-curve: a moving average of each coordinate over the smooth time.
     smoothers: [Smoother; COORDINATES],
+    /// HMPL 15.8-15.10: input shaping after the smoothing, on each coordinate.
+    shapers: [InputShaper; COORDINATES],
     period_s: f64,
     /// The last cycle's interpolator output and the smoothed pose the axes took.
     sample: Sample,
@@ -82,6 +86,7 @@ impl Group {
             trans: TransitionParams::default(),
             planner: Planner::new(period_s),
             smoothers: std::array::from_fn(|_| Smoother::new(max_samples)),
+            shapers: std::array::from_fn(|_| InputShaper::new(GROUP_MIN_SHAPER_HZ, period_s)),
             period_s,
             sample: Sample::default(),
             pose_cmd: Kinematics6::default(),
@@ -108,9 +113,10 @@ impl Group {
         self.state != GroupState::Disabled
     }
 
-    /// The interpolator or the smoothing after it still moves the pose.
+    /// The interpolator, or the smoothing or shaping after it, still moves the pose.
     pub fn is_moving(&self) -> bool {
-        self.state == GroupState::Standby && (self.planner.is_moving() || !self.smoothers.iter().all(Smoother::settled))
+        self.state == GroupState::Standby
+            && (self.planner.is_moving() || !self.smoothers.iter().all(Smoother::settled) || !self.shapers_settled())
     }
 
     pub fn commander(&self) -> Option<u8> {
@@ -157,6 +163,9 @@ impl Group {
         for (smoother, &p) in self.smoothers.iter_mut().zip(&pose) {
             smoother.reset(p, len);
         }
+        for (shaper, &p) in self.shapers.iter_mut().zip(&pose) {
+            shaper.rest_at(p);
+        }
         self.pose_cmd = Kinematics6 { pos: pose, ..Kinematics6::default() };
         self.sample = Sample { pose, ..Sample::default() };
     }
@@ -174,8 +183,8 @@ impl Group {
         self.sample = self.planner.step();
         let raw = self.sample.pose;
         let previous = self.pose_cmd;
-        for (i, (smoother, &raw)) in self.smoothers.iter_mut().zip(&raw).enumerate() {
-            let k = smoother.push(Kinematics { pos: raw, vel: 0.0, acc: 0.0 });
+        for (i, ((smoother, shaper), &raw)) in self.smoothers.iter_mut().zip(&mut self.shapers).zip(&raw).enumerate() {
+            let k = shaper.push(smoother.push(Kinematics { pos: raw, vel: 0.0, acc: 0.0 }));
             self.pose_cmd.pos[i] = k.pos;
             self.pose_cmd.vel[i] = (k.pos - previous.pos[i]) / self.period_s;
             self.pose_cmd.acc[i] = (self.pose_cmd.vel[i] - previous.vel[i]) / self.period_s;
@@ -213,6 +222,9 @@ impl Group {
         }
         if moving {
             motion_status |= group_motion_status::MOVING;
+        }
+        if self.in_shape() {
+            motion_status |= group_motion_status::INPUT_SHAPE;
         }
         // HMPL 8.1: the group is in position when all its axes are (no window of its own).
         if self.count > 0 && !moving && members().all(|a| a.is_in_position()) {

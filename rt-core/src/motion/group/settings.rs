@@ -1,6 +1,7 @@
 //! A group's settings (HMPL 8.3) and the ranges of its arguments (HMPL 8.3.6, 8.3.7,
 //! 8.3.28, table 8.3.26.1), each refused with its code of table 18.1.3.1.
 
+use crate::motion::shaping::{GROUP_MIN_SHAPER_HZ, MAX_SHAPER_DAMPING};
 use api::{GroupError, Quantity, Refusal};
 use path::planner::{BufferMode, LookAhead, Motion, Profile};
 
@@ -127,6 +128,8 @@ pub fn admit(quantity: Quantity, index: usize, value: f64) -> Result<(), GroupEr
         // A length on the path no longer than the coordinates reach; the mode's own ranges
         // (table 8.3.26.1) are checked with the mode.
         Quantity::TransitionParameter | Quantity::LookAheadParameter => within(0.0, MAX_COORDINATE),
+        Quantity::GroupShaperFrequency => within(GROUP_MIN_SHAPER_HZ, 300.0),
+        Quantity::GroupShaperDamping => within(0.0, MAX_SHAPER_DAMPING),
         _ => true,
     };
     match (ok, quantity.error()) {
