@@ -1,7 +1,8 @@
 //! The trace (`luamotion run --trace FILE`): every cycle's reference, feedback and status
 //! words of the first axes, written to a CSV file by a thread of its own. The RT thread
 //! only pushes a fixed-size row into a preallocated queue; a full queue drops the row and
-//! counts it.
+//! counts it. The last columns are each axis' position-trigger pulses of the cycle
+//! (HMPL ch. 12): `position@time_ms` for each, `;` between them.
 
 use std::io::Write;
 use std::path::Path;
@@ -12,6 +13,8 @@ use std::time::Duration;
 
 use crossbeam::queue::ArrayQueue;
 use ipc::messages::Snapshot;
+
+use crate::position_trigger::{PositionTriggers, Pulse, TRACE_PULSES};
 
 /// Axes a trace row holds.
 pub const TRACED_AXES: usize = 8;
@@ -34,6 +37,14 @@ pub struct TraceRow {
     pub lateness_ns: u64,
     pub previous_execution_ns: u64,
     pub axes: [TracedAxis; TRACED_AXES],
+    pub pulses: [TracedPulses; TRACED_AXES],
+}
+
+/// An axis' position-trigger pulses in one cycle: the first `TRACE_PULSES` and the count.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TracedPulses {
+    pub count: u32,
+    pub pulses: [Pulse; TRACE_PULSES],
 }
 
 impl TraceRow {
@@ -54,6 +65,16 @@ impl TraceRow {
             };
         }
         row
+    }
+
+    /// Adds this cycle's position-trigger pulses.
+    pub fn with_position_triggers(mut self, triggers: &PositionTriggers) -> Self {
+        for (axis, out) in self.pulses.iter_mut().enumerate() {
+            let (pulses, count) = triggers.cycle_pulses(axis);
+            out.count = count;
+            out.pulses[..pulses.len()].copy_from_slice(pulses);
+        }
+        self
     }
 }
 
@@ -107,6 +128,9 @@ fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, a
     for a in 0..axes {
         header += &format!(",a{a}_ref_pos,a{a}_pos_fb,a{a}_motion_status,a{a}_fault_status");
     }
+    for a in 0..axes {
+        header += &format!(",a{a}_pt_pulses");
+    }
     writeln!(out, "{header}")?;
     let mut rows = 0;
     loop {
@@ -116,6 +140,17 @@ fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, a
             write!(out, "{},{},{},{}", row.cycle, row.overruns, us(row.lateness_ns), us(row.previous_execution_ns))?;
             for axis in &row.axes[..axes] {
                 write!(out, ",{},{},{},{}", axis.ref_pos, axis.pos_fb, axis.motion_status, axis.fault_status)?;
+            }
+            for traced in &row.pulses[..axes] {
+                write!(out, ",")?;
+                let shown = (traced.count as usize).min(TRACE_PULSES);
+                for (i, pulse) in traced.pulses[..shown].iter().enumerate() {
+                    let separator = if i == 0 { "" } else { ";" };
+                    write!(out, "{separator}{}@{}", pulse.pos, pulse.time_ms)?;
+                }
+                if traced.count as usize > shown {
+                    write!(out, ";+{}", traced.count as usize - shown)?;
+                }
             }
             writeln!(out)?;
             rows += 1;
