@@ -26,8 +26,8 @@ pub const SAMPLING_HZ: u64 = 16_000;
 pub const PULSE_WIDTH_NS: std::ops::RangeInclusive<i64> = 20..=80_000;
 /// Pulses of a pass kept for `GetPTPulse`.
 pub const PULSE_LOG: usize = 256;
-/// Pulses of one axis and cycle the trace shows.
-pub const TRACE_PULSES: usize = 4;
+/// Pulses of one axis and cycle the trace is handed.
+pub const TRACE_PULSES: usize = crate::trace::TRACED_PULSES;
 
 /// Why a PT function was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -346,6 +346,11 @@ impl PositionTriggers {
                 None => PtSnapshot::default(),
             };
         }
+    }
+
+    /// Axes, with a trigger or not.
+    pub fn axis_count(&self) -> usize {
+        self.axes.len()
     }
 
     /// The pulses axis `axis` gave this cycle (at most `TRACE_PULSES`) and how many it gave.

@@ -1,8 +1,10 @@
 //! The trace (`luamotion run --trace FILE`): every cycle's reference, feedback and status
 //! words of the first axes, written to a CSV file by a thread of its own. The RT thread
 //! only pushes a fixed-size row into a preallocated queue; a full queue drops the row and
-//! counts it. The last columns are each axis' position-trigger pulses of the cycle
-//! (HMPL ch. 12): `position@time_ms` for each, `;` between them.
+//! counts it. Each traced axis' position-trigger pulses of the cycle are counted in its
+//! `aN_pt_pulses` column, and every pulse is a row of its own in `FILE.pulses.csv` (cycle,
+//! axis, the point's position, the time of its crossing in ms; HMPL ch. 12); the last
+//! column, `gpo`, is the controller's outputs.
 
 use std::io::Write;
 use std::path::Path;
@@ -14,12 +16,15 @@ use std::time::Duration;
 use crossbeam::queue::ArrayQueue;
 use ipc::messages::Snapshot;
 
-use crate::position_trigger::{PositionTriggers, Pulse, TRACE_PULSES};
+use crate::position_trigger::{PositionTriggers, Pulse};
 
 /// Axes a trace row holds.
 pub const TRACED_AXES: usize = 8;
 /// Rows in flight: 16 s at 1 ms.
 const CAPACITY: usize = 16_384;
+/// Position-trigger pulses a row carries (of every axis); more in one cycle are counted in
+/// the axes' columns only.
+pub const TRACED_PULSES: usize = 8;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TracedAxis {
@@ -37,14 +42,13 @@ pub struct TraceRow {
     pub lateness_ns: u64,
     pub previous_execution_ns: u64,
     pub axes: [TracedAxis; TRACED_AXES],
-    pub pulses: [TracedPulses; TRACED_AXES],
-}
-
-/// An axis' position-trigger pulses in one cycle: the first `TRACE_PULSES` and the count.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct TracedPulses {
-    pub count: u32,
-    pub pulses: [Pulse; TRACE_PULSES],
+    /// Each traced axis' position-trigger pulses in this cycle.
+    pub pt_counts: [u32; TRACED_AXES],
+    /// This cycle's first pulses: (axis, pulse).
+    pub pulses: [(u8, Pulse); TRACED_PULSES],
+    pub pulse_count: usize,
+    /// The controller's outputs.
+    pub gpo: u32,
 }
 
 impl TraceRow {
@@ -54,6 +58,7 @@ impl TraceRow {
             overruns: snapshot.overruns,
             lateness_ns,
             previous_execution_ns,
+            gpo: snapshot.gpio.gpo,
             ..TraceRow::default()
         };
         for (out, axis) in row.axes.iter_mut().zip(&snapshot.axes) {
@@ -69,10 +74,17 @@ impl TraceRow {
 
     /// Adds this cycle's position-trigger pulses.
     pub fn with_position_triggers(mut self, triggers: &PositionTriggers) -> Self {
-        for (axis, out) in self.pulses.iter_mut().enumerate() {
+        for axis in 0..triggers.axis_count() {
             let (pulses, count) = triggers.cycle_pulses(axis);
-            out.count = count;
-            out.pulses[..pulses.len()].copy_from_slice(pulses);
+            if let Some(slot) = self.pt_counts.get_mut(axis) {
+                *slot = count;
+            }
+            for &pulse in pulses {
+                if let Some(slot) = self.pulses.get_mut(self.pulse_count) {
+                    *slot = (axis as u8, pulse);
+                    self.pulse_count += 1;
+                }
+            }
         }
         self
     }
@@ -111,19 +123,32 @@ impl TraceWriter {
 /// Opens `path` and starts the writer for `axes` axes.
 pub fn start(path: &Path, axes: usize) -> std::io::Result<(TraceSender, TraceWriter)> {
     let file = std::fs::File::create(path)?;
+    let pulses = std::fs::File::create(pulses_path(path))?;
     let queue = Arc::new(ArrayQueue::new(CAPACITY));
     let dropped = Arc::new(AtomicU64::new(0));
     let stop = Arc::new(AtomicBool::new(false));
     let axes = axes.min(TRACED_AXES);
     let thread = {
         let (queue, stop) = (queue.clone(), stop.clone());
-        std::thread::Builder::new().name("trace".into()).spawn(move || write(file, &queue, &stop, axes))?
+        std::thread::Builder::new().name("trace".into()).spawn(move || write([file, pulses], &queue, &stop, axes))?
     };
     Ok((TraceSender { queue, dropped: dropped.clone() }, TraceWriter { stop, thread, dropped }))
 }
 
-fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, axes: usize) -> std::io::Result<u64> {
+/// `FILE.pulses.csv` beside the trace `FILE.csv`.
+pub fn pulses_path(path: &Path) -> std::path::PathBuf {
+    path.with_extension("pulses.csv")
+}
+
+fn write(
+    [file, pulses]: [std::fs::File; 2],
+    queue: &ArrayQueue<TraceRow>,
+    stop: &AtomicBool,
+    axes: usize,
+) -> std::io::Result<u64> {
     let mut out = std::io::BufWriter::new(file);
+    let mut pulses_out = std::io::BufWriter::new(pulses);
+    writeln!(pulses_out, "cycle,axis,position,time_ms")?;
     let mut header = String::from("cycle,overruns,lateness_us,previous_execution_us");
     for a in 0..axes {
         header += &format!(",a{a}_ref_pos,a{a}_pos_fb,a{a}_motion_status,a{a}_fault_status");
@@ -131,6 +156,7 @@ fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, a
     for a in 0..axes {
         header += &format!(",a{a}_pt_pulses");
     }
+    header += ",gpo";
     writeln!(out, "{header}")?;
     let mut rows = 0;
     loop {
@@ -141,22 +167,18 @@ fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, a
             for axis in &row.axes[..axes] {
                 write!(out, ",{},{},{},{}", axis.ref_pos, axis.pos_fb, axis.motion_status, axis.fault_status)?;
             }
-            for traced in &row.pulses[..axes] {
-                write!(out, ",")?;
-                let shown = (traced.count as usize).min(TRACE_PULSES);
-                for (i, pulse) in traced.pulses[..shown].iter().enumerate() {
-                    let separator = if i == 0 { "" } else { ";" };
-                    write!(out, "{separator}{}@{}", pulse.pos, pulse.time_ms)?;
-                }
-                if traced.count as usize > shown {
-                    write!(out, ";+{}", traced.count as usize - shown)?;
-                }
+            for count in &row.pt_counts[..axes] {
+                write!(out, ",{count}")?;
             }
-            writeln!(out)?;
+            writeln!(out, ",{}", row.gpo)?;
+            for (axis, pulse) in &row.pulses[..row.pulse_count] {
+                writeln!(pulses_out, "{},{axis},{},{}", row.cycle, pulse.pos, pulse.time_ms)?;
+            }
             rows += 1;
         }
         if stopping {
             out.flush()?;
+            pulses_out.flush()?;
             return Ok(rows);
         }
         std::thread::sleep(Duration::from_millis(10));
