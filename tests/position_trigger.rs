@@ -24,6 +24,22 @@ fn read_csv(path: &Path) -> Vec<HashMap<String, f64>> {
     lines.map(|l| header.iter().zip(l.split(',')).map(|(h, v)| (h.to_string(), v.parse().unwrap())).collect()).collect()
 }
 
+/// Runs `main` as task 0 on one axis `x` with the machine-file lines `axis` (its `[axes.pt]`
+/// among them), traced to `trace.csv` in the returned folder.
+fn run_on_axis(tag: &str, axis: &str, main: &str) -> (Finished, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let program = program(dir.path(), "main.lua", main);
+    let toml = format!(
+        "[[axes]]\nname = \"x\"\n{axis}\n\n[[tasks]]\nid = 0\nprogram = {:?}\nautorun = true\n",
+        program.display().to_string()
+    );
+    let config = dir.path().join("machine.toml");
+    std::fs::write(&config, toml).unwrap();
+    let trace = dir.path().join("trace.csv");
+    let out = run(&unique_ns(tag), &["--config", config.to_str().unwrap(), "--trace", trace.to_str().unwrap()]);
+    (out, dir)
+}
+
 /// Time (ms) a trapezoid from `from` to `to` (|to - from| long enough to cruise) needs to
 /// cover the distance to `p`.
 fn trapezoid_time(from: f64, to: f64, p: f64) -> f64 {
@@ -44,7 +60,6 @@ fn trapezoid_time(from: f64, to: f64, p: f64) -> f64 {
 
 #[test]
 fn pulses_at_the_crossings_of_a_trapezoid_both_ways_on_the_gpo_and_in_the_trace() {
-    let dir = tempfile::tempdir().unwrap();
     let main = r#"
         local a = 0
         Print("not homed: 0x%X", EnablePT(a))
@@ -66,16 +81,9 @@ fn pulses_at_the_crossings_of_a_trapezoid_both_ways_on_the_gpo_and_in_the_trace(
         MoveAbs(a, 5) Till(function() return IsInPos(a) end)
         Print("disabled %d running %s", GetPTPulseNum(a), tostring(IsPTEnabled(a)))
     "#;
-    let program = program(dir.path(), "main.lua", main);
-    let toml = format!(
-        "[[axes]]\nname = \"x\"\nvel = {VEL}\nacc = {ACC}\ndec = {ACC}\n[axes.pt]\noutput = {OUTPUT}\n\n\
-         [[tasks]]\nid = 0\nprogram = {:?}\nautorun = true\n",
-        program.display().to_string()
-    );
-    let config = dir.path().join("machine.toml");
-    std::fs::write(&config, toml).unwrap();
+    let axis = format!("vel = {VEL}\nacc = {ACC}\ndec = {ACC}\n[axes.pt]\noutput = {OUTPUT}");
+    let (out, dir) = run_on_axis("pt", &axis, main);
     let trace = dir.path().join("trace.csv");
-    let out = run(&unique_ns("pt"), &["--config", config.to_str().unwrap(), "--trace", trace.to_str().unwrap()]);
     assert_eq!(
         out.lines_of_task(0),
         vec![
@@ -134,7 +142,6 @@ fn pulses_at_the_crossings_of_a_trapezoid_both_ways_on_the_gpo_and_in_the_trace(
 /// and the second gives no pulse; below it none is missed.
 #[test]
 fn faster_than_interval_times_sampling_frequency_misses_pulses() {
-    let dir = tempfile::tempdir().unwrap();
     let main = r#"
         local a = 0
         Enable(a) Till(function() return IsEnabled(a) end)
@@ -149,14 +156,7 @@ fn faster_than_interval_times_sampling_frequency_misses_pulses() {
           Print("interval %g: %d pulses, %d missed", interval, GetPTPulseNum(a), GetPTMissedNum(a))
         end
     "#;
-    let program = program(dir.path(), "main.lua", main);
-    let toml = format!(
-        "[[axes]]\nname = \"x\"\n[axes.pt]\noutput = 1\n\n[[tasks]]\nid = 0\nprogram = {:?}\nautorun = true\n",
-        program.display().to_string()
-    );
-    let config = dir.path().join("machine.toml");
-    std::fs::write(&config, toml).unwrap();
-    let out = run(&unique_ns("ptfast"), &["--config", config.to_str().unwrap()]);
+    let (out, _dir) = run_on_axis("ptfast", "[axes.pt]\noutput = 1", main);
     let lines = out.lines_of_task(0);
     let counts: Vec<(u32, u32)> = lines
         .iter()
@@ -171,4 +171,50 @@ fn faster_than_interval_times_sampling_frequency_misses_pulses() {
     // 1 mm at 0.00625 mm a sample spans 160 samples: one pulse in each, give or take the ends.
     assert!((159..=161).contains(&pulses), "{lines:?}");
     assert_eq!(counts[1], (101, 0), "{lines:?}");
+}
+
+/// Hostile arguments on an axis that has a trigger (tests/hostile_input.rs meets only the
+/// 0x1451 of axes without one): every PT function answers, with 0 or a code, and the
+/// trigger works afterwards.
+#[test]
+fn hostile_arguments_on_an_axis_with_a_trigger() {
+    let main = r#"
+        local a = 0
+        Enable(a) Till(function() return IsEnabled(a) end)
+        SetHomedStatus(a, 1)
+        local ints = {-1, 256, 0x7FFFFFFF, 0x100000000, math.mininteger, math.maxinteger}
+        local doubles = {0/0, math.huge, -math.huge, 1e308, -1e308, -1, 0}
+        local bad = {}
+        local function try(name, ...)
+          local ok, rc = pcall(_ENV[name], ...)
+          -- 0x83II012C invalid parameter, 0x83II0136 position out of range, 0x138F.
+          if ok and rc ~= 0 and rc & 0xFFFF ~= 0x012C and rc & 0xFFFF ~= 0x0136 and rc ~= 0x138F then bad[#bad + 1] = string.format("%s(%s)=0x%X", name, tostring(select(2, ...)), rc) end
+        end
+        for _, v in ipairs(ints) do
+          for _, f in ipairs({"SetPT_PulseWidth", "SetPT_StartIndex", "SetPT_EndIndex", "GetPTPulse"}) do try(f, a, v) end
+          try("SetPT_PosArray", a, v, 1.5) try("SetPT_StateArray", a, v, 1) try("SetPT_StateArray", a, 0, v)
+          for _, f in ipairs({"EnablePT", "DisablePT", "IsPTEnabled", "GetPTPulseNum", "GetPTMissedNum"}) do pcall(_ENV[f], v) end
+        end
+        for _, v in ipairs(doubles) do
+          for _, f in ipairs({"SetPT_StartPos", "SetPT_EndPos", "SetPT_Interval"}) do try(f, a, v) end
+          try("SetPT_PosArray", a, 0, v)
+          -- A span of 1e308 over the smallest interval has too many points to count.
+          SetPT_StartPos(a, -1e9) SetPT_EndPos(a, 1e9) SetPT_Interval(a, 1e-9) try("EnablePT", a)
+        end
+        Print("unexpected codes: %d %s", #bad, table.concat(bad, " "))
+        SetPT_StateArray(a, 0, -1) SetPT_PosArray(a, 0, 1) SetPT_PosArray(a, 1, 2)
+        SetPT_StartIndex(a, 0) SetPT_EndIndex(a, 1)
+        Print("enable %d", EnablePT(a))
+        MoveAbs(a, 3) Till(function() return IsInPos(a) end)
+        Print("pulses %d", GetPTPulseNum(a))
+    "#;
+    let (out, _dir) = run_on_axis("pthostile", "[axes.pt]\noutput = 8", main);
+    assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
+    assert_eq!(
+        out.lines_of_task(0),
+        vec!["unexpected codes: 0 ", "enable 0", "pulses 2"],
+        "{}\n{}",
+        out.stdout,
+        out.stderr
+    );
 }

@@ -2,7 +2,7 @@
 //! even while a task's commands are served (axis moves, a group's lines and arcs with
 //! look-ahead and corner blends), replies published and wake-ups sent, and a FUN147 box
 //! runs its step table on the group interpolator, and a digital I/O terminal's output
-//! toggles (HMPL 9.3).
+//! toggles (HMPL 9.3), and axis 1's position trigger pulses twice a cycle (HMPL ch. 12).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -72,11 +72,11 @@ fn profile() -> Value {
 /// 5, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
 fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
-    for a in [0, 4, 5] {
+    for a in [0, 1, 4, 5] {
         task.call(&mut request(Command::Enable, &[a], &[])).unwrap();
     }
     let enabled = |a: usize, task: &mut TaskEndpoint| task.snapshot().axes[a].motion_status & ENABLED != 0;
-    while ![0, 4, 5].iter().all(|&a| enabled(a, &mut task)) {
+    while ![0, 1, 4, 5].iter().all(|&a| enabled(a, &mut task)) {
         let target = task.snapshot().cycle + 1;
         task.wait_until_cycle(target).unwrap();
     }
@@ -87,6 +87,13 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         request(Command::SetGrpBufferMode, &[0, 6], &[]),
         request(Command::SetGrpTransMode, &[0, 2], &[]),
         request(Command::SetGrpTransPrm, &[0], &[50.0, 0.2, 0.0, 0.0]),
+        // HMPL ch. 12: axis 1 at 100 mm/s over a point every 0.05 mm.
+        request(Command::SetHomedStatus, &[1, 1], &[]),
+        request(Command::SetPT_StartPos, &[1], &[0.1]),
+        request(Command::SetPT_Interval, &[1], &[0.05]),
+        request(Command::SetPT_EndPos, &[1], &[900.0]),
+        request(Command::EnablePT, &[1], &[]),
+        request(Command::MoveVel, &[1], &[100.0]),
     ] {
         let mut setup = setup;
         assert_eq!(task.call(&mut setup).unwrap().rc, 0);
@@ -135,6 +142,7 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
             &[int(0), text("Q1"), text("D0"), text("M1"), text("M2"), text("M3"), text("M4"), text("M5"), text("M6")],
         );
         assert_ne!(task.call(&mut { refused }).unwrap().rc, 0);
+        task.call(&mut request(Command::GetPTPulse, &[1, 0], &[])).unwrap();
         // HMPL 9.3: the terminal's output 1 toggled and its input 1 switched.
         for mut io in [
             request(Command::ToggleSlvGPO, &[TERMINAL, 1], &[]),
@@ -162,6 +170,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let first = config.axes[0].clone();
     config.axes = (0..6).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
     config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8 });
+    config.axes[1].pt = Some(rt_core::config::PtConfig { output: 2 });
     let mut network = Network::for_machine(&config);
     network.start(config.period_ns()).unwrap();
     let kernel = Kernel::new(&config, &network);
@@ -169,7 +178,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let task = TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(0, "-".into()) };
     let (link, _supervisor) = tasks::link();
     let tasks = Tasks::new(&[task], config.period_ns(), link);
-    let machine = Machine::new(network, kernel, tasks, config.period_ns());
+    let machine = Machine::new(network, kernel, tasks, config.period_ns()).with_position_triggers(&config);
     let ns = Namespace::new(&format!("t{}-alloc", std::process::id())).unwrap();
     ipc::claim_namespace(&ns).unwrap();
     let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());
@@ -199,6 +208,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
     let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
+    let pulsed = work.machine_mut().triggers.pulse(1, 255).is_ok();
     let plc = SharedPlc(shared.plc());
     let (box_running, box_error) = (plc.relay(Relay::M(110)), plc.word(Reg::D(4061)));
 
@@ -210,6 +220,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
 
     assert!(enabled, "the task's commands were applied");
     assert!(grouped, "the group's commands were applied");
+    assert!(pulsed, "axis 1's position trigger gave pulses");
     assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");
