@@ -7,6 +7,8 @@
 //! crossed in the same drive sample as the pulse before is counted as missed, not pulsed
 //! (docs/decisions.md, "Position trigger"). Each pulse shows on the axis' controller GPO
 //! (`[axes.pt] output`) for one cycle and in the trace with its position and time.
+//! The comparator follows the drive's travel: `SetPos` moving the origin crosses no point,
+//! and a homing, which redefines the drive's position, ends the pass.
 //!
 //! Everything is allocated in `new`; `step` only writes fixed arrays.
 
@@ -118,7 +120,8 @@ struct AxisTrigger {
     output: i64,
     settings: Settings,
     pass: Option<Pass>,
-    prev_fb: f64,
+    /// The drive's position at the last sample (before the axis' origin offset).
+    prev_drive: f64,
     log: Box<[Pulse; PULSE_LOG]>,
     pulses: u32,
     missed: u32,
@@ -133,7 +136,7 @@ impl AxisTrigger {
             output,
             settings: Settings::default(),
             pass: None,
-            prev_fb: 0.0,
+            prev_drive: 0.0,
             log: Box::new([Pulse::default(); PULSE_LOG]),
             pulses: 0,
             missed: 0,
@@ -165,10 +168,12 @@ impl AxisTrigger {
         Ok(())
     }
 
-    /// Fires the points the feedback reached between the last sample and `fb`; `samples`
-    /// drive samples per cycle.
-    fn step(&mut self, cycle: u64, fb: f64, period_ms: f64, samples: u64) {
-        let prev = std::mem::replace(&mut self.prev_fb, fb);
+    /// Fires the points the feedback crossed between the last sample and `fb`, the drive
+    /// standing at `drive` (so `drive - fb` is the origin offset now); `samples` drive
+    /// samples per cycle.
+    fn step(&mut self, cycle: u64, fb: f64, drive: f64, period_ms: f64, samples: u64) {
+        // The last sample in today's coordinates: a new origin moves no point past the axis.
+        let prev = std::mem::replace(&mut self.prev_drive, drive) - (drive - fb);
         self.cycle_count = 0;
         let Some(pass) = &mut self.pass else { return };
         while pass.next < pass.points {
@@ -323,7 +328,10 @@ impl PositionTriggers {
         let mut high = 0u8;
         for (trigger, axis) in self.axes.iter_mut().zip(kernel.axes()) {
             let Some(trigger) = trigger else { continue };
-            trigger.step(cycle, axis.pos_fb(), period_ms, samples);
+            if axis.is_homing() {
+                trigger.pass = None;
+            }
+            trigger.step(cycle, axis.pos_fb(), axis.drive_position(), period_ms, samples);
             if trigger.cycle_count > 0 {
                 high |= 1 << (trigger.output - 1);
             }
@@ -391,7 +399,7 @@ mod tests {
     /// Runs `t` over feedback positions, one a cycle from cycle 1, and returns its pulses.
     fn run(t: &mut AxisTrigger, positions: &[f64]) -> Vec<Pulse> {
         for (c, &fb) in positions.iter().enumerate() {
-            t.step(c as u64 + 1, fb, 1.0, SAMPLES);
+            t.step(c as u64 + 1, fb, fb, 1.0, SAMPLES);
         }
         t.log[..(t.pulses as usize).min(PULSE_LOG)].to_vec()
     }
@@ -458,9 +466,27 @@ mod tests {
         assert_eq!((t.pulses, t.missed), (17, 84), "one pulse per drive sample that holds a point");
         // Below the limit (0.01 mm x 16 kHz = 160 mm/s) none is missed.
         t.enable().unwrap();
-        t.prev_fb = 0.0;
+        t.prev_drive = 0.0;
         run(&mut t, &ramp(0.0, 0.15, 20));
         assert_eq!((t.pulses, t.missed), (101, 0));
+    }
+
+    /// HMPL 5.3.19 `SetPos` during a pass: the feedback jumps, the drive does not move.
+    #[test]
+    fn a_new_origin_crosses_no_point() {
+        let mut t = equidistant(10.0, 1.0, 20.0);
+        t.step(1, 5.0, 5.0, 1.0, SAMPLES);
+        // The origin moves by -10: 5 mm now reads 15 mm.
+        t.step(2, 15.0, 5.0, 1.0, SAMPLES);
+        assert_eq!(t.pulses, 0, "no point crossed by the jump");
+        // From 15 on, real travel crosses 16 (and 10..15 wait behind the axis).
+        t.step(3, 16.5, 6.5, 1.0, SAMPLES);
+        assert_eq!(t.pulses, 0, "10 comes first in the pass");
+        let mut t = equidistant(16.0, 1.0, 20.0);
+        t.step(1, 5.0, 5.0, 1.0, SAMPLES);
+        t.step(2, 15.0, 5.0, 1.0, SAMPLES);
+        t.step(3, 16.5, 6.5, 1.0, SAMPLES);
+        assert_eq!(t.log[0], Pulse { pos: 16.0, time_ms: 2.0 + 1.0 / 1.5 });
     }
 
     #[test]
