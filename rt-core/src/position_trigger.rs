@@ -62,7 +62,6 @@ struct Settings {
     start: f64,
     end: f64,
     interval: f64,
-    width_ns: i64,
     positions: [f64; ARRAY_LEN],
     states: [u32; STATE_WORDS],
     start_index: usize,
@@ -76,7 +75,6 @@ impl Default for Settings {
             start: 0.0,
             end: 0.0,
             interval: 0.0,
-            width_ns: 1_000,
             positions: [0.0; ARRAY_LEN],
             states: [u32::MAX; STATE_WORDS],
             start_index: 0,
@@ -259,13 +257,13 @@ impl PositionTriggers {
         self.equidistant(axis, |s| s.interval = interval)
     }
 
-    /// HMPL 12.8: 20..80000 ns in steps of 20.
+    /// HMPL 12.8: 20..80000 ns in steps of 20. Checked only: every width is shorter than a
+    /// cycle, so the GPO shows each pulse for one cycle whatever it is.
     pub fn set_pulse_width(&mut self, axis: usize, width_ns: i64) -> Result<(), PtError> {
-        let trigger = self.axis(axis)?;
+        self.axis(axis)?;
         if !PULSE_WIDTH_NS.contains(&width_ns) || width_ns % 20 != 0 {
             return Err(PtError::InvalidParameter);
         }
-        trigger.settings.width_ns = width_ns;
         Ok(())
     }
 
