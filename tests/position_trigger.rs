@@ -175,7 +175,7 @@ fn faster_than_interval_times_sampling_frequency_misses_pulses() {
 
 /// Hostile arguments on an axis that has a trigger (tests/hostile_input.rs meets only the
 /// 0x1451 of axes without one): every PT function answers, with 0 or a code, and the
-/// trigger works afterwards.
+/// trigger works afterwards; a homing ends its pass.
 #[test]
 fn hostile_arguments_on_an_axis_with_a_trigger() {
     let main = r#"
@@ -207,12 +207,18 @@ fn hostile_arguments_on_an_axis_with_a_trigger() {
         Print("enable %d", EnablePT(a))
         MoveAbs(a, 3) Till(function() return IsInPos(a) end)
         Print("pulses %d", GetPTPulseNum(a))
+        -- A homing redefines the drive's position: it ends a pass (points 1 and 2 wait
+        -- behind the axis at 3).
+        EnablePT(a)
+        Print("before homing %s", tostring(IsPTEnabled(a)))
+        SetHomeMethod(a, 37) MoveHome(a)
+        Print("after homing %s", tostring(IsPTEnabled(a)))
     "#;
     let (out, _dir) = run_on_axis("pthostile", "[axes.pt]\noutput = 8", main);
     assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
     assert_eq!(
         out.lines_of_task(0),
-        vec!["unexpected codes: 0 ", "enable 0", "pulses 2"],
+        vec!["unexpected codes: 0 ", "enable 0", "pulses 2", "before homing true", "after homing false"],
         "{}\n{}",
         out.stdout,
         out.stderr
