@@ -995,6 +995,93 @@ function MHSPO(gp, sr, wr, en, pau, abt, act, err, dn) end
 ---@return integer
 function MHSPOFree(gp) end
 
+--- Starts a pass over the points set last (equidistant or the position array); the axis
+--- must be homed (0x83II0064). The pass ends by itself after its last point.
+---HMPL 12.2 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function EnablePT(axis_id) end
+
+--- Ends the pass under way; the points not reached give no pulse.
+---HMPL 12.3 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function DisablePT(axis_id) end
+
+--- The first point of equidistant PT; a start above the end triggers on negative motion.
+---HMPL 12.5 (command (round trip to the core))
+---@param axis_id integer
+---@param start_pos number
+---@return integer
+function SetPT_StartPos(axis_id, start_pos) end
+
+--- The last point of equidistant PT: no pulse beyond it.
+---HMPL 12.6 (command (round trip to the core))
+---@param axis_id integer
+---@param end_pos number
+---@return integer
+function SetPT_EndPos(axis_id, end_pos) end
+
+--- The spacing of equidistant PT (> 0). The axis' speed must stay below interval x 16 kHz
+--- (HMPL 12.1.1): a point reached in the same drive sample as the one before gives no
+--- pulse and is counted as missed.
+---HMPL 12.7 (command (round trip to the core))
+---@param axis_id integer
+---@param interval number
+---@return integer
+function SetPT_Interval(axis_id, interval) end
+
+--- The pulse width, 20..80000 ns in steps of 20 (E1 drive). A controller GPO shows each
+--- pulse for at least one cycle.
+---HMPL 12.8 (command (round trip to the core))
+---@param axis_id integer
+---@param width_ns integer
+---@return integer
+function SetPT_PulseWidth(axis_id, width_ns) end
+
+--- Point `index` (0..255) of the position array, and chooses array PT.
+---HMPL 12.9 (command (round trip to the core))
+---@param axis_id integer
+---@param index integer
+---@param trigger_pos number
+---@return integer
+function SetPT_PosArray(axis_id, index, trigger_pos) end
+
+--- State word `index` (0..7): bit k of word k/32 is point k's output, 1 a pulse, 0 none
+--- (all 1 until set).
+---HMPL 12.10 (command (round trip to the core))
+---@param axis_id integer
+---@param index integer
+---@param state integer
+---@return integer
+function SetPT_StateArray(axis_id, index, state) end
+
+--- The array index (0..255) the pass starts at; above the end index, it runs backwards
+--- and triggers on negative motion. Chooses array PT.
+---HMPL 12.11 (command (round trip to the core))
+---@param axis_id integer
+---@param index integer
+---@return integer
+function SetPT_StartIndex(axis_id, index) end
+
+--- The array index (0..255) the pass ends at. Chooses array PT.
+---HMPL 12.12 (command (round trip to the core))
+---@param axis_id integer
+---@param index integer
+---@return integer
+function SetPT_EndIndex(axis_id, index) end
+
+--- Pulse `n` (from 0) of the last pass: its position and the controller time (ms,
+--- interpolated within the cycle) its point was crossed; the first 256 pulses are kept.
+--- 0x83II012C for a pulse that was not given.
+---luamotion sim (command (round trip to the core))
+---@param axis_id integer
+---@param n integer
+---@return integer
+---@return number
+---@return number
+function GetPTPulse(axis_id, n) end
+
 --- The profile velocity.
 ---HMPL 5.3.1 (query (local snapshot))
 ---@param axis_id integer
@@ -1571,6 +1658,25 @@ function IsGrpErrorStop(group_id) end
 ---@param task_id integer
 ---@return boolean
 function IsTaskStop(task_id) end
+
+--- True while a PT pass runs (enabled and points left).
+---HMPL 12.4 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsPTEnabled(axis_id) end
+
+--- Pulses given in the axis' last PT pass.
+---luamotion sim (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetPTPulseNum(axis_id) end
+
+--- Points of the last pass reached in the same drive sample as the pulse before (the
+--- axis faster than interval x 16 kHz, HMPL 12.1.1): no pulse was given for them.
+---luamotion sim (query (local snapshot))
+---@param axis_id integer
+---@return integer
+function GetPTMissedNum(axis_id) end
 
 --- Suspends the task for `ms` milliseconds of controller time.
 ---HMPL 2.18 (script process)

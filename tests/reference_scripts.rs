@@ -184,6 +184,22 @@ const SCRIPTS: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "ch12_position_trigger.lua",
+        &[
+            "EnablePT on axis 0: 0x1451",         // HMPL 12.1: no E1 drive
+            "EnablePT before homing: 0x83010064", // HMPL 12.1: homing first
+            "IsPTEnabled true",                   // HMPL 12.4
+            "example 1 forward: 11 pulses at 10 11 12 13 14 15 16 17 18 19 20, 0 missed", // HMPL 12.1.3
+            "IsPTEnabled false",
+            "example 1 backward: 11 pulses at 20 19 18 17 16 15 14 13 12 11 10, 0 missed",
+            "example 2 forward: 11 pulses at 10 12 13 16 17 20 22 25 26 28 30, 0 missed",
+            "example 2 backward: 11 pulses at 30 28 26 25 22 20 17 16 13 12 10, 0 missed",
+            "states 0x7ED forward: 9 pulses at 10 13 16 20 22 25 26 28 30, 0 missed", // HMPL 12.10
+            "width 10 ns: 0x8301012C, 1010 ns: 0x8301012C; index 256: 0x8301012C; state word 8: 0x8301012C; interval 0: 0x8301012C",
+            "chapter 12 done",
+        ],
+    ),
+    (
         "ch15_filters.lua",
         &[
             "example 1: SetAxisInShape 0, EnableAxisInShape 0", // HMPL 15.1.1, 15.5, 15.7
@@ -302,6 +318,11 @@ fn chapter_8_group_line() {
 #[test]
 fn chapter_8_helix() {
     check("ch08_helix.lua");
+}
+
+#[test]
+fn chapter_12_position_trigger() {
+    check("ch12_position_trigger.lua");
 }
 
 #[test]

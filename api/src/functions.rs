@@ -340,6 +340,41 @@ declare_functions! {
     /// Stops the box of group `gp` at once, frees its axes and removes it. 0, or 0x138F
     /// for a `gp` other than 0 and 1.
     ["Fatek FUN147"] fn MHSPOFree(gp: Int) -> Int;
+
+    // HMPL ch. 12: the position trigger (PT) of an axis whose drive has one (`[axes.pt]` in
+    // the machine file; 0x1451 otherwise). Pulses on the axis' PT output where its feedback
+    // crosses each point (docs/decisions.md, "Position trigger"). Settings take effect at
+    // the next `EnablePT`; a bad argument is 0x83II012C.
+    /// Starts a pass over the points set last (equidistant or the position array); the axis
+    /// must be homed (0x83II0064). The pass ends by itself after its last point.
+    ["HMPL 12.2", ascii] fn EnablePT(axis_id: Int[Axis]) -> Int;
+    /// Ends the pass under way; the points not reached give no pulse.
+    ["HMPL 12.3", ascii] fn DisablePT(axis_id: Int[Axis]) -> Int;
+    /// The first point of equidistant PT; a start above the end triggers on negative motion.
+    ["HMPL 12.5", ascii] fn SetPT_StartPos(axis_id: Int[Axis], start_pos: Double[Position]) -> Int;
+    /// The last point of equidistant PT: no pulse beyond it.
+    ["HMPL 12.6", ascii] fn SetPT_EndPos(axis_id: Int[Axis], end_pos: Double[Position]) -> Int;
+    /// The spacing of equidistant PT (> 0). The axis' speed must stay below interval x 16 kHz
+    /// (HMPL 12.1.1): a point reached in the same drive sample as the one before gives no
+    /// pulse and is counted as missed.
+    ["HMPL 12.7", ascii] fn SetPT_Interval(axis_id: Int[Axis], interval: Double[Length]) -> Int;
+    /// The pulse width, 20..80000 ns in steps of 20 (E1 drive). A controller GPO shows each
+    /// pulse for at least one cycle.
+    ["HMPL 12.8", ascii] fn SetPT_PulseWidth(axis_id: Int[Axis], width_ns: Int) -> Int;
+    /// Point `index` (0..255) of the position array, and chooses array PT.
+    ["HMPL 12.9"] fn SetPT_PosArray(axis_id: Int[Axis], index: Int, trigger_pos: Double[Position]) -> Int;
+    /// State word `index` (0..7): bit k of word k/32 is point k's output, 1 a pulse, 0 none
+    /// (all 1 until set).
+    ["HMPL 12.10", ascii] fn SetPT_StateArray(axis_id: Int[Axis], index: Int, state: Int) -> Int;
+    /// The array index (0..255) the pass starts at; above the end index, it runs backwards
+    /// and triggers on negative motion. Chooses array PT.
+    ["HMPL 12.11", ascii] fn SetPT_StartIndex(axis_id: Int[Axis], index: Int) -> Int;
+    /// The array index (0..255) the pass ends at. Chooses array PT.
+    ["HMPL 12.12", ascii] fn SetPT_EndIndex(axis_id: Int[Axis], index: Int) -> Int;
+    /// Pulse `n` (from 0) of the last pass: its position and the controller time (ms,
+    /// interpolated within the cycle) its point was crossed; the first 256 pulses are kept.
+    /// 0x83II012C for a pulse that was not given.
+    ["luamotion sim"] fn GetPTPulse(axis_id: Int[Axis], n: Int) -> (Int, Double, Double);
 }
 
 declare_functions! {
@@ -554,6 +589,15 @@ declare_functions! {
 
     /// True unless the task is starting or running.
     ["HMPL 16.6", ascii] fn IsTaskStop(task_id: Int) -> Bool;
+
+    // HMPL ch. 12: the position trigger.
+    /// True while a PT pass runs (enabled and points left).
+    ["HMPL 12.4", ascii] fn IsPTEnabled(axis_id: Int) -> Bool;
+    /// Pulses given in the axis' last PT pass.
+    ["luamotion sim"] fn GetPTPulseNum(axis_id: Int) -> Int;
+    /// Points of the last pass reached in the same drive sample as the pulse before (the
+    /// axis faster than interval x 16 kHz, HMPL 12.1.1): no pulse was given for them.
+    ["luamotion sim"] fn GetPTMissedNum(axis_id: Int) -> Int;
 }
 
 declare_functions! {

@@ -5,8 +5,9 @@
 use api::{ErrorCode, QueryCall, SystemError};
 
 use ipc::messages::{
-    AxisSnapshot, DigitalWord, GPIO_PINS, GroupSnapshot, PdoEntrySnapshot, SLAVE_DIGITAL_INPUTS, SLAVE_DIGITAL_OUTPUTS,
-    Snapshot, TaskState, channel_mask, fault_status, group_fault_status, group_motion_status, motion_status,
+    AxisSnapshot, DigitalWord, GPIO_PINS, GroupSnapshot, PdoEntrySnapshot, PtSnapshot, SLAVE_DIGITAL_INPUTS,
+    SLAVE_DIGITAL_OUTPUTS, Snapshot, TaskState, channel_mask, fault_status, group_fault_status, group_motion_status,
+    motion_status,
 };
 
 /// A query's answer.
@@ -184,7 +185,17 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
             let task = task.ok_or(ErrorCode::System(SystemError::NotValidTaskid))?;
             Value::Bool(TaskState::from(task.state).is_stopped()).into()
         }
+        // HMPL ch. 12.
+        QueryCall::IsPTEnabled { axis_id } => Value::Bool(position_trigger(s, axis_id)?.enabled != 0).into(),
+        QueryCall::GetPTPulseNum { axis_id } => Value::Int(position_trigger(s, axis_id)?.pulses as i64).into(),
+        QueryCall::GetPTMissedNum { axis_id } => Value::Int(position_trigger(s, axis_id)?.missed as i64).into(),
     })
+}
+
+/// An axis' position trigger (HMPL ch. 12).
+fn position_trigger(s: &Snapshot, id: i64) -> Result<&PtSnapshot, ErrorCode> {
+    axis(s, id)?;
+    Ok(&s.position_triggers[id as usize])
 }
 
 /// HMPL 9.4: one pin of a bitmask, 1 or 0; -1 for a pin that does not exist.

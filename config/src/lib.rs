@@ -314,6 +314,18 @@ pub struct AxisConfig {
     /// built-in mapping. `None` leaves the drive's defaults (CoE manual table 4-3).
     pub rx_pdo: Option<Vec<u32>>,
     pub tx_pdo: Option<Vec<u32>>,
+    /// HMPL ch. 12: the drive has the position trigger (an E1-series drive with a digital
+    /// encoder) and its PT output is wired to a controller GPO. None: no position trigger.
+    pub pt: Option<PtConfig>,
+}
+
+/// `[axes.pt]`: where the drive's position-trigger output is seen (docs/decisions.md,
+/// "Position trigger").
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PtConfig {
+    /// The controller GPO (1..8) that pulses.
+    pub output: i64,
 }
 
 /// Switches, index and hard stops along the travel, in units (mm or deg) of the machine's
@@ -520,6 +532,7 @@ impl Default for AxisConfig {
             drive_settings: DriveSettings::default(),
             rx_pdo: Some(BUILT_IN_RX_PDO.to_vec()),
             tx_pdo: Some(BUILT_IN_TX_PDO.to_vec()),
+            pt: None,
         }
     }
 }
@@ -699,6 +712,11 @@ fn positive(key: &str, value: f64) -> Result<(), ConfigError> {
 impl AxisConfig {
     fn validate(&self, key: &str) -> Result<(), ConfigError> {
         positive(&format!("{key}.counts_per_unit"), self.counts_per_unit)?;
+        if let Some(pt) = &self.pt
+            && !(1..=ipc::messages::GPIO_PINS).contains(&pt.output)
+        {
+            return Err(invalid(format!("{key}.pt.output"), "a controller GPO, 1..8"));
+        }
         positive(&format!("{key}.max_vel"), self.max_vel)?;
         positive(&format!("{key}.max_acc"), self.max_acc)?;
         for (name, value, max) in

@@ -622,6 +622,20 @@ pub struct Snapshot {
     pub axes: [AxisSnapshot; MAX_AXES],
     /// Every slave, the first `slave_count` present.
     pub slaves: [SlaveSnapshot; MAX_SLAVES],
+    /// Every axis' position trigger (HMPL ch. 12).
+    pub position_triggers: [PtSnapshot; MAX_AXES],
+}
+
+/// An axis' position trigger (HMPL ch. 12), its last pass.
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct PtSnapshot {
+    /// 1 while a pass runs (HMPL 12.4).
+    pub enabled: u32,
+    /// Pulses given in the pass.
+    pub pulses: u32,
+    /// Points reached in the same drive sample as the pulse before: no pulse for them.
+    pub missed: u32,
 }
 
 impl Default for Snapshot {
@@ -644,6 +658,7 @@ impl Default for Snapshot {
             tasks: [TaskSnapshot::default(); MAX_TASKS],
             axes: [AxisSnapshot::default(); MAX_AXES],
             slaves: [SlaveSnapshot::default(); MAX_SLAVES],
+            position_triggers: [PtSnapshot::default(); MAX_AXES],
         }
     }
 }

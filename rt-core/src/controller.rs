@@ -89,7 +89,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     let kernel = Kernel::new(&config, &network);
     let (core_link, supervisor_end) = tasks::link();
     let tasks = Tasks::new(&config.tasks, config.period_ns(), core_link);
-    let machine = Machine::new(network, kernel, tasks, config.period_ns());
+    let machine = Machine::new(network, kernel, tasks, config.period_ns()).with_position_triggers(&config);
     let task_ids: Vec<u8> = config.tasks.iter().map(|t| t.id).collect();
 
     let control = Arc::new(RtControl::default());

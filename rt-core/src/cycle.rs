@@ -197,6 +197,10 @@ impl CycleWork {
             boxes.step(kernel, &mut plc, period as f64 * 1e-9);
         }
         self.machine.kernel.step(cycle, &mut self.machine.network);
+        {
+            let Machine { triggers, kernel, io, .. } = &mut self.machine;
+            triggers.step(cycle, period, kernel, io);
+        }
         let machine = &mut self.machine;
         self.endpoint.resume(cycle, |_task, request, reply| dispatch::resume(machine, request, reply));
         let (_, outputs) = self.machine.network.images_mut();
@@ -209,12 +213,16 @@ impl CycleWork {
         self.snapshot.gpio = self.machine.io.snapshot();
         master::update_slaves(&self.machine.network, &mut self.snapshot);
         self.machine.kernel.fill(&mut self.snapshot);
+        self.machine.triggers.fill(&mut self.snapshot.position_triggers);
         self.machine.tasks.fill(&mut self.snapshot.tasks, &self.machine.run_speed);
         self.endpoint.publish(&self.snapshot);
         self.endpoint.wake(cycle);
         if let Some(trace) = &self.trace {
             let row = TraceRow::of(&self.snapshot, self.lateness_ns, self.previous_execution_ns);
-            trace.push(row.with_loads(&self.machine.kernel, &self.machine.network));
+            trace.push(
+                row.with_loads(&self.machine.kernel, &self.machine.network)
+                    .with_position_triggers(&self.machine.triggers),
+            );
         }
     }
 }

@@ -17,6 +17,7 @@ pub mod machine;
 pub mod master;
 pub mod motion;
 pub mod output;
+pub mod position_trigger;
 pub mod profile;
 pub mod realtime;
 pub mod rt_alloc;

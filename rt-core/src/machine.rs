@@ -11,6 +11,7 @@ use crate::fun147_boxes::Boxes;
 use crate::io::ControllerIo;
 use crate::master::PdoForces;
 use crate::motion::Kernel;
+use crate::position_trigger::PositionTriggers;
 use crate::tasks::Tasks;
 
 /// Everything the RT thread owns and steps.
@@ -31,6 +32,9 @@ pub struct Machine {
     pub boxes: Boxes,
     /// The network was scanned again this cycle: the snapshot's slave table is renewed.
     pub rescanned: bool,
+    /// HMPL ch. 12: the axes' position triggers, stepped after the kernel (none until
+    /// `with_position_triggers`).
+    pub triggers: PositionTriggers,
 }
 
 impl Machine {
@@ -47,7 +51,14 @@ impl Machine {
             run_speed: [100; MAX_TASKS],
             boxes: Boxes::default(),
             rescanned: false,
+            triggers: PositionTriggers::default(),
         }
+    }
+
+    /// The position triggers of the machine file's axes (`[axes.pt]`).
+    pub fn with_position_triggers(mut self, config: &config::MachineConfig) -> Self {
+        self.triggers = PositionTriggers::new(config);
+        self
     }
 
     /// A task's run speed as a factor.

@@ -2,7 +2,10 @@
 //! words of the first axes, and for an axis with a flexible load (`[axes.plant]
 //! load_frequency_hz`) where the load is, written to a CSV file by a thread of its own. The RT thread
 //! only pushes a fixed-size row into a preallocated queue; a full queue drops the row and
-//! counts it.
+//! counts it. Each traced axis' position-trigger pulses of the cycle are counted in its
+//! `aN_pt_pulses` column, and every pulse is a row of its own in `FILE.pulses.csv` (cycle,
+//! axis, the point's position, the time of its crossing in ms; HMPL ch. 12); the last
+//! column, `gpo`, is the controller's outputs.
 
 use std::io::Write;
 use std::path::Path;
@@ -17,11 +20,15 @@ use ipc::messages::Snapshot;
 use crate::config::MachineConfig;
 use crate::ecat::Network;
 use crate::motion::Kernel;
+use crate::position_trigger::{PositionTriggers, Pulse};
 
 /// Axes a trace row holds.
 pub const TRACED_AXES: usize = 8;
 /// Rows in flight: 16 s at 1 ms.
 const CAPACITY: usize = 16_384;
+/// Position-trigger pulses a row carries (of every axis); more in one cycle are counted in
+/// the axes' columns only.
+pub const TRACED_PULSES: usize = 8;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TracedAxis {
@@ -41,6 +48,13 @@ pub struct TraceRow {
     pub lateness_ns: u64,
     pub previous_execution_ns: u64,
     pub axes: [TracedAxis; TRACED_AXES],
+    /// Each traced axis' position-trigger pulses in this cycle.
+    pub pt_counts: [u32; TRACED_AXES],
+    /// This cycle's first pulses: (axis, pulse).
+    pub pulses: [(u8, Pulse); TRACED_PULSES],
+    pub pulse_count: usize,
+    /// The controller's outputs.
+    pub gpo: u32,
 }
 
 impl TraceRow {
@@ -50,6 +64,7 @@ impl TraceRow {
             overruns: snapshot.overruns,
             lateness_ns,
             previous_execution_ns,
+            gpo: snapshot.gpio.gpo,
             ..TraceRow::default()
         };
         for (out, axis) in row.axes.iter_mut().zip(&snapshot.axes) {
@@ -69,6 +84,23 @@ impl TraceRow {
     pub fn with_loads(mut self, kernel: &Kernel, network: &Network) -> Self {
         for (out, axis) in self.axes.iter_mut().zip(kernel.axes()) {
             out.load_pos = axis.load_position(network);
+        }
+        self
+    }
+
+    /// Adds this cycle's position-trigger pulses.
+    pub fn with_position_triggers(mut self, triggers: &PositionTriggers) -> Self {
+        for axis in 0..triggers.axis_count() {
+            let (pulses, count) = triggers.cycle_pulses(axis);
+            if let Some(slot) = self.pt_counts.get_mut(axis) {
+                *slot = count;
+            }
+            for &pulse in pulses {
+                if let Some(slot) = self.pulses.get_mut(self.pulse_count) {
+                    *slot = (axis as u8, pulse);
+                    self.pulse_count += 1;
+                }
+            }
         }
         self
     }
@@ -112,19 +144,35 @@ pub fn start(path: &Path, config: &MachineConfig) -> std::io::Result<(TraceSende
         *load = axis.plant.load_frequency_hz > 0.0;
     }
     let file = std::fs::File::create(path)?;
+    let pulses = std::fs::File::create(pulses_path(path))?;
     let queue = Arc::new(ArrayQueue::new(CAPACITY));
     let dropped = Arc::new(AtomicU64::new(0));
     let stop = Arc::new(AtomicBool::new(false));
     let thread = {
         let (queue, stop) = (queue.clone(), stop.clone());
-        std::thread::Builder::new().name("trace".into()).spawn(move || write(file, &queue, &stop, &loads[..axes]))?
+        std::thread::Builder::new()
+            .name("trace".into())
+            .spawn(move || write([file, pulses], &queue, &stop, &loads[..axes]))?
     };
     Ok((TraceSender { queue, dropped: dropped.clone() }, TraceWriter { stop, thread, dropped }))
 }
 
+/// `FILE.pulses.csv` beside the trace `FILE.csv`.
+pub fn pulses_path(path: &Path) -> std::path::PathBuf {
+    path.with_extension("pulses.csv")
+}
+
 /// One row per cycle; `loads` says, per traced axis, whether it has a load column.
-fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, loads: &[bool]) -> std::io::Result<u64> {
+fn write(
+    [file, pulses]: [std::fs::File; 2],
+    queue: &ArrayQueue<TraceRow>,
+    stop: &AtomicBool,
+    loads: &[bool],
+) -> std::io::Result<u64> {
+    let axes = loads.len();
     let mut out = std::io::BufWriter::new(file);
+    let mut pulses_out = std::io::BufWriter::new(pulses);
+    writeln!(pulses_out, "cycle,axis,position,time_ms")?;
     let mut header = String::from("cycle,overruns,lateness_us,previous_execution_us");
     for (a, &load) in loads.iter().enumerate() {
         header += &format!(",a{a}_ref_pos,a{a}_pos_fb,a{a}_motion_status,a{a}_fault_status");
@@ -132,6 +180,10 @@ fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, l
             header += &format!(",a{a}_load_pos");
         }
     }
+    for a in 0..axes {
+        header += &format!(",a{a}_pt_pulses");
+    }
+    header += ",gpo";
     writeln!(out, "{header}")?;
     let mut rows = 0;
     loop {
@@ -145,11 +197,18 @@ fn write(file: std::fs::File, queue: &ArrayQueue<TraceRow>, stop: &AtomicBool, l
                     write!(out, ",{}", axis.load_pos.unwrap_or(f64::NAN))?;
                 }
             }
-            writeln!(out)?;
+            for count in &row.pt_counts[..axes] {
+                write!(out, ",{count}")?;
+            }
+            writeln!(out, ",{}", row.gpo)?;
+            for (axis, pulse) in &row.pulses[..row.pulse_count] {
+                writeln!(pulses_out, "{},{axis},{},{}", row.cycle, pulse.pos, pulse.time_ms)?;
+            }
             rows += 1;
         }
         if stopping {
             out.flush()?;
+            pulses_out.flush()?;
             return Ok(rows);
         }
         std::thread::sleep(Duration::from_millis(10));

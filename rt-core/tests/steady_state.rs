@@ -3,7 +3,8 @@
 //! look-ahead and corner blends), replies published and wake-ups sent, and a FUN147 box
 //! runs its step table on the group interpolator, and a digital I/O terminal's output
 //! toggles (HMPL 9.3), with input shaping on axis 0 (which carries a flexible load) and
-//! on the group, and the VSF on axis 1 (HMPL ch. 15).
+//! on the group, and the VSF on axis 1 (HMPL ch. 15), and axis 1's position trigger
+//! pulses twice a cycle (HMPL ch. 12).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -95,6 +96,13 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         request(Command::EnableAxisVsf, &[1], &[]),
         typed(Command::SetGrpInShape, &[int(0), Value::Double(10.0), Value::Double(0.1), int(1)]),
         request(Command::EnableGrpInShape, &[0], &[]),
+        // HMPL ch. 12: axis 1 at 100 mm/s over a point every 0.05 mm.
+        request(Command::SetHomedStatus, &[1, 1], &[]),
+        request(Command::SetPT_StartPos, &[1], &[0.1]),
+        request(Command::SetPT_Interval, &[1], &[0.05]),
+        request(Command::SetPT_EndPos, &[1], &[900.0]),
+        request(Command::EnablePT, &[1], &[]),
+        request(Command::MoveVel, &[1], &[100.0]),
     ] {
         let mut setup = setup;
         assert_eq!(task.call(&mut setup).unwrap().rc, 0);
@@ -145,6 +153,7 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
             &[int(0), text("Q1"), text("D0"), text("M1"), text("M2"), text("M3"), text("M4"), text("M5"), text("M6")],
         );
         assert_ne!(task.call(&mut { refused }).unwrap().rc, 0);
+        task.call(&mut request(Command::GetPTPulse, &[1, 0], &[])).unwrap();
         // HMPL 9.3: the terminal's output 1 toggled and its input 1 switched.
         for mut io in [
             request(Command::ToggleSlvGPO, &[TERMINAL, 1], &[]),
@@ -173,6 +182,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     config.axes = (0..6).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
     config.axes[0].plant.load_frequency_hz = 20.0;
     config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8 });
+    config.axes[1].pt = Some(rt_core::config::PtConfig { output: 2 });
     let mut network = Network::for_machine(&config);
     network.start(config.period_ns()).unwrap();
     let kernel = Kernel::new(&config, &network);
@@ -180,7 +190,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let task = TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(0, "-".into()) };
     let (link, _supervisor) = tasks::link();
     let tasks = Tasks::new(&[task], config.period_ns(), link);
-    let machine = Machine::new(network, kernel, tasks, config.period_ns());
+    let machine = Machine::new(network, kernel, tasks, config.period_ns()).with_position_triggers(&config);
     let ns = Namespace::new(&format!("t{}-alloc", std::process::id())).unwrap();
     ipc::claim_namespace(&ns).unwrap();
     let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());
@@ -213,6 +223,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
         && work.machine_mut().kernel.axis_snapshot(1).motion_status & VSF != 0
         && work.machine_mut().kernel.groups()[0].in_shape();
     let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
+    let pulsed = work.machine_mut().triggers.pulse(1, 255).is_ok();
     let plc = SharedPlc(shared.plc());
     let (box_running, box_error) = (plc.relay(Relay::M(110)), plc.word(Reg::D(4061)));
 
@@ -225,6 +236,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     assert!(enabled, "the task's commands were applied");
     assert!(grouped, "the group's commands were applied");
     assert!(filters, "the filters of ch. 15 were on");
+    assert!(pulsed, "axis 1's position trigger gave pulses");
     assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");

@@ -2,7 +2,7 @@
 //! (decoded by `calls::wire`), so that the compiler holds every command of the registry
 //! to an implementation. The match is here; what a command does is in the module of its
 //! manual chapter: `axis` (HMPL ch. 5, 18, 20), `couplings` (ch. 6, 7), `drive_objects`
-//! (ch. 17), `io` (ch. 9), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
+//! (ch. 17), `io` (ch. 9), `position_trigger` (ch. 12), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
 
 mod axis;
 mod couplings;
@@ -10,6 +10,7 @@ mod drive_objects;
 mod fun147;
 mod groups;
 mod io;
+mod position_trigger;
 mod tasks;
 
 use api::alarms::{Alarm, Event as AlarmEvent};
@@ -576,5 +577,33 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             fun147::declare(m, gp, sr, wr, [en, pau, abt, act, err, dn])
         }
         C::MHSPOFree { gp } => fun147::free(m, gp),
+        // HMPL ch. 12: position trigger.
+        C::EnablePT { axis_id } => position_trigger::trigger(m, axis_id, |t, a, homed| t.enable(a, homed)),
+        C::DisablePT { axis_id } => position_trigger::trigger(m, axis_id, |t, a, _| t.disable(a)),
+        C::SetPT_StartPos { axis_id, start_pos } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_start_pos(a, start_pos))
+        }
+        C::SetPT_EndPos { axis_id, end_pos } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_end_pos(a, end_pos))
+        }
+        C::SetPT_Interval { axis_id, interval } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_interval(a, interval))
+        }
+        C::SetPT_PulseWidth { axis_id, width_ns } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_pulse_width(a, width_ns))
+        }
+        C::SetPT_PosArray { axis_id, index, trigger_pos } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_pos_array(a, index, trigger_pos))
+        }
+        C::SetPT_StateArray { axis_id, index, state } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_state_array(a, index, state))
+        }
+        C::SetPT_StartIndex { axis_id, index } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_start_index(a, index))
+        }
+        C::SetPT_EndIndex { axis_id, index } => {
+            position_trigger::trigger(m, axis_id, |t, a, _| t.set_end_index(a, index))
+        }
+        C::GetPTPulse { axis_id, n } => position_trigger::pulse(m, axis_id, n, reply),
     }
 }

@@ -338,6 +338,7 @@ fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function
                     Value::Table(lua.create_sequence_from(words.iter().map(|&w| f64::from_bits(w)))?)
                 }
                 ValueType::Bool => Value::Boolean(reply.values[i] != 0),
+                ValueType::Double => Value::Number(f64::from_bits(reply.values[i])),
                 _ => Value::Integer(reply.values[i] as i64),
             });
         }

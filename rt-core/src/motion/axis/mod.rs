@@ -140,6 +140,11 @@ impl Axis {
         &self.settings
     }
 
+    /// HMPL 20.10: homing completed (or `SetHomedStatus`).
+    pub fn is_homed(&self) -> bool {
+        self.homed
+    }
+
     pub fn is_enabled(&self) -> bool {
         self.link.is_enabled()
     }
@@ -199,7 +204,7 @@ impl Axis {
     }
 
     /// Records a rejection or a fault as the axis' last error (HMPL 18.3) and returns it.
-    pub(in crate::motion) fn fail(&mut self, error: AxisError) -> AxisError {
+    pub(crate) fn fail(&mut self, error: AxisError) -> AxisError {
         self.last_err = Some(error);
         error
     }
