@@ -3,7 +3,7 @@
 //! look-ahead and corner blends), replies published and wake-ups sent, and a FUN147 box
 //! runs its step table on the group interpolator, and a digital I/O terminal's output
 //! toggles (HMPL 9.3), with input shaping on axis 0 (which carries a flexible load) and
-//! on the group, and the VSF on axis 1 (HMPL ch. 15), and axis 1's position trigger
+//! on the group, and the VSF on axis 6 (HMPL ch. 15), and axis 1's position trigger
 //! pulses twice a cycle (HMPL ch. 12).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
@@ -51,7 +51,7 @@ fn typed(command: Command, values: &[Value]) -> Request {
 }
 
 /// The digital I/O terminal after the six axes' drives.
-const TERMINAL: i64 = 6;
+const TERMINAL: i64 = 7;
 
 fn int(v: i64) -> Value {
     Value::Int(v)
@@ -74,7 +74,7 @@ fn profile() -> Value {
 /// 4 and 5, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
 fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
-    for a in [0, 1, 4, 5] {
+    for a in [0, 1, 4, 5, 6] {
         task.call(&mut request(Command::Enable, &[a], &[])).unwrap();
     }
     let enabled = |a: usize, task: &mut TaskEndpoint| task.snapshot().axes[a].motion_status & ENABLED != 0;
@@ -89,11 +89,11 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         request(Command::SetGrpBufferMode, &[0, 6], &[]),
         request(Command::SetGrpTransMode, &[0, 2], &[]),
         request(Command::SetGrpTransPrm, &[0], &[50.0, 0.2, 0.0, 0.0]),
-        // HMPL ch. 15: a robust shaper on axis 0, the VSF on axis 1, a shaper on the group.
+        // HMPL ch. 15: a robust shaper on axis 0, the VSF on axis 6, a shaper on the group.
         typed(Command::SetAxisInShape, &[int(0), Value::Double(20.0), Value::Double(0.05), int(0)]),
         request(Command::EnableAxisInShape, &[0], &[]),
-        request(Command::SetAxisVsf, &[1], &[30.0, 1.0]),
-        request(Command::EnableAxisVsf, &[1], &[]),
+        request(Command::SetAxisVsf, &[6], &[30.0, 1.0]),
+        request(Command::EnableAxisVsf, &[6], &[]),
         typed(Command::SetGrpInShape, &[int(0), Value::Double(10.0), Value::Double(0.1), int(1)]),
         request(Command::EnableGrpInShape, &[0], &[]),
         // HMPL ch. 12: axis 1 at 100 mm/s over a point every 0.05 mm.
@@ -110,7 +110,7 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut i = 0;
     while !stop.load(Ordering::Acquire) {
         i += 1;
-        for a in [0, 1] {
+        for a in [0, 6] {
             task.call(&mut request(Command::MoveAbs, &[a], &[(i % 2) as f64])).unwrap();
         }
         let mut path = match i % 5 {
@@ -176,10 +176,11 @@ fn run(work: &mut CycleWork, cycles: usize) {
 #[test]
 fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     rt_alloc::claim_pool_for_this_thread();
-    // Axis 0 for the task's moves, 2 and 3 for the box (Ps2, Ps3), 4 and 5 for the group.
+    // Axis 0 for the task's moves, 1 for the position trigger, 2 and 3 for the box (Ps2, Ps3),
+    // 4 and 5 for the group, 6 for the VSF.
     let mut config = MachineConfig::default();
     let first = config.axes[0].clone();
-    config.axes = (0..6).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
+    config.axes = (0..7).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
     config.axes[0].plant.load_frequency_hz = 20.0;
     config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8 });
     config.axes[1].pt = Some(rt_core::config::PtConfig { output: 2 });
@@ -220,7 +221,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
     let filters = work.machine_mut().kernel.axis_snapshot(0).motion_status & INPUT_SHAPE != 0
-        && work.machine_mut().kernel.axis_snapshot(1).motion_status & VSF != 0
+        && work.machine_mut().kernel.axis_snapshot(6).motion_status & VSF != 0
         && work.machine_mut().kernel.groups()[0].in_shape();
     let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
     let pulsed = work.machine_mut().triggers.pulse(1, 255).is_ok();
