@@ -391,6 +391,50 @@ pub fn channel_mask(n: u8) -> u32 {
     if n >= 32 { u32::MAX } else { (1 << n) - 1 }
 }
 
+/// Analog channels an analog terminal has at most each way (HMPL ch. 10): one PDO of
+/// 16-bit words.
+pub const MAX_ANALOG_CHANNELS: usize = 4;
+/// CiA 401 "Read analogue input 16-bit": channel n is sub-index n (INT16, TxPDO).
+pub const ANALOG_INPUTS: u16 = 0x6401;
+/// CiA 401 "Write analogue output 16-bit": channel n is sub-index n (INT16, RxPDO).
+pub const ANALOG_OUTPUTS: u16 = 0x6411;
+
+/// An analog output's settings the controller keeps (HMPL 10.2.2, 10.4).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+pub struct AnalogOutputSnapshot {
+    /// `ao_scale` of `SetSlvAOParam`.
+    pub scale: f64,
+    /// `ao_offset` of `SetSlvAOParam`.
+    pub offset: f64,
+    /// The `var_id` of `SetSlvAOMonitor`, -1 before one is chosen.
+    pub var_id: i32,
+    /// The conversion type's code (`HMPL_DAC_*`).
+    pub range_type: u16,
+    /// 1 while the output follows its variable.
+    pub bound: u8,
+}
+
+impl Default for AnalogOutputSnapshot {
+    fn default() -> Self {
+        AnalogOutputSnapshot { scale: 1.0, offset: 0.0, var_id: -1, range_type: 0, bound: 0 }
+    }
+}
+
+/// A slave's analog channels: how many, and their settings (HMPL ch. 10, 21.1).
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct AnalogSnapshot {
+    /// The outputs' settings, channel n at n - 1.
+    pub outputs: [AnalogOutputSnapshot; MAX_ANALOG_CHANNELS],
+    /// The inputs' conversion types, channel n at n - 1.
+    pub input_types: [u16; MAX_ANALOG_CHANNELS],
+    /// Analog input channels.
+    pub input_count: u8,
+    /// Analog output channels.
+    pub output_count: u8,
+}
+
 /// One mapped object of a PDO and its byte offset in the slave's process data.
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
 #[repr(C)]
@@ -423,6 +467,8 @@ pub struct SlaveSnapshot {
     pub digital_outputs: u8,
     /// AL status code of the last refused state change (0: none).
     pub al_status_code: u16,
+    /// Analog channels and their settings (HMPL ch. 10).
+    pub analog: AnalogSnapshot,
     /// The RxPDO mapping (master to slave).
     pub rx: [PdoEntrySnapshot; MAX_PDO_ENTRIES],
     /// The TxPDO mapping (slave to master).
@@ -442,6 +488,7 @@ impl Default for SlaveSnapshot {
             digital_inputs: 0,
             digital_outputs: 0,
             al_status_code: 0,
+            analog: AnalogSnapshot::default(),
             rx: [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES],
             tx: [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES],
             outputs: [0; MAX_PDO_BYTES],

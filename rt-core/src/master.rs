@@ -1,7 +1,7 @@
 //! The master's services beside the motion kernel: forced process-data values (HMPL
 //! 17.2.8/17.2.9) and what the snapshot shows of each slave.
 
-use ipc::messages::{MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot};
+use ipc::messages::{AnalogSnapshot, MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot};
 
 use crate::ecat::network::ImageEntry;
 use crate::ecat::{Field, Network};
@@ -71,8 +71,18 @@ pub fn describe_slaves(network: &Network, snapshot: &mut Snapshot) {
         let (rx, tx) = network.image_entries(i);
         let ((rx, rx_count), (tx, tx_count)) = (entries(rx), entries(tx));
         let (digital_inputs, digital_outputs) = slave.device().digital_channels();
-        *slot =
-            SlaveSnapshot { rx, rx_count, tx, tx_count, digital_inputs, digital_outputs, ..SlaveSnapshot::default() };
+        let (input_count, output_count) = slave.device().analog_channels();
+        let analog = AnalogSnapshot { input_count, output_count, ..AnalogSnapshot::default() };
+        *slot = SlaveSnapshot {
+            rx,
+            rx_count,
+            tx,
+            tx_count,
+            digital_inputs,
+            digital_outputs,
+            analog,
+            ..SlaveSnapshot::default()
+        };
     }
 }
 

@@ -50,6 +50,8 @@ fn typed(command: Command, values: &[Value]) -> Request {
 
 /// The digital I/O terminal after the six axes' drives.
 const TERMINAL: i64 = 6;
+/// The analog I/O terminal after it (HMPL ch. 10).
+const ANALOG: i64 = 7;
 
 fn int(v: i64) -> Value {
     Value::Int(v)
@@ -87,6 +89,11 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         request(Command::SetGrpBufferMode, &[0, 6], &[]),
         request(Command::SetGrpTransMode, &[0, 2], &[]),
         request(Command::SetGrpTransPrm, &[0], &[50.0, 0.2, 0.0, 0.0]),
+        // HMPL 10.4: analog output 1 follows axis 0's reference velocity every cycle.
+        request(Command::SetSlvAOType, &[ANALOG, 1, 1], &[]),
+        request(Command::SetSlvAOMonitor, &[ANALOG, 1, 0x200], &[]),
+        request(Command::SetSlvAOParam, &[ANALOG, 1, 1], &[0.01, 0.5]),
+        request(Command::SetSlvAOType, &[ANALOG, 2, 1], &[]),
     ] {
         let mut setup = setup;
         assert_eq!(task.call(&mut setup).unwrap().rc, 0);
@@ -139,6 +146,10 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         for mut io in [
             request(Command::ToggleSlvGPO, &[TERMINAL, 1], &[]),
             request(Command::SimSetSlvGPI, &[TERMINAL, 1, i % 2], &[]),
+            // HMPL ch. 10: an analog output written, an input driven and its type changed.
+            request(Command::SetSlvAO, &[ANALOG, 2], &[(i % 20) as f64 - 10.0]),
+            request(Command::SimSetSlvAIRaw, &[ANALOG, 1, i % 65536], &[]),
+            request(Command::SetSlvAIType, &[ANALOG, 1, i % 8], &[]),
         ] {
             assert_eq!(task.call(&mut io).unwrap().rc, 0);
         }
@@ -161,7 +172,8 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let mut config = MachineConfig::default();
     let first = config.axes[0].clone();
     config.axes = (0..6).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
-    config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8 });
+    config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8, loopback: false });
+    config.slaves.push(SlaveConfig { device: SlaveDevice::AnalogIo, inputs: 2, outputs: 2, loopback: false });
     let mut network = Network::for_machine(&config);
     network.start(config.period_ns()).unwrap();
     let kernel = Kernel::new(&config, &network);
