@@ -141,3 +141,54 @@ fn a_bound_output_follows_the_velocity_during_a_move() {
         ]
     );
 }
+
+/// Hostile arguments on a machine that has the terminal, so that they reach ch. 10's own
+/// checks rather than stopping at "no such slave": NaN, infinities, huge and negative
+/// numbers in every argument of every function (as `tests/hostile_input.rs` does for the
+/// whole registry). Each call comes back; afterwards the terminal still converts, and an
+/// output bound with a huge offset saturates at the range's top.
+#[test]
+fn hostile_arguments_reach_the_terminal_and_are_refused() {
+    use api::registry::{self, ArgType};
+    let mut lua = String::from("local A = 1\nlocal calls, accepted = 0, {}\n");
+    lua += "local function try(call, f, ...) calls = calls + 1 local ok, rc = pcall(f, ...) ";
+    lua += "if ok and rc == 0 then accepted[#accepted + 1] = call end end\n";
+    let chapter_10 = registry::all().filter(|f| f.manual.starts_with("HMPL 10.") || f.name == "SimSetSlvAIRaw");
+    let mut functions = 0;
+    for spec in chapter_10 {
+        functions += 1;
+        // Valid: the terminal, channel 1, HMPL_DAC_N10_P10, and numbers that fit it.
+        let valid = |i: usize| if i == 0 { "A" } else { "1" };
+        for (i, arg) in spec.args.iter().enumerate() {
+            let bad: &[&str] = match arg.ty {
+                ArgType::Int => &["-1", "99", "0x7FFFFFFF", "math.mininteger", "math.maxinteger", "1.5", "0/0"],
+                ArgType::Double => &["0/0", "math.huge", "-math.huge", "1e308", "-1e308"],
+                other => panic!("{}: a {other:?} argument", spec.name),
+            };
+            for bad in bad {
+                let args: Vec<&str> = (0..spec.args.len()).map(|j| if i == j { *bad } else { valid(j) }).collect();
+                let call = format!("{}({})", spec.name, args.join(", "));
+                lua += &format!("try({call:?}, {}, {})\n", spec.name, args.join(", "));
+            }
+        }
+    }
+    lua += r#"
+        Print("functions %d, calls %d, accepted: %s", FUNCTIONS, calls, table.concat(accepted, " "))
+        Print("still %d %d %.4f", SetSlvAOType(A, 1, HMPL_DAC_N10_P10), SetSlvAO(A, 1, 5), GetSlvAO(A, 1))
+        Print("saturated %d %d %.5f", SetSlvAOMonitor(A, 1, HMPL_AXIS_0 | HMPL_REF_POS), SetSlvAOParam(A, 1, 1, 1e308, 1e308),
+            (function() Sleep(5) return GetSlvAO(A, 1) end)())
+        Print("done")
+    "#;
+    let lua = lua.replace("FUNCTIONS", &functions.to_string());
+    assert_eq!(
+        run_program("aiohostile", &lua),
+        vec![
+            // -1 (0xFFFF given signed) and 99 are words an output takes; the simulator cannot
+            // drive input 1, which is wired to output 1.
+            "functions 16, calls 281, accepted: SetSlvAORaw(A, 1, -1) SetSlvAORaw(A, 1, 99)",
+            "still 0 0 5.0000",
+            "saturated 0 0 9.99969",
+            "done",
+        ]
+    );
+}

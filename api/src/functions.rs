@@ -303,13 +303,13 @@ declare_functions! {
     ["HMPL 10.2.3", ascii] fn SetSlvAORaw(slv_slot_id: Int, ao_idx: Int, ao_raw_val: Int) -> Int;
     /// Writes an analog output in its conversion type's units (within its range; the top
     /// value gives the top word).
-    ["HMPL 10.2.4", ascii] fn SetSlvAO(slv_slot_id: Int, ao_idx: Int, ao_val: Double) -> Int;
+    ["HMPL 10.2.4", ascii] fn SetSlvAO(slv_slot_id: Int, ao_idx: Int, ao_val: Double[Finite]) -> Int;
     /// Chooses the variable an analog output follows: `HMPL_AXIS_n | HMPL_<VAR>` (REF_POS,
     /// REF_VEL, REF_ACC, POS_FB, VEL_FB, ACC_FB, CUR_FB); needs a conversion type.
     ["HMPL 10.4.1", ascii] fn SetSlvAOMonitor(slv_slot_id: Int, ao_idx: Int, var_id: Int) -> Int;
     /// Binds (1) or frees (0) an analog output: every cycle it is var * scale + offset in its
     /// type's units, saturated at the range's ends. Binding needs `SetSlvAOMonitor` first.
-    ["HMPL 10.4.2", ascii] fn SetSlvAOParam(slv_slot_id: Int, ao_idx: Int, ao_en_bind: Int, ao_scale: Double, ao_offset: Double) -> Int;
+    ["HMPL 10.4.2", ascii] fn SetSlvAOParam(slv_slot_id: Int, ao_idx: Int, ao_en_bind: Int, ao_scale: Double[Finite], ao_offset: Double[Finite]) -> Int;
     /// Simulator only: the word an analog terminal's converter reads on input `ai_idx`
     /// (0..65535, or -32768..32767), as a signal wired to it would make it. 0 or 0x138F.
     ["luamotion sim"] fn SimSetSlvAIRaw(slv_slot_id: Int, ai_idx: Int, ai_raw_val: Int) -> Int;

@@ -113,11 +113,11 @@ pub(super) fn set_monitor(m: &mut Machine, slv_slot_id: i64, idx: i64, var_id: i
     Ok(Done::Now)
 }
 
-/// HMPL 10.4.2: binds (1) or frees (0) an output with its scale and offset (finite); a
-/// binding needs its variable and the output in the process data.
+/// HMPL 10.4.2: binds (1) or frees (0) an output with its scale and offset (finite: the
+/// registry's range check); a binding needs its variable and the output in the process data.
 pub(super) fn set_param(m: &mut Machine, slv_slot_id: i64, idx: i64, en_bind: i64, scale: f64, offset: f64) -> Outcome {
     let (slave, n) = channel(m, slv_slot_id, idx, Way::Output)?;
-    if !(0..=1).contains(&en_bind) || !scale.is_finite() || !offset.is_finite() {
+    if !(0..=1).contains(&en_bind) {
         return Err(out_of_range());
     }
     let bound = en_bind == 1;

@@ -15,7 +15,7 @@ mod tasks;
 
 use api::alarms::{Alarm, Event as AlarmEvent};
 use api::call::{Doubles, Sink};
-use api::{ArgSpec, CommandCall, ErrorCode, GroupError, Quantity, Role, SdoAbort, SystemError};
+use api::{ArgSpec, CommandCall, ErrorCode, GroupError, Quantity, Refusal, Role, SdoAbort, SystemError};
 use calls::wire::{self, DecodeError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
@@ -153,8 +153,15 @@ struct RangeCheck<'m> {
 }
 
 impl RangeCheck<'_> {
-    fn admit(&mut self, values: impl Iterator<Item = f64>) -> Result<(), Failure> {
+    fn admit(&mut self, mut values: impl Iterator<Item = f64>) -> Result<(), Failure> {
         let Some(quantity) = self.args.next().and_then(|a| a.quantity) else { return Ok(()) };
+        if let Refusal::System(error) = quantity.error() {
+            // A free quantity (`Quantity::Finite`); its own range is the command's.
+            return match values.all(f64::is_finite) {
+                true => Ok(()),
+                false => Err(error.into()),
+            };
+        }
         if quantity.is_group_bound() {
             let Some(group) = self.group else { return Ok(()) };
             for (i, value) in values.enumerate() {

@@ -25,8 +25,9 @@ impl Axis {
         match (self.in_range(quantity, value), quantity.error()) {
             (true, _) => Ok(()),
             (false, Refusal::Axis(error)) => Err(self.fail(error)),
-            // Group-bound quantities are the group's (`motion/group/settings.rs`).
-            (false, Refusal::Group(_)) => Err(self.fail(AxisError::CmdInvalidParameter)),
+            // Group-bound quantities are the group's (`motion/group/settings.rs`), free ones
+            // dispatch's.
+            (false, Refusal::Group(_) | Refusal::System(_)) => Err(self.fail(AxisError::CmdInvalidParameter)),
         }
     }
 
@@ -80,7 +81,8 @@ impl Axis {
             | Quantity::GroupJogVelocity
             | Quantity::MotionProfile
             | Quantity::TransitionParameter
-            | Quantity::LookAheadParameter => false,
+            | Quantity::LookAheadParameter
+            | Quantity::Finite => false,
         }
     }
 
