@@ -23,7 +23,7 @@ fn run_program(tag: &str, main: &str) -> Vec<String> {
 }
 
 /// Every setter and getter, the conversion rows of HMPL table 10.1.1 through process data
-/// and the loopback, and the codes of docs/decisions.md ("Analog I/O").
+/// and the loopback, and the codes of docs/decisions.md ("Slave analog I/O").
 #[test]
 fn a_program_converts_raw_and_engineering_values() {
     let main = r#"

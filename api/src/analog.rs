@@ -95,14 +95,14 @@ impl ConversionType {
     }
 
     /// The raw value of a 16-bit word as the Raw functions show it: two's complement when
-    /// signed, else 0..65535 (HMPL 10.2.3, 10.3.3; docs/decisions.md, "Analog I/O").
+    /// signed, else 0..65535 (HMPL 10.2.3, 10.3.3; docs/decisions.md, "Slave analog I/O").
     pub fn raw(self, word: u16) -> i64 {
         if self.signed { word as i16 as i64 } else { word as i64 }
     }
 
     /// The engineering value of a word; `None` without a range. The range is cut into
     /// 65536 steps from its lowest value (the midscale word is the middle exactly), so
-    /// the top word reads one step below the top (docs/decisions.md, "Analog I/O").
+    /// the top word reads one step below the top (docs/decisions.md, "Slave analog I/O").
     pub fn value(self, word: u16) -> Option<f64> {
         let (lo, hi) = self.range.bounds()?;
         Some(lo + (hi - lo) * self.step(word) as f64 / STEPS)

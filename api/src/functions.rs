@@ -293,7 +293,7 @@ declare_functions! {
     // analog terminal's 0x6401:nn inputs and 0x6411:nn outputs in its process data. 0, or
     // 0x138F no such slave, channel or object in the process data, value out of range;
     // 0x1388 no such conversion type or variable; 0x138C the channel has no conversion
-    // type, or the output is bound (docs/decisions.md, "Analog I/O").
+    // type, or the output is bound (docs/decisions.md, "Slave analog I/O").
     /// Sets an analog input's conversion type (`HMPL_DAC_*` of table 10.1.1, optionally
     /// `| HMPL_DAC_SIGNED`).
     ["HMPL 10.2.1", ascii] fn SetSlvAIType(slv_slot_id: Int, ai_idx: Int, range_type: Int) -> Int;
@@ -521,7 +521,7 @@ declare_functions! {
 
     // HMPL 10.3, 10.4: a slave's analog channels, from its process data and the settings
     // the controller keeps; an error (0x138F, or 0x138C without a conversion type) as the
-    // setters' (docs/decisions.md, "Analog I/O").
+    // setters' (docs/decisions.md, "Slave analog I/O").
     /// An analog input's conversion type (`HMPL_DAC_NONE` until set).
     ["HMPL 10.3.1", ascii] fn GetSlvAIType(slv_slot_id: Int, ai_idx: Int) -> Int;
     /// An analog output's conversion type.

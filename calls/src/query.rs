@@ -256,7 +256,7 @@ fn slave_channels(s: &Snapshot, slv_slot_id: i64, which: Channels, first: i64, o
 
 /// HMPL ch. 10: slave `slv_slot_id` (slot 0 only) and its analog channel `idx` (1-based)
 /// of `count` channels, with its word in the process data (`index`:idx); 0x138F for no such
-/// slave, channel or object (docs/decisions.md, "Analog I/O").
+/// slave, channel or object (docs/decisions.md, "Slave analog I/O").
 fn analog_channel(
     s: &Snapshot,
     slv_slot_id: i64,

@@ -258,7 +258,7 @@ pub struct SlaveConfig {
     #[serde(default)]
     pub outputs: u8,
     /// An `analog_io` terminal's output n wired to its input n (docs/decisions.md,
-    /// "Analog I/O"); a `digital_io` terminal has no such wiring.
+    /// "Slave analog I/O"); a `digital_io` terminal has no such wiring.
     #[serde(default)]
     pub loopback: bool,
 }

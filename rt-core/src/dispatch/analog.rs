@@ -1,6 +1,6 @@
 //! HMPL ch. 10: a slave's analog channels. Conversion types and bindings are the
 //! controller's (`crate::analog`); output words go into the slave's RxPDO (0x6411:nn),
-//! where the kernel never writes. Codes (docs/decisions.md, "Analog I/O"): 0x138F no such
+//! where the kernel never writes. Codes (docs/decisions.md, "Slave analog I/O"): 0x138F no such
 //! slave, channel or object in the process data, or a value out of range; 0x1388 no such
 //! conversion type or variable; 0x138C no conversion type, or the output is bound.
 
