@@ -84,7 +84,7 @@ fn a_program_converts_raw_and_engineering_values() {
 
 /// HMPL 10.4: output 2 bound to axis 0's velocity feedback follows it every cycle during a
 /// move (AO = vel * scale + offset within one step of the converter); bound, it refuses
-/// other writers; freed, it keeps its last word and takes writes again.
+/// other writers but a forced PDO value; freed, it keeps its last word and takes writes again.
 #[test]
 fn a_bound_output_follows_the_velocity_during_a_move() {
     let main = r#"
@@ -94,6 +94,10 @@ fn a_bound_output_follows_the_velocity_during_a_move() {
             SetSlvAOMonitor(A, 2, HMPL_AXIS_0 | HMPL_VEL_FB), SetSlvAOParam(A, 2, 1, scale, offset))
         Print("bound %d scale %.4f offset %.3f", IsSlvAOBound(A, 2), GetSlvAOScale(A, 2), GetSlvAOOffset(A, 2))
         Print("refused while bound %d %d %d", SetSlvAO(A, 2, 1), SetSlvAORaw(A, 2, 0), SetSlvAOType(A, 2, HMPL_DAC_NONE))
+        -- A forced PDO value (HMPL 17.2.8) wins over the binding until released.
+        local forced = ForceWritePDO(A, 0x6411, 2, 1234)
+        Sleep(5)
+        Print("forced %d raw %d released %d", forced, GetSlvAORaw(A, 2), ReleasePDO(A, 0x6411, 2))
         Sleep(5)
         Print("at rest %.4f", GetSlvAO(A, 2))
         Enable(axis) Till(function() return IsEnabled(axis) end)
@@ -131,6 +135,7 @@ fn a_bound_output_follows_the_velocity_during_a_move() {
             "types 0 0 monitor 0 param 0",
             "bound 1 scale 0.0125 offset 0.625",
             "refused while bound 5004 5004 5004",
+            "forced 0 raw 1234 released 0",
             "at rest 0.6250",
             "samples over 100, worst within a step, peak 3.1, input 2 looped back",
             "stopped 0.6250",
