@@ -159,8 +159,8 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
             let count = match (slave(id), slot, ch_type) {
                 (Some(sl), 0, 1) => sl.digital_inputs as i64,
                 (Some(sl), 0, 2) => sl.digital_outputs as i64,
-                (Some(sl), 0, 3) => sl.analog.input_count as i64,
-                (Some(sl), 0, 4) => sl.analog.output_count as i64,
+                (Some(_), 0, 3) => s.analog_of(id as usize).map_or(0, |a| a.input_count as i64),
+                (Some(_), 0, 4) => s.analog_of(id as usize).map_or(0, |a| a.output_count as i64),
                 _ => -1,
             };
             Value::Int(count).into()
@@ -266,10 +266,10 @@ fn analog_channel(
 ) -> Result<(&AnalogSnapshot, usize, u16), ErrorCode> {
     let read = || {
         let (id, slot) = api::constants::split_slave_slot(slv_slot_id);
-        let slave = s.slaves.get(usize::try_from(id).ok()?).filter(|_| slot == 0 && id < s.slave_count as i64)?;
-        let n = usize::try_from(idx).ok().filter(|n| (1..=count(&slave.analog) as usize).contains(n))?;
+        let analog = s.analog_of(usize::try_from(id).ok()?).filter(|_| slot == 0 && id < s.slave_count as i64)?;
+        let n = usize::try_from(idx).ok().filter(|n| (1..=count(analog) as usize).contains(n))?;
         let (word, _) = read_pdo(s, id, index as i64, idx)?;
-        Some((&slave.analog, n - 1, word as u16))
+        Some((analog, n - 1, word as u16))
     };
     read().ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))
 }

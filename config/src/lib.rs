@@ -626,6 +626,11 @@ impl MachineConfig {
                     return Err(invalid(format!("slaves[{i}].{key}"), kind));
                 }
             }
+            let analog = self.slaves[..=i].iter().filter(|s| s.device == SlaveDevice::AnalogIo).count();
+            if analog > ipc::messages::MAX_ANALOG_TERMINALS {
+                let room = format!("at most {} analog_io terminals", ipc::messages::MAX_ANALOG_TERMINALS);
+                return Err(invalid(format!("slaves[{i}]"), room));
+            }
             if slave.loopback && slave.device != SlaveDevice::AnalogIo {
                 return Err(invalid(format!("slaves[{i}].loopback"), "only an analog_io terminal has a loopback"));
             }
@@ -901,5 +906,10 @@ mod tests {
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[0].inputs"));
         let config = parse(&format!("{slave}device = \"digital_io\"\nloopback = true\n"));
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[0].loopback"));
+        let nine = format!("[[axes]]\nname = \"x\"\n{}", "[[slaves]]\ndevice = \"analog_io\"\n".repeat(9));
+        assert!(
+            matches!(parse(&nine).validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[8]"),
+            "9 terminals"
+        );
     }
 }

@@ -394,6 +394,9 @@ pub fn channel_mask(n: u8) -> u32 {
 /// Analog channels an analog terminal has at most each way (HMPL ch. 10): one PDO of
 /// 16-bit words.
 pub const MAX_ANALOG_CHANNELS: usize = 4;
+/// Slaves with analog channels a machine may have: their settings are in every snapshot,
+/// and every snapshot is in shared memory some 250 times.
+pub const MAX_ANALOG_TERMINALS: usize = 8;
 /// CiA 401 "Read analogue input 16-bit": channel n is sub-index n (INT16, TxPDO).
 pub const ANALOG_INPUTS: u16 = 0x6401;
 /// CiA 401 "Write analogue output 16-bit": channel n is sub-index n (INT16, RxPDO).
@@ -425,6 +428,8 @@ impl Default for AnalogOutputSnapshot {
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
 #[repr(C)]
 pub struct AnalogSnapshot {
+    /// The slave's position on the bus; only an entry with channels names one.
+    pub slave: u16,
     /// The outputs' settings, channel n at n - 1.
     pub outputs: [AnalogOutputSnapshot; MAX_ANALOG_CHANNELS],
     /// The inputs' conversion types, channel n at n - 1.
@@ -467,8 +472,6 @@ pub struct SlaveSnapshot {
     pub digital_outputs: u8,
     /// AL status code of the last refused state change (0: none).
     pub al_status_code: u16,
-    /// Analog channels and their settings (HMPL ch. 10).
-    pub analog: AnalogSnapshot,
     /// The RxPDO mapping (master to slave).
     pub rx: [PdoEntrySnapshot; MAX_PDO_ENTRIES],
     /// The TxPDO mapping (slave to master).
@@ -488,7 +491,6 @@ impl Default for SlaveSnapshot {
             digital_inputs: 0,
             digital_outputs: 0,
             al_status_code: 0,
-            analog: AnalogSnapshot::default(),
             rx: [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES],
             tx: [PdoEntrySnapshot::default(); MAX_PDO_ENTRIES],
             outputs: [0; MAX_PDO_BYTES],
@@ -669,6 +671,8 @@ pub struct Snapshot {
     pub axes: [AxisSnapshot; MAX_AXES],
     /// Every slave, the first `slave_count` present.
     pub slaves: [SlaveSnapshot; MAX_SLAVES],
+    /// The slaves with analog channels, in bus order; an entry without channels is free.
+    pub analog: [AnalogSnapshot; MAX_ANALOG_TERMINALS],
 }
 
 impl Default for Snapshot {
@@ -691,7 +695,15 @@ impl Default for Snapshot {
             tasks: [TaskSnapshot::default(); MAX_TASKS],
             axes: [AxisSnapshot::default(); MAX_AXES],
             slaves: [SlaveSnapshot::default(); MAX_SLAVES],
+            analog: [AnalogSnapshot::default(); MAX_ANALOG_TERMINALS],
         }
+    }
+}
+
+impl Snapshot {
+    /// Slave `slave`'s analog channels, if it has any (HMPL ch. 10).
+    pub fn analog_of(&self, slave: usize) -> Option<&AnalogSnapshot> {
+        self.analog.iter().find(|a| a.slave as usize == slave && a.input_count + a.output_count > 0)
     }
 }
 

@@ -99,13 +99,10 @@ impl AnalogIo {
         }
     }
 
-    /// The settings into the snapshot, for the slaves that have analog channels.
+    /// The settings into the snapshot's table of the slaves with analog channels.
     pub fn fill(&self, snapshot: &mut Snapshot) {
-        for (slot, channels) in snapshot.slaves.iter_mut().zip(&self.slaves).take(snapshot.slave_count as usize) {
-            let analog = &mut slot.analog;
-            if analog.input_count == 0 && analog.output_count == 0 {
-                continue;
-            }
+        for analog in snapshot.analog.iter_mut().filter(|a| a.input_count + a.output_count > 0) {
+            let Some(channels) = self.slaves.get(analog.slave as usize) else { continue };
             for (code, ty) in analog.input_types.iter_mut().zip(&channels.inputs) {
                 *code = ty.code() as u16;
             }
