@@ -12,8 +12,9 @@ use crate::ecat::Network;
 #[derive(Clone, Copy, Debug)]
 pub struct Output {
     pub ty: ConversionType,
-    /// `SetSlvAOMonitor`'s variable: its id as given and what it names.
-    pub var: Option<(i64, usize, AxisVariable)>,
+    /// `SetSlvAOMonitor`'s variable: its id as given and what it names (`follow`).
+    var: Option<(i64, usize, AxisVariable)>,
+    /// Set with `bind`, as the scale and offset.
     pub bound: bool,
     pub scale: f64,
     pub offset: f64,
@@ -36,9 +37,25 @@ impl Default for Output {
 }
 
 impl Output {
+    /// Chooses the variable to follow (HMPL 10.4.1, `var_id` as given); the acceleration
+    /// starts afresh.
+    pub fn follow(&mut self, var_id: i64, axis: usize, var: AxisVariable) {
+        (self.var, self.last_vel) = (Some((var_id, axis, var)), f64::NAN);
+    }
+
     /// Binds or frees the output (HMPL 10.4.2); the acceleration starts afresh.
     pub fn bind(&mut self, bound: bool, scale: f64, offset: f64) {
         (self.bound, self.scale, self.offset, self.last_vel) = (bound, scale, offset, f64::NAN);
+    }
+
+    /// Whether a variable has been chosen.
+    pub fn follows(&self) -> bool {
+        self.var.is_some()
+    }
+
+    /// The `var_id` chosen, -1 before one is.
+    pub fn var_id(&self) -> i64 {
+        self.var.map_or(-1, |(id, ..)| id)
     }
 
     /// The bound variable's value this cycle, in the units its getter has (counts, A).
@@ -110,7 +127,7 @@ impl AnalogIo {
                 *out = AnalogOutputSnapshot {
                     scale: o.scale,
                     offset: o.offset,
-                    var_id: o.var.map_or(-1, |(id, ..)| id as i32),
+                    var_id: o.var_id() as i32,
                     range_type: o.ty.code() as u16,
                     bound: o.bound as u8,
                 };

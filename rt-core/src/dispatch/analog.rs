@@ -109,7 +109,7 @@ pub(super) fn set_monitor(m: &mut Machine, slv_slot_id: i64, idx: i64, var_id: i
     if output.ty.range.bounds().is_none() {
         return Err(not_ready());
     }
-    output.var = Some((var_id, axis, var));
+    output.follow(var_id, axis, var);
     Ok(Done::Now)
 }
 
@@ -125,7 +125,7 @@ pub(super) fn set_param(m: &mut Machine, slv_slot_id: i64, idx: i64, en_bind: i6
         return Err(out_of_range());
     }
     let output = output(m, slave, n);
-    if bound && output.var.is_none() {
+    if bound && !output.follows() {
         return Err(not_ready());
     }
     output.bind(bound, scale, offset);
