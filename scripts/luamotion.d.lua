@@ -943,6 +943,69 @@ function DisableGrpInShape(group_id) end
 ---@return integer
 function SetGrpInShape(group_id, frequency, damping_ratio, shaper_type) end
 
+--- Sets an analog input's conversion type (`HMPL_DAC_*` of table 10.1.1, optionally
+--- `| HMPL_DAC_SIGNED`).
+---HMPL 10.2.1 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param ai_idx integer
+---@param range_type integer
+---@return integer
+function SetSlvAIType(slv_slot_id, ai_idx, range_type) end
+
+--- Sets an analog output's conversion type; not `HMPL_DAC_NONE` while it is bound.
+---HMPL 10.2.2 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@param range_type integer
+---@return integer
+function SetSlvAOType(slv_slot_id, ao_idx, range_type) end
+
+--- Writes an analog output's 16-bit word: 0..65535, or -32768..32767 as two's complement.
+---HMPL 10.2.3 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@param ao_raw_val integer
+---@return integer
+function SetSlvAORaw(slv_slot_id, ao_idx, ao_raw_val) end
+
+--- Writes an analog output in its conversion type's units (within its range; the top
+--- value gives the top word).
+---HMPL 10.2.4 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@param ao_val number
+---@return integer
+function SetSlvAO(slv_slot_id, ao_idx, ao_val) end
+
+--- Chooses the variable an analog output follows: `HMPL_AXIS_n | HMPL_<VAR>` (REF_POS,
+--- REF_VEL, REF_ACC, POS_FB, VEL_FB, ACC_FB, CUR_FB); needs a conversion type.
+---HMPL 10.4.1 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@param var_id integer
+---@return integer
+function SetSlvAOMonitor(slv_slot_id, ao_idx, var_id) end
+
+--- Binds (1) or frees (0) an analog output: every cycle it is var * scale + offset in its
+--- type's units, saturated at the range's ends. Binding needs `SetSlvAOMonitor` first.
+---HMPL 10.4.2 (command (round trip to the core))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@param ao_en_bind integer
+---@param ao_scale number
+---@param ao_offset number
+---@return integer
+function SetSlvAOParam(slv_slot_id, ao_idx, ao_en_bind, ao_scale, ao_offset) end
+
+--- Simulator only: the word an analog terminal's converter reads on input `ai_idx`
+--- (0..65535, or -32768..32767), as a signal wired to it would make it. 0 or 0x138F.
+---luamotion sim (command (round trip to the core))
+---@param slv_slot_id integer
+---@param ai_idx integer
+---@param ai_raw_val integer
+---@return integer
+function SimSetSlvAIRaw(slv_slot_id, ai_idx, ai_raw_val) end
+
 --- Starts a task's program in its own process; returns once it runs. 0x0107 no such
 --- task id, 0x0108 already running, 0x010A no program configured.
 ---HMPL 16.2 (command (round trip to the core))
@@ -1562,6 +1625,69 @@ function GetSlvAllGPIByStartIdx(slv_slot_id, start_idx) end
 ---@param start_idx integer
 ---@return integer
 function GetSlvAllGPOByStartIdx(slv_slot_id, start_idx) end
+
+--- An analog input's conversion type (`HMPL_DAC_NONE` until set).
+---HMPL 10.3.1 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ai_idx integer
+---@return integer
+function GetSlvAIType(slv_slot_id, ai_idx) end
+
+--- An analog output's conversion type.
+---HMPL 10.3.2 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@return integer
+function GetSlvAOType(slv_slot_id, ao_idx) end
+
+--- An analog input's word: 0..65535, or signed with `HMPL_DAC_SIGNED`.
+---HMPL 10.3.3 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ai_idx integer
+---@return integer
+function GetSlvAIRaw(slv_slot_id, ai_idx) end
+
+--- An analog input in its conversion type's units.
+---HMPL 10.3.4 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ai_idx integer
+---@return number
+function GetSlvAI(slv_slot_id, ai_idx) end
+
+--- An analog output's word as the master last sent it: 0..65535, or signed.
+---HMPL 10.3.5 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@return integer
+function GetSlvAORaw(slv_slot_id, ao_idx) end
+
+--- An analog output in its conversion type's units.
+---HMPL 10.3.6 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@return number
+function GetSlvAO(slv_slot_id, ao_idx) end
+
+--- The scale of an analog output's binding (1 until set).
+---HMPL 10.4.3 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@return number
+function GetSlvAOScale(slv_slot_id, ao_idx) end
+
+--- The offset of an analog output's binding (0 until set).
+---HMPL 10.4.4 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@return number
+function GetSlvAOOffset(slv_slot_id, ao_idx) end
+
+--- 1 when an analog output follows a controller variable, else 0.
+---HMPL 10.4.5 (query (local snapshot))
+---@param slv_slot_id integer
+---@param ao_idx integer
+---@return integer
+function IsSlvAOBound(slv_slot_id, ao_idx) end
 
 --- The group of an axis, -1 when it is in none.
 ---HMPL 8.3.5 (query (local snapshot))
@@ -2442,6 +2568,22 @@ CS_GLOBAL = 8 -- HMPL table 8.1.2.1, not supported (value: luamotion)
 CS_ACS = 16 -- HMPL table 8.1.2.1 (value: luamotion)
 SHAPER_NORMAL = 1 -- HMPL 15.7
 SHAPER_ROBUST = 0 -- HMPL 15.7
+HMPL_DAC_NONE = 0 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_N10_P10 = 1 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_P0_P10 = 2 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_N5_P5 = 3 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_P0_P5 = 4 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_P0_P20 = 5 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_P4_P20 = 6 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_N20_P20 = 7 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_DAC_SIGNED = 256 -- HMPL table 10.1.1 (value: luamotion)
+HMPL_REF_POS = 256 -- HMPL 10.4.1 (value: luamotion)
+HMPL_REF_VEL = 512 -- HMPL 10.4.1 (value: luamotion)
+HMPL_REF_ACC = 768 -- HMPL 10.4.1 (value: luamotion)
+HMPL_POS_FB = 1024 -- HMPL 10.4.1 (value: luamotion)
+HMPL_VEL_FB = 1280 -- HMPL 10.4.1 (value: luamotion)
+HMPL_ACC_FB = 1536 -- HMPL 10.4.1 (value: luamotion)
+HMPL_CUR_FB = 1792 -- HMPL 10.4.1 (value: luamotion)
 HOME_METHOD_1 = 1
 HOME_METHOD_2 = 2
 HOME_METHOD_7 = 7

@@ -518,3 +518,31 @@ fn native_drives_a_terminals_outputs_and_reads_its_inputs() {
     assert_eq!(c.ask("GetSlvGPI(4, 3)"), "1");
     assert_eq!(c.ask("GetSlvAllGPIByStartIdx(4, 3)"), "1");
 }
+
+/// HMPL ch. 10 over the Native server: an HMI sets an analog terminal's conversion types by
+/// their constants, writes an output in volts and reads it back, wired, on the input, and
+/// binds an output to an axis variable (slave 4, after the four drives).
+#[test]
+fn native_sets_and_reads_an_analog_terminal() {
+    let ns = unique_ns("ascii-aio");
+    let dir = tempfile::tempdir().unwrap();
+    let terminal = "[[slaves]]\ndevice = \"analog_io\"\ninputs = 2\noutputs = 2\nloopback = true\n";
+    let config = machine(dir.path(), &[], terminal);
+    let serving = serve(&ns, dir.path(), &["--config", config.to_str().unwrap()]);
+    let mut c = Client::connect(serving.ascii_port);
+    assert_eq!(c.ask("SetSlvAOType(4, 1, HMPL_DAC_N10_P10)"), "0");
+    // The line grammar has no operators: HMPL_DAC_SIGNED | HMPL_DAC_N10_P10 is 0x101.
+    assert_eq!(c.ask("SetSlvAIType(4, 1, 0x101)"), "0");
+    assert_eq!(c.ask("GetSlvAIType(4, 1)"), "257");
+    assert_eq!(c.ask("SetSlvAO(4, 1, -5)"), "0");
+    assert_eq!(c.ask("GetSlvAORaw(4, 1)"), "16384", "HMPL table 10.1.1: -5 V");
+    // The input reads the same word signed: 16384 is +5 V there.
+    c.ask_until("GetSlvAIRaw(4, 1)", |a| a == "16384");
+    assert!(c.ask("GetSlvAI(4, 1)").starts_with('5'), "signed 16384 is 5 V");
+    assert_eq!(c.ask("SetSlvAOType(4, 2, HMPL_DAC_P0_P10)"), "0");
+    assert_eq!(c.ask("SetSlvAOMonitor(4, 2, 0x401)"), "0", "HMPL_AXIS_1 | HMPL_POS_FB");
+    assert_eq!(c.ask("SetSlvAOParam(4, 2, 1, 0.5, 2)"), "0");
+    assert_eq!(c.ask("IsSlvAOBound(4, 2)"), "1");
+    let not_ready = "ERROR 0x0000138C eERR_HMPL_MOTION_NOT_READY (controller not ready to run this HMPL)";
+    assert_eq!(c.ask("SetSlvAO(4, 2, 1)"), not_ready, "a bound output has one writer");
+}

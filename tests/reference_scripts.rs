@@ -184,6 +184,21 @@ const SCRIPTS: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "ch10_analog.lua",
+        &[
+            "65535",    // HMPL 10.1.1 example 1
+            "65535",    // example 2, looped back
+            "5.000000", // example 3
+            "output 9.999695 raw 65535",
+            "reset: types 0 0, output raw 32768",
+            "65535->9.9997 49152->5.0000 32768->0.0000 16384->-5.0000 0->-10.0000", // table 10.1.1
+            "32767->9.9997 16384->5.0000 0->0.0000 -16384->-5.0000 -32768->-10.0000",
+            "bound 1, scale 0.5, offset 1.0", // HMPL 10.4
+            "at 8.000 mm the output is 5.0000",
+            "unbound 0; chapter 10 done",
+        ],
+    ),
+    (
         "ch12_position_trigger.lua",
         &[
             "EnablePT on axis 0: 0x1451",         // HMPL 12.1: no E1 drive
@@ -254,7 +269,7 @@ const SCRIPTS: &[(&str, &[&str])] = &[
 
 /// Scripts whose every expected line is a whole line (the manual's printed results, where
 /// "wor" must not pass for "world").
-const WHOLE_LINES: &[&str] = &["ch03_strings.lua", "ch04_math.lua", "ch22_command_parser.lua"];
+const WHOLE_LINES: &[&str] = &["ch03_strings.lua", "ch04_math.lua", "ch10_analog.lua", "ch22_command_parser.lua"];
 
 fn check(script: &str) {
     let (_, expected) = SCRIPTS.iter().find(|(s, _)| *s == script).expect("in SCRIPTS");
@@ -318,6 +333,11 @@ fn chapter_8_group_line() {
 #[test]
 fn chapter_8_helix() {
     check("ch08_helix.lua");
+}
+
+#[test]
+fn chapter_10_analog() {
+    check("ch10_analog.lua");
 }
 
 #[test]

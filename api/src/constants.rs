@@ -45,6 +45,24 @@ pub const CONSTANTS: &[(&str, Constant, &str)] = &[
     ("CS_ACS", Constant::Int(0x10), "HMPL table 8.1.2.1 (value: luamotion)"),
     ("SHAPER_NORMAL", Constant::Int(1), "HMPL 15.7"),
     ("SHAPER_ROBUST", Constant::Int(0), "HMPL 15.7"),
+    // HMPL table 10.1.1 and 10.4.1: analog conversion types and the variables an output
+    // follows (`crate::analog`, whose tests hold these values to its own).
+    ("HMPL_DAC_NONE", Constant::Int(0), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_N10_P10", Constant::Int(1), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_P0_P10", Constant::Int(2), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_N5_P5", Constant::Int(3), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_P0_P5", Constant::Int(4), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_P0_P20", Constant::Int(5), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_P4_P20", Constant::Int(6), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_N20_P20", Constant::Int(7), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_DAC_SIGNED", Constant::Int(0x100), "HMPL table 10.1.1 (value: luamotion)"),
+    ("HMPL_REF_POS", Constant::Int(0x100), "HMPL 10.4.1 (value: luamotion)"),
+    ("HMPL_REF_VEL", Constant::Int(0x200), "HMPL 10.4.1 (value: luamotion)"),
+    ("HMPL_REF_ACC", Constant::Int(0x300), "HMPL 10.4.1 (value: luamotion)"),
+    ("HMPL_POS_FB", Constant::Int(0x400), "HMPL 10.4.1 (value: luamotion)"),
+    ("HMPL_VEL_FB", Constant::Int(0x500), "HMPL 10.4.1 (value: luamotion)"),
+    ("HMPL_ACC_FB", Constant::Int(0x600), "HMPL 10.4.1 (value: luamotion)"),
+    ("HMPL_CUR_FB", Constant::Int(0x700), "HMPL 10.4.1 (value: luamotion)"),
 ];
 
 /// `HOME_METHOD_n` (HMPL 20.1), `HMPL_AXIS_n` (HMPL 23) and `CS_WCSn` (HMPL 8.1.2) as globals.

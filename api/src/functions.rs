@@ -315,6 +315,31 @@ declare_functions! {
     /// SetAxisInShape (0x82II005A for another type).
     ["HMPL 15.10", ascii] fn SetGrpInShape(group_id: Int[Group], frequency: Double[GroupShaperFrequency], damping_ratio: Double[GroupShaperDamping], shaper_type: Int) -> Int;
 
+    // HMPL 10.2, 10.4: a slave's analog channels (`slv_id | HMPL_SLOT_n`, channels 1..), an
+    // analog terminal's 0x6401:nn inputs and 0x6411:nn outputs in its process data. 0, or
+    // 0x138F no such slave, channel or object in the process data, value out of range;
+    // 0x1388 no such conversion type or variable; 0x138C the channel has no conversion
+    // type, or the output is bound (docs/decisions.md, "Slave analog I/O").
+    /// Sets an analog input's conversion type (`HMPL_DAC_*` of table 10.1.1, optionally
+    /// `| HMPL_DAC_SIGNED`).
+    ["HMPL 10.2.1", ascii] fn SetSlvAIType(slv_slot_id: Int, ai_idx: Int, range_type: Int) -> Int;
+    /// Sets an analog output's conversion type; not `HMPL_DAC_NONE` while it is bound.
+    ["HMPL 10.2.2", ascii] fn SetSlvAOType(slv_slot_id: Int, ao_idx: Int, range_type: Int) -> Int;
+    /// Writes an analog output's 16-bit word: 0..65535, or -32768..32767 as two's complement.
+    ["HMPL 10.2.3", ascii] fn SetSlvAORaw(slv_slot_id: Int, ao_idx: Int, ao_raw_val: Int) -> Int;
+    /// Writes an analog output in its conversion type's units (within its range; the top
+    /// value gives the top word).
+    ["HMPL 10.2.4", ascii] fn SetSlvAO(slv_slot_id: Int, ao_idx: Int, ao_val: Double[Finite]) -> Int;
+    /// Chooses the variable an analog output follows: `HMPL_AXIS_n | HMPL_<VAR>` (REF_POS,
+    /// REF_VEL, REF_ACC, POS_FB, VEL_FB, ACC_FB, CUR_FB); needs a conversion type.
+    ["HMPL 10.4.1", ascii] fn SetSlvAOMonitor(slv_slot_id: Int, ao_idx: Int, var_id: Int) -> Int;
+    /// Binds (1) or frees (0) an analog output: every cycle it is var * scale + offset in its
+    /// type's units, saturated at the range's ends. Binding needs `SetSlvAOMonitor` first.
+    ["HMPL 10.4.2", ascii] fn SetSlvAOParam(slv_slot_id: Int, ao_idx: Int, ao_en_bind: Int, ao_scale: Double[Finite], ao_offset: Double[Finite]) -> Int;
+    /// Simulator only: the word an analog terminal's converter reads on input `ai_idx`
+    /// (0..65535, or -32768..32767), as a signal wired to it would make it. 0 or 0x138F.
+    ["luamotion sim"] fn SimSetSlvAIRaw(slv_slot_id: Int, ai_idx: Int, ai_raw_val: Int) -> Int;
+
     // HMPL ch. 16: task control.
     /// Starts a task's program in its own process; returns once it runs. 0x0107 no such
     /// task id, 0x0108 already running, 0x010A no program configured.
@@ -554,6 +579,28 @@ declare_functions! {
     ["HMPL 9.5.5", ascii] fn GetSlvAllGPIByStartIdx(slv_slot_id: Int, start_idx: Int) -> Int;
     /// The outputs from `start_idx` on: bit k is output start_idx + k (start 8, outputs 9 and 10 on: 6).
     ["HMPL 9.5.6", ascii] fn GetSlvAllGPOByStartIdx(slv_slot_id: Int, start_idx: Int) -> Int;
+
+    // HMPL 10.3, 10.4: a slave's analog channels, from its process data and the settings
+    // the controller keeps; an error (0x138F, or 0x138C without a conversion type) as the
+    // setters' (docs/decisions.md, "Slave analog I/O").
+    /// An analog input's conversion type (`HMPL_DAC_NONE` until set).
+    ["HMPL 10.3.1", ascii] fn GetSlvAIType(slv_slot_id: Int, ai_idx: Int) -> Int;
+    /// An analog output's conversion type.
+    ["HMPL 10.3.2", ascii] fn GetSlvAOType(slv_slot_id: Int, ao_idx: Int) -> Int;
+    /// An analog input's word: 0..65535, or signed with `HMPL_DAC_SIGNED`.
+    ["HMPL 10.3.3", ascii] fn GetSlvAIRaw(slv_slot_id: Int, ai_idx: Int) -> Int;
+    /// An analog input in its conversion type's units.
+    ["HMPL 10.3.4", ascii] fn GetSlvAI(slv_slot_id: Int, ai_idx: Int) -> Double;
+    /// An analog output's word as the master last sent it: 0..65535, or signed.
+    ["HMPL 10.3.5", ascii] fn GetSlvAORaw(slv_slot_id: Int, ao_idx: Int) -> Int;
+    /// An analog output in its conversion type's units.
+    ["HMPL 10.3.6", ascii] fn GetSlvAO(slv_slot_id: Int, ao_idx: Int) -> Double;
+    /// The scale of an analog output's binding (1 until set).
+    ["HMPL 10.4.3", ascii] fn GetSlvAOScale(slv_slot_id: Int, ao_idx: Int) -> Double;
+    /// The offset of an analog output's binding (0 until set).
+    ["HMPL 10.4.4", ascii] fn GetSlvAOOffset(slv_slot_id: Int, ao_idx: Int) -> Double;
+    /// 1 when an analog output follows a controller variable, else 0.
+    ["HMPL 10.4.5", ascii] fn IsSlvAOBound(slv_slot_id: Int, ao_idx: Int) -> Int;
 
     // HMPL 8.3 and 8.4: group settings and status, read from the snapshot.
     /// The group of an axis, -1 when it is in none.

@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod alarms;
+pub mod analog;
 pub mod call;
 pub mod catalogue;
 pub mod constants;

@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 use std::sync::LazyLock;
 
-use crate::{AxisError, GroupError};
+use crate::{AxisError, GroupError, SystemError};
 
 /// Where a call is carried out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -171,15 +171,21 @@ pub enum Quantity {
     GroupShaperFrequency,
     /// A group's input-shaper damping ratio, 0..0.3 (HMPL 15.10).
     GroupShaperDamping,
+    /// A number of no axis or group that only has to be finite (HMPL ch. 10's analog values,
+    /// scales and offsets; their own ranges are the command's).
+    Finite,
 }
 
-/// Which error a value out of range records: the axis' or the group's (HMPL ch. 18).
+/// Which error a value out of range records: the axis', the group's or the system's
+/// (HMPL ch. 18).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Refusal {
     /// The axis' last error (`0x83IIEEEE`).
     Axis(AxisError),
     /// The group's last error (`0x82IIEEEE`).
     Group(GroupError),
+    /// A system error (`0x0000EEEE`), for a quantity of no axis or group.
+    System(SystemError),
 }
 
 impl Quantity {
@@ -187,6 +193,11 @@ impl Quantity {
     /// than to an axis.
     pub fn is_group_bound(self) -> bool {
         matches!(self.error(), Refusal::Group(_))
+    }
+
+    /// Whether the quantity belongs to no axis or group.
+    pub fn is_free(self) -> bool {
+        matches!(self.error(), Refusal::System(_))
     }
 
     /// The error a value out of range records (HMPL tables 18.1.2.1 and 18.1.3.1).
@@ -222,6 +233,7 @@ impl Quantity {
             Quantity::VsfDamping | Quantity::ShaperDamping => A(AxisError::DampingratioLimit),
             Quantity::GroupShaperFrequency => G(GroupError::CmdInvalidFrequency),
             Quantity::GroupShaperDamping => G(GroupError::CmdInvalidDampingratio),
+            Quantity::Finite => Refusal::System(SystemError::HmplArgOutOfRange),
         }
     }
 }
@@ -281,7 +293,7 @@ impl FunctionSpec {
         self.args.iter().enumerate().filter_map(|(i, arg)| {
             let q = arg.quantity?;
             let owner = if q.is_group_bound() { Quantity::Group } else { Quantity::Axis };
-            let at = self.args[..i].iter().rposition(|a| a.quantity == Some(owner));
+            let at = self.args[..i].iter().rposition(|a| a.quantity == Some(owner)).filter(|_| !q.is_free());
             Some((i, q, at))
         })
     }
@@ -531,7 +543,7 @@ mod tests {
                 }
             }
             for (i, q, owner) in spec.quantities() {
-                let own = matches!(q, Quantity::Axis | Quantity::Group);
+                let own = matches!(q, Quantity::Axis | Quantity::Group) || q.is_free();
                 assert!(own || owner.is_some(), "{}: argument {i} has no axis or group before it", spec.name);
             }
             for arg in spec.args.iter().filter(|a| a.role == Some(Role::Moves)) {

@@ -2,12 +2,13 @@
 //! address space: one match over `api::QueryCall`, so that every query of the registry has
 //! its answer here.
 
+use api::analog::ConversionType;
 use api::{ErrorCode, QueryCall, SystemError};
 
 use ipc::messages::{
-    AxisSnapshot, DigitalWord, GPIO_PINS, GroupSnapshot, PdoEntrySnapshot, PtSnapshot, SLAVE_DIGITAL_INPUTS,
-    SLAVE_DIGITAL_OUTPUTS, Snapshot, TaskState, channel_mask, fault_status, group_fault_status, group_motion_status,
-    motion_status,
+    ANALOG_INPUTS, ANALOG_OUTPUTS, AnalogOutputSnapshot, AnalogSnapshot, AxisSnapshot, DigitalWord, GPIO_PINS,
+    GroupSnapshot, PdoEntrySnapshot, PtSnapshot, SLAVE_DIGITAL_INPUTS, SLAVE_DIGITAL_OUTPUTS, Snapshot, TaskState,
+    channel_mask, fault_status, group_fault_status, group_motion_status, motion_status,
 };
 
 /// A query's answer.
@@ -158,7 +159,8 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
             let count = match (slave(id), slot, ch_type) {
                 (Some(sl), 0, 1) => sl.digital_inputs as i64,
                 (Some(sl), 0, 2) => sl.digital_outputs as i64,
-                (Some(_), 0, 3 | 4) => 0,
+                (Some(_), 0, 3) => s.analog_of(id as usize).map_or(0, |a| a.input_count as i64),
+                (Some(_), 0, 4) => s.analog_of(id as usize).map_or(0, |a| a.output_count as i64),
                 _ => -1,
             };
             Value::Int(count).into()
@@ -179,6 +181,37 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
         }
         QueryCall::GetSlvAllGPOByStartIdx { slv_slot_id, start_idx } => {
             slave_channels(s, slv_slot_id, Outputs, start_idx, false)
+        }
+        QueryCall::GetSlvAIType { slv_slot_id, ai_idx } => {
+            Value::Int(analog_input(s, slv_slot_id, ai_idx)?.1.code()).into()
+        }
+        QueryCall::GetSlvAOType { slv_slot_id, ao_idx } => {
+            Value::Int(analog_output(s, slv_slot_id, ao_idx)?.1.code()).into()
+        }
+        QueryCall::GetSlvAIRaw { slv_slot_id, ai_idx } => {
+            let (word, ty) = analog_input(s, slv_slot_id, ai_idx)?;
+            Value::Int(ty.raw(word)).into()
+        }
+        QueryCall::GetSlvAORaw { slv_slot_id, ao_idx } => {
+            let (word, ty, _) = analog_output(s, slv_slot_id, ao_idx)?;
+            Value::Int(ty.raw(word)).into()
+        }
+        QueryCall::GetSlvAI { slv_slot_id, ai_idx } => {
+            let (word, ty) = analog_input(s, slv_slot_id, ai_idx)?;
+            Value::Double(ty.value(word).ok_or(ErrorCode::System(SystemError::HmplMotionNotReady))?).into()
+        }
+        QueryCall::GetSlvAO { slv_slot_id, ao_idx } => {
+            let (word, ty, _) = analog_output(s, slv_slot_id, ao_idx)?;
+            Value::Double(ty.value(word).ok_or(ErrorCode::System(SystemError::HmplMotionNotReady))?).into()
+        }
+        QueryCall::GetSlvAOScale { slv_slot_id, ao_idx } => {
+            Value::Double(analog_output(s, slv_slot_id, ao_idx)?.2.scale).into()
+        }
+        QueryCall::GetSlvAOOffset { slv_slot_id, ao_idx } => {
+            Value::Double(analog_output(s, slv_slot_id, ao_idx)?.2.offset).into()
+        }
+        QueryCall::IsSlvAOBound { slv_slot_id, ao_idx } => {
+            Value::Int(analog_output(s, slv_slot_id, ao_idx)?.2.bound as i64).into()
         }
         QueryCall::IsTaskStop { task_id } => {
             let task = usize::try_from(task_id).ok().and_then(|t| s.tasks.get(t));
@@ -229,6 +262,48 @@ fn slave_channels(s: &Snapshot, slv_slot_id: i64, which: Channels, first: i64, o
         Some(if one { channels & 1 } else { channels } as i64)
     };
     Value::Int(read().unwrap_or(-1)).into()
+}
+
+/// HMPL ch. 10: slave `slv_slot_id` (slot 0 only) and its analog channel `idx` (1-based)
+/// of `count` channels, with its word in the process data (`index`:idx); 0x138F for no such
+/// slave, channel or object (docs/decisions.md, "Slave analog I/O").
+fn analog_channel(
+    s: &Snapshot,
+    slv_slot_id: i64,
+    idx: i64,
+    index: u16,
+    count: fn(&AnalogSnapshot) -> u8,
+) -> Result<(&AnalogSnapshot, usize, u16), ErrorCode> {
+    let read = || {
+        let (id, slot) = api::constants::split_slave_slot(slv_slot_id);
+        let analog = s.analog_of(usize::try_from(id).ok()?).filter(|_| slot == 0 && id < s.slave_count as i64)?;
+        let n = usize::try_from(idx).ok().filter(|n| (1..=count(analog) as usize).contains(n))?;
+        let (word, _) = read_pdo(s, id, index as i64, idx)?;
+        Some((analog, n - 1, word as u16))
+    };
+    read().ok_or(ErrorCode::System(SystemError::HmplArgOutOfRange))
+}
+
+/// An analog input's word and conversion type.
+fn analog_input(s: &Snapshot, slv_slot_id: i64, idx: i64) -> Result<(u16, ConversionType), ErrorCode> {
+    let (analog, n, word) = analog_channel(s, slv_slot_id, idx, ANALOG_INPUTS, |a| a.input_count)?;
+    Ok((word, conversion_type(analog.input_types[n])))
+}
+
+/// An analog output's word, conversion type and settings.
+fn analog_output(
+    s: &Snapshot,
+    slv_slot_id: i64,
+    idx: i64,
+) -> Result<(u16, ConversionType, AnalogOutputSnapshot), ErrorCode> {
+    let (analog, n, word) = analog_channel(s, slv_slot_id, idx, ANALOG_OUTPUTS, |a| a.output_count)?;
+    let output = analog.outputs[n];
+    Ok((word, conversion_type(output.range_type), output))
+}
+
+/// A conversion type the core published (it only publishes valid ones).
+fn conversion_type(code: u16) -> ConversionType {
+    ConversionType::from_code(code as i64).unwrap_or_default()
 }
 
 /// An object in a slave's process data: its value (sign-extended) and length in bytes.

@@ -251,24 +251,40 @@ impl Default for SerialConfig {
 #[serde(deny_unknown_fields)]
 pub struct SlaveConfig {
     pub device: SlaveDevice,
-    /// Digital input channels of a `digital_io` terminal, 0..=32.
+    /// Input channels: 0..=32 of a `digital_io` terminal, 0..=4 of an `analog_io` one.
     #[serde(default)]
     pub inputs: u8,
-    /// Digital output channels of a `digital_io` terminal, 0..=32.
+    /// Output channels, as many as `inputs` may be.
     #[serde(default)]
     pub outputs: u8,
+    /// An `analog_io` terminal's output n wired to its input n (docs/decisions.md,
+    /// "Slave analog I/O"); a `digital_io` terminal has no such wiring.
+    #[serde(default)]
+    pub loopback: bool,
 }
 
 /// Channels a `digital_io` terminal may have: one 32-bit process-data word each way.
 pub const MAX_TERMINAL_CHANNELS: u8 = 32;
 
 /// The kinds of device a `[[slaves]]` entry may name; any other is refused with the name
-/// it gave (docs/decisions.md, "`[[slaves]]`"). Analog terminals come next.
+/// it gave (docs/decisions.md, "`[[slaves]]`").
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum SlaveDevice {
     /// A digital I/O terminal (HMPL 9.3, 9.5): `inputs` and `outputs` channels.
     DigitalIo,
+    /// An analog I/O terminal (HMPL ch. 10): `inputs` and `outputs` 16-bit channels.
+    AnalogIo,
+}
+
+impl SlaveDevice {
+    /// The channels the kind may have each way.
+    pub fn max_channels(self) -> u8 {
+        match self {
+            SlaveDevice::DigitalIo => MAX_TERMINAL_CHANNELS,
+            SlaveDevice::AnalogIo => ipc::messages::MAX_ANALOG_CHANNELS as u8,
+        }
+    }
 }
 
 /// How the RT thread asks the OS for real-time service. Each is tried and, where the OS
@@ -637,10 +653,20 @@ impl MachineConfig {
             return Err(invalid("slaves", format!("a bus holds at most {max} slaves, the axes' drives included")));
         }
         for (i, slave) in self.slaves.iter().enumerate() {
+            let max = slave.device.max_channels();
             for (key, count) in [("inputs", slave.inputs), ("outputs", slave.outputs)] {
-                if count > MAX_TERMINAL_CHANNELS {
-                    return Err(invalid(format!("slaves[{i}].{key}"), "a digital_io terminal has 0..32 channels"));
+                if count > max {
+                    let kind = format!("a {:?} terminal has 0..{max} channels", slave.device);
+                    return Err(invalid(format!("slaves[{i}].{key}"), kind));
                 }
+            }
+            let analog = self.slaves[..=i].iter().filter(|s| s.device == SlaveDevice::AnalogIo).count();
+            if analog > ipc::messages::MAX_ANALOG_TERMINALS {
+                let room = format!("at most {} analog_io terminals", ipc::messages::MAX_ANALOG_TERMINALS);
+                return Err(invalid(format!("slaves[{i}]"), room));
+            }
+            if slave.loopback && slave.device != SlaveDevice::AnalogIo {
+                return Err(invalid(format!("slaves[{i}].loopback"), "only an analog_io terminal has a loopback"));
             }
         }
         if self.axes.is_empty() || self.axes.len() > MAX_AXES {
@@ -938,6 +964,25 @@ mod tests {
         assert!(
             matches!(full.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves"),
             "96 drives and a terminal: more slaves than the snapshot holds"
+        );
+    }
+
+    /// An `analog_io` terminal: at most 4 channels each way; only it has a loopback.
+    #[test]
+    fn analog_io_terminals() {
+        let slave = "[[axes]]\nname = \"x\"\n\n[[slaves]]\n";
+        let config = parse(&format!("{slave}device = \"analog_io\"\ninputs = 2\noutputs = 4\nloopback = true\n"));
+        let s = &config.slaves[0];
+        assert_eq!((s.device, s.inputs, s.outputs, s.loopback), (SlaveDevice::AnalogIo, 2, 4, true));
+        assert!(config.validate().is_ok());
+        let config = parse(&format!("{slave}device = \"analog_io\"\ninputs = 5\n"));
+        assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[0].inputs"));
+        let config = parse(&format!("{slave}device = \"digital_io\"\nloopback = true\n"));
+        assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[0].loopback"));
+        let nine = format!("[[axes]]\nname = \"x\"\n{}", "[[slaves]]\ndevice = \"analog_io\"\n".repeat(9));
+        assert!(
+            matches!(parse(&nine).validate(), Err(ConfigError::Invalid { key, .. }) if key == "slaves[8]"),
+            "9 terminals"
         );
     }
 }

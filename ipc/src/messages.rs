@@ -391,6 +391,55 @@ pub fn channel_mask(n: u8) -> u32 {
     if n >= 32 { u32::MAX } else { (1 << n) - 1 }
 }
 
+/// Analog channels an analog terminal has at most each way (HMPL ch. 10): one PDO of
+/// 16-bit words.
+pub const MAX_ANALOG_CHANNELS: usize = 4;
+/// Slaves with analog channels a machine may have: their settings are in every snapshot,
+/// and every snapshot is in shared memory some 250 times.
+pub const MAX_ANALOG_TERMINALS: usize = 8;
+/// CiA 401 "Read analogue input 16-bit": channel n is sub-index n (INT16, TxPDO).
+pub const ANALOG_INPUTS: u16 = 0x6401;
+/// CiA 401 "Write analogue output 16-bit": channel n is sub-index n (INT16, RxPDO).
+pub const ANALOG_OUTPUTS: u16 = 0x6411;
+
+/// An analog output's settings the controller keeps (HMPL 10.2.2, 10.4).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+pub struct AnalogOutputSnapshot {
+    /// `ao_scale` of `SetSlvAOParam`.
+    pub scale: f64,
+    /// `ao_offset` of `SetSlvAOParam`.
+    pub offset: f64,
+    /// The `var_id` of `SetSlvAOMonitor`, -1 before one is chosen.
+    pub var_id: i32,
+    /// The conversion type's code (`HMPL_DAC_*`).
+    pub range_type: u16,
+    /// 1 while the output follows its variable.
+    pub bound: u8,
+}
+
+impl Default for AnalogOutputSnapshot {
+    fn default() -> Self {
+        AnalogOutputSnapshot { scale: 1.0, offset: 0.0, var_id: -1, range_type: 0, bound: 0 }
+    }
+}
+
+/// A slave's analog channels: how many, and their settings (HMPL ch. 10, 21.1).
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+pub struct AnalogSnapshot {
+    /// The slave's position on the bus; only an entry with channels names one.
+    pub slave: u16,
+    /// The outputs' settings, channel n at n - 1.
+    pub outputs: [AnalogOutputSnapshot; MAX_ANALOG_CHANNELS],
+    /// The inputs' conversion types, channel n at n - 1.
+    pub input_types: [u16; MAX_ANALOG_CHANNELS],
+    /// Analog input channels.
+    pub input_count: u8,
+    /// Analog output channels.
+    pub output_count: u8,
+}
+
 /// One mapped object of a PDO and its byte offset in the slave's process data.
 #[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
 #[repr(C)]
@@ -622,6 +671,8 @@ pub struct Snapshot {
     pub axes: [AxisSnapshot; MAX_AXES],
     /// Every slave, the first `slave_count` present.
     pub slaves: [SlaveSnapshot; MAX_SLAVES],
+    /// The slaves with analog channels, in bus order; an entry without channels is free.
+    pub analog: [AnalogSnapshot; MAX_ANALOG_TERMINALS],
     /// Every axis' position trigger (HMPL ch. 12).
     pub position_triggers: [PtSnapshot; MAX_AXES],
 }
@@ -659,7 +710,15 @@ impl Default for Snapshot {
             axes: [AxisSnapshot::default(); MAX_AXES],
             slaves: [SlaveSnapshot::default(); MAX_SLAVES],
             position_triggers: [PtSnapshot::default(); MAX_AXES],
+            analog: [AnalogSnapshot::default(); MAX_ANALOG_TERMINALS],
         }
+    }
+}
+
+impl Snapshot {
+    /// Slave `slave`'s analog channels, if it has any (HMPL ch. 10).
+    pub fn analog_of(&self, slave: usize) -> Option<&AnalogSnapshot> {
+        self.analog.iter().find(|a| a.slave as usize == slave && a.input_count + a.output_count > 0)
     }
 }
 

@@ -2,6 +2,7 @@
 //! (slave n drives axis n), then the `[[slaves]]` devices in file order; and what the
 //! simulation does to its drives and terminals. The master (`ecat/`) knows none of these devices.
 
+use crate::analog_terminal::AnalogIoTerminal;
 use crate::config::{AxisConfig, MachineConfig, SlaveConfig, SlaveDevice};
 use crate::drive::{Drive, FaultInjectionError};
 use crate::ecat::network::SlaveSetup;
@@ -43,12 +44,21 @@ impl Network {
             None => Err(NoSuchChannel(channel)),
         }
     }
+
+    /// Simulation only: the word on input `channel` of the analog I/O terminal at `slave`.
+    pub fn set_analog_input(&mut self, slave: usize, channel: i64, word: i64) -> Result<(), NoSuchChannel> {
+        match self.slaves_mut().get_mut(slave).and_then(|s| s.device_mut_as::<AnalogIoTerminal>()) {
+            Some(terminal) => terminal.set_input(channel, word),
+            None => Err(NoSuchChannel(channel)),
+        }
+    }
 }
 
 /// A `[[slaves]]` device with its own PDO mapping.
 fn slave(config: &SlaveConfig) -> SlaveSetup {
     let device: Box<dyn Device> = match config.device {
         SlaveDevice::DigitalIo => Box::new(DigitalIoTerminal::new(config.inputs, config.outputs)),
+        SlaveDevice::AnalogIo => Box::new(AnalogIoTerminal::new(config.inputs, config.outputs, config.loopback)),
     };
     SlaveSetup { device, rx_pdo: None, tx_pdo: None }
 }

@@ -118,6 +118,38 @@ impl ObjectDef {
     }
 }
 
+/// Read-only, read-write; `_PDO`: mappable too (a terminal object's `(access, pdo)`).
+pub const RO: (Access, bool) = (Access::ReadOnly, false);
+pub const RW: (Access, bool) = (Access::ReadWrite, false);
+pub const RO_PDO: (Access, bool) = (Access::ReadOnly, true);
+pub const RW_PDO: (Access, bool) = (Access::ReadWrite, true);
+
+/// An object of a simple device (an I/O terminal): no unit, on every variant, `(access,
+/// pdo)` one of `RO`.. `RW_PDO`, its range and default as integers.
+pub const fn terminal_object(
+    index: u16,
+    sub: u8,
+    name: &'static str,
+    ty: DataType,
+    (access, pdo_mappable): (Access, bool),
+    (min, max): (i64, i64),
+    default: i64,
+) -> ObjectDef {
+    ObjectDef {
+        index,
+        sub,
+        name,
+        ty,
+        access,
+        pdo_mappable,
+        min: min as f64,
+        max: max as f64,
+        default: default as f64,
+        unit: "",
+        variants: ALL_VARIANTS,
+    }
+}
+
 /// A nameless object for tests' own tables: read-write, not mappable, any value, default
 /// 0, on every variant.
 #[cfg(test)]

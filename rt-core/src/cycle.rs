@@ -203,6 +203,11 @@ impl CycleWork {
         }
         let machine = &mut self.machine;
         self.endpoint.resume(cycle, |_task, request, reply| dispatch::resume(machine, request, reply));
+        // The bound analog outputs follow this cycle's axis variables as the snapshot
+        // shows them; forced values still win.
+        self.machine.kernel.fill(&mut self.snapshot);
+        let period_s = period as f64 * 1e-9;
+        self.machine.analog.step(&self.snapshot.axes, &mut self.machine.network, period_s);
         let (_, outputs) = self.machine.network.images_mut();
         self.machine.forces.apply(outputs);
 
@@ -212,8 +217,8 @@ impl CycleWork {
         self.snapshot.controller_state = self.machine.state.into();
         self.snapshot.gpio = self.machine.io.snapshot();
         master::update_slaves(&self.machine.network, &mut self.snapshot);
-        self.machine.kernel.fill(&mut self.snapshot);
         self.machine.triggers.fill(&mut self.snapshot.position_triggers);
+        self.machine.analog.fill(&mut self.snapshot);
         self.machine.tasks.fill(&mut self.snapshot.tasks, &self.machine.run_speed);
         self.endpoint.publish(&self.snapshot);
         self.endpoint.wake(cycle);

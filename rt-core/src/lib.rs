@@ -2,6 +2,8 @@
 //! drives, the motion kernel, and the supervisor of the script processes.
 //! See ARCHITECTURE.md for the map and the invariants.
 
+pub mod analog;
+pub mod analog_terminal;
 pub mod bus;
 pub mod cia402;
 pub mod coe;

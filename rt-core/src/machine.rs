@@ -5,6 +5,7 @@
 use api::SystemError;
 use ipc::messages::MAX_TASKS;
 
+use crate::analog::AnalogIo;
 use crate::console::{ConsoleOrder, ControllerState};
 use crate::ecat::Network;
 use crate::fun147_boxes::Boxes;
@@ -20,6 +21,8 @@ pub struct Machine {
     pub kernel: Kernel,
     pub tasks: Tasks,
     pub io: ControllerIo,
+    /// The slaves' analog conversion types and output bindings (HMPL ch. 10).
+    pub analog: AnalogIo,
     pub forces: PdoForces,
     pub period_ns: u64,
     /// The cycle being run.
@@ -44,6 +47,7 @@ impl Machine {
             kernel,
             tasks,
             io: ControllerIo::default(),
+            analog: AnalogIo::default(),
             forces: PdoForces::default(),
             period_ns,
             cycle: 0,

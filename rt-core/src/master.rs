@@ -1,7 +1,9 @@
 //! The master's services beside the motion kernel: forced process-data values (HMPL
 //! 17.2.8/17.2.9) and what the snapshot shows of each slave.
 
-use ipc::messages::{MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot};
+use ipc::messages::{
+    AnalogSnapshot, MAX_ANALOG_TERMINALS, MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot,
+};
 
 use crate::ecat::network::ImageEntry;
 use crate::ecat::{Field, Network};
@@ -73,6 +75,21 @@ pub fn describe_slaves(network: &Network, snapshot: &mut Snapshot) {
         let (digital_inputs, digital_outputs) = slave.device().digital_channels();
         *slot =
             SlaveSnapshot { rx, rx_count, tx, tx_count, digital_inputs, digital_outputs, ..SlaveSnapshot::default() };
+    }
+    // The machine file allows no more analog terminals than the table holds.
+    let analog = network.slaves().iter().enumerate().filter_map(|(i, slave)| {
+        let (input_count, output_count) = slave.device().analog_channels();
+        let slave = i as u16;
+        (input_count + output_count > 0).then_some(AnalogSnapshot {
+            slave,
+            input_count,
+            output_count,
+            ..AnalogSnapshot::default()
+        })
+    });
+    snapshot.analog = [AnalogSnapshot::default(); MAX_ANALOG_TERMINALS];
+    for (slot, entry) in snapshot.analog.iter_mut().zip(analog) {
+        *slot = entry;
     }
 }
 

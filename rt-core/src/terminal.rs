@@ -7,57 +7,31 @@
 use config::MAX_TERMINAL_CHANNELS;
 use ipc::messages::channel_mask;
 
-use crate::coe::{ALL_VARIANTS, Access, DataType, ObjId, ObjectDef, ObjectStore, id};
+use crate::coe::{
+    ALL_VARIANTS, DataType, ObjId, ObjectDef, ObjectStore, RO, RO_PDO, RW, RW_PDO, id, terminal_object as row,
+};
 use crate::ecat::Device;
 
-/// A row of the dictionary; `(access, pdo)` is its access and whether a PDO may map it.
-const fn row(
-    index: u16,
-    sub: u8,
-    name: &'static str,
-    ty: DataType,
-    (access, pdo): (Access, bool),
-    max: u32,
-    default: u32,
-) -> ObjectDef {
-    ObjectDef {
-        index,
-        sub,
-        name,
-        ty,
-        access,
-        pdo_mappable: pdo,
-        min: 0.0,
-        max: max as f64,
-        default: default as f64,
-        unit: "",
-        variants: ALL_VARIANTS,
-    }
-}
-
-/// Read-only, read-write; `_PDO`: mappable too.
-const RO: (Access, bool) = (Access::ReadOnly, false);
-const RW: (Access, bool) = (Access::ReadWrite, false);
-const RO_PDO: (Access, bool) = (Access::ReadOnly, true);
-const RW_PDO: (Access, bool) = (Access::ReadWrite, true);
+/// Any value of a 32-bit word.
+const ANY: (i64, i64) = (0, u32::MAX as i64);
 use DataType::{UInt8, UInt16, UInt32};
 
 /// The terminal's dictionary: the communication objects and its two process-data words.
 static OBJECTS: &[ObjectDef] = &[
     // CiA 401 (generic I/O modules) as the device profile.
-    row(0x1000, 0, "Device type", UInt32, RO, u32::MAX, 401),
-    row(0x1600, 0, "RxPDO mapping: number of objects", UInt8, RW, 1, 1),
-    row(0x1600, 1, "RxPDO mapping: outputs", UInt32, RW, u32::MAX, 0x7000_0120),
-    row(0x1A00, 0, "TxPDO mapping: number of objects", UInt8, RW, 1, 1),
-    row(0x1A00, 1, "TxPDO mapping: inputs", UInt32, RW, u32::MAX, 0x6000_0120),
-    row(0x1C12, 0, "SM2 PDO assignment: number of assigned RxPDOs", UInt8, RW, 1, 1),
-    row(0x1C12, 1, "PDO mapping index of assigned RxPDO 1", UInt16, RW, 0x1600, 0x1600),
-    row(0x1C13, 0, "SM3 PDO assignment: number of assigned TxPDOs", UInt8, RW, 1, 1),
-    row(0x1C13, 1, "PDO mapping index of assigned TxPDO 1", UInt16, RW, 0x1A00, 0x1A00),
-    row(0x1C32, 1, "Synchronization type", UInt16, RW, 2, 0),
-    row(0x1C32, 2, "Cycle time", UInt32, RW, u32::MAX, 0),
-    row(0x6000, 1, "Digital inputs, channel n = bit n - 1", UInt32, RO_PDO, u32::MAX, 0),
-    row(0x7000, 1, "Digital outputs, channel n = bit n - 1", UInt32, RW_PDO, u32::MAX, 0),
+    row(0x1000, 0, "Device type", UInt32, RO, ANY, 401),
+    row(0x1600, 0, "RxPDO mapping: number of objects", UInt8, RW, (0, 1), 1),
+    row(0x1600, 1, "RxPDO mapping: outputs", UInt32, RW, ANY, 0x7000_0120),
+    row(0x1A00, 0, "TxPDO mapping: number of objects", UInt8, RW, (0, 1), 1),
+    row(0x1A00, 1, "TxPDO mapping: inputs", UInt32, RW, ANY, 0x6000_0120),
+    row(0x1C12, 0, "SM2 PDO assignment: number of assigned RxPDOs", UInt8, RW, (0, 1), 1),
+    row(0x1C12, 1, "PDO mapping index of assigned RxPDO 1", UInt16, RW, (0, 0x1600), 0x1600),
+    row(0x1C13, 0, "SM3 PDO assignment: number of assigned TxPDOs", UInt8, RW, (0, 1), 1),
+    row(0x1C13, 1, "PDO mapping index of assigned TxPDO 1", UInt16, RW, (0, 0x1A00), 0x1A00),
+    row(0x1C32, 1, "Synchronization type", UInt16, RW, (0, 2), 0),
+    row(0x1C32, 2, "Cycle time", UInt32, RW, ANY, 0),
+    row(0x6000, 1, "Digital inputs, channel n = bit n - 1", UInt32, RO_PDO, ANY, 0),
+    row(0x7000, 1, "Digital outputs, channel n = bit n - 1", UInt32, RW_PDO, ANY, 0),
 ];
 
 const INPUTS: ObjId = id(OBJECTS, 0x6000, 1);

@@ -25,7 +25,7 @@ fn rig() -> Rig {
     let first = config.axes[0].clone();
     let rx = vec![0x6040_0010, 0x607A_0020, 0x6060_0008, 0x60FF_0020, 0x60FE_0120];
     config.axes.push(AxisConfig { name: "y".into(), rx_pdo: Some(rx), ..first });
-    config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 16, outputs: 16 });
+    config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 16, outputs: 16, loopback: false });
     Rig::with_config(config, FaultReaction::None)
 }
 

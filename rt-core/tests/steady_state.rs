@@ -4,7 +4,7 @@
 //! runs its step table on the group interpolator, and a digital I/O terminal's output
 //! toggles (HMPL 9.3), with input shaping on axis 0 (which carries a flexible load) and
 //! on the group, and the VSF on axis 6 (HMPL ch. 15), and axis 1's position trigger
-//! pulses twice a cycle (HMPL ch. 12).
+//! pulses twice a cycle (HMPL ch. 12), and an analog output follows an axis (HMPL 10.4).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -50,8 +50,10 @@ fn typed(command: Command, values: &[Value]) -> Request {
     request
 }
 
-/// The digital I/O terminal after the six axes' drives.
+/// The digital I/O terminal after the seven axes' drives.
 const TERMINAL: i64 = 7;
+/// The analog I/O terminal after it (HMPL ch. 10).
+const ANALOG: i64 = 8;
 
 fn int(v: i64) -> Value {
     Value::Int(v)
@@ -103,6 +105,11 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         request(Command::SetPT_EndPos, &[1], &[900.0]),
         request(Command::EnablePT, &[1], &[]),
         request(Command::MoveVel, &[1], &[100.0]),
+        // HMPL 10.4: analog output 1 follows axis 0's reference velocity every cycle.
+        request(Command::SetSlvAOType, &[ANALOG, 1, 1], &[]),
+        request(Command::SetSlvAOMonitor, &[ANALOG, 1, 0x200], &[]),
+        request(Command::SetSlvAOParam, &[ANALOG, 1, 1], &[0.01, 0.5]),
+        request(Command::SetSlvAOType, &[ANALOG, 2, 1], &[]),
     ] {
         let mut setup = setup;
         assert_eq!(task.call(&mut setup).unwrap().rc, 0);
@@ -158,6 +165,10 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         for mut io in [
             request(Command::ToggleSlvGPO, &[TERMINAL, 1], &[]),
             request(Command::SimSetSlvGPI, &[TERMINAL, 1, i % 2], &[]),
+            // HMPL ch. 10: an analog output written, an input driven and its type changed.
+            request(Command::SetSlvAO, &[ANALOG, 2], &[(i % 20) as f64 - 10.0]),
+            request(Command::SimSetSlvAIRaw, &[ANALOG, 1, i % 65536], &[]),
+            request(Command::SetSlvAIType, &[ANALOG, 1, i % 8], &[]),
         ] {
             assert_eq!(task.call(&mut io).unwrap().rc, 0);
         }
@@ -182,7 +193,8 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let first = config.axes[0].clone();
     config.axes = (0..7).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
     config.axes[0].plant.load_frequency_hz = 20.0;
-    config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8 });
+    config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8, loopback: false });
+    config.slaves.push(SlaveConfig { device: SlaveDevice::AnalogIo, inputs: 2, outputs: 2, loopback: false });
     config.axes[1].pt = Some(rt_core::config::PtConfig { output: 2 });
     let mut network = Network::for_machine(&config);
     network.start(config.period_ns()).unwrap();

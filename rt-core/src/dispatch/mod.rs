@@ -2,8 +2,9 @@
 //! (decoded by `calls::wire`), so that the compiler holds every command of the registry
 //! to an implementation. The match is here; what a command does is in the module of its
 //! manual chapter: `axis` (HMPL ch. 5, 18, 20), `couplings` (ch. 6, 7), `drive_objects`
-//! (ch. 17), `io` (ch. 9), `position_trigger` (ch. 12), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
+//! (ch. 17), `io` (ch. 9), `analog` (ch. 10), `position_trigger` (ch. 12), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
 
+mod analog;
 mod axis;
 mod couplings;
 mod drive_objects;
@@ -15,7 +16,7 @@ mod tasks;
 
 use api::alarms::{Alarm, Event as AlarmEvent};
 use api::call::{Doubles, Sink};
-use api::{ArgSpec, CommandCall, ErrorCode, GroupError, Quantity, Role, SdoAbort, SystemError};
+use api::{ArgSpec, CommandCall, ErrorCode, GroupError, Quantity, Refusal, Role, SdoAbort, SystemError};
 use calls::wire::{self, DecodeError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
@@ -153,8 +154,15 @@ struct RangeCheck<'m> {
 }
 
 impl RangeCheck<'_> {
-    fn admit(&mut self, values: impl Iterator<Item = f64>) -> Result<(), Failure> {
+    fn admit(&mut self, mut values: impl Iterator<Item = f64>) -> Result<(), Failure> {
         let Some(quantity) = self.args.next().and_then(|a| a.quantity) else { return Ok(()) };
+        if let Refusal::System(error) = quantity.error() {
+            // A free quantity (`Quantity::Finite`); its own range is the command's.
+            return match values.all(f64::is_finite) {
+                true => Ok(()),
+                false => Err(error.into()),
+            };
+        }
         if quantity.is_group_bound() {
             let Some(group) = self.group else { return Ok(()) };
             for (i, value) in values.enumerate() {
@@ -543,6 +551,22 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             groups::group(m, |k| k.set_group_shaper(group_id, frequency, damping_ratio, shaper_type))
         }
         C::SimSetSlvGPI { slv_slot_id, gpi_idx, on_off } => io::sim_set_slave_input(m, slv_slot_id, gpi_idx, on_off),
+        // HMPL ch. 10: slave analog I/O.
+        C::SetSlvAIType { slv_slot_id, ai_idx, range_type } => {
+            analog::set_type(m, slv_slot_id, ai_idx, range_type, analog::Way::Input)
+        }
+        C::SetSlvAOType { slv_slot_id, ao_idx, range_type } => {
+            analog::set_type(m, slv_slot_id, ao_idx, range_type, analog::Way::Output)
+        }
+        C::SetSlvAORaw { slv_slot_id, ao_idx, ao_raw_val } => analog::set_raw(m, slv_slot_id, ao_idx, ao_raw_val),
+        C::SetSlvAO { slv_slot_id, ao_idx, ao_val } => analog::set_value(m, slv_slot_id, ao_idx, ao_val),
+        C::SetSlvAOMonitor { slv_slot_id, ao_idx, var_id } => analog::set_monitor(m, slv_slot_id, ao_idx, var_id),
+        C::SetSlvAOParam { slv_slot_id, ao_idx, ao_en_bind, ao_scale, ao_offset } => {
+            analog::set_param(m, slv_slot_id, ao_idx, ao_en_bind, ao_scale, ao_offset)
+        }
+        C::SimSetSlvAIRaw { slv_slot_id, ai_idx, ai_raw_val } => {
+            analog::sim_set_input(m, slv_slot_id, ai_idx, ai_raw_val)
+        }
         C::SetSlvGPO { slv_slot_id, gpo_idx, on_off } => io::change_slave_outputs(m, slv_slot_id, |now, mask| {
             let bit = io::channel_bit(gpo_idx, mask)?;
             Ok(if on_off != 0 { now | bit } else { now & !bit })

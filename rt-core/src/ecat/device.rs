@@ -37,4 +37,9 @@ pub trait Device: Any + Send {
 
     /// Digital inputs and outputs its description declares (HMPL `GetSlvChNum`).
     fn digital_channels(&self) -> (u8, u8);
+
+    /// Analog inputs and outputs its description declares (HMPL `GetSlvChNum`, ch. 10).
+    fn analog_channels(&self) -> (u8, u8) {
+        (0, 0)
+    }
 }

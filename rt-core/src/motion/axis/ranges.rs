@@ -26,8 +26,9 @@ impl Axis {
         match (self.in_range(quantity, value), quantity.error()) {
             (true, _) => Ok(()),
             (false, Refusal::Axis(error)) => Err(self.fail(error)),
-            // Group-bound quantities are the group's (`motion/group/settings.rs`).
-            (false, Refusal::Group(_)) => Err(self.fail(AxisError::CmdInvalidParameter)),
+            // Group-bound quantities are the group's (`motion/group/settings.rs`), free ones
+            // dispatch's.
+            (false, Refusal::Group(_) | Refusal::System(_)) => Err(self.fail(AxisError::CmdInvalidParameter)),
         }
     }
 
@@ -87,7 +88,8 @@ impl Axis {
             | Quantity::TransitionParameter
             | Quantity::LookAheadParameter
             | Quantity::GroupShaperFrequency
-            | Quantity::GroupShaperDamping => false,
+            | Quantity::GroupShaperDamping
+            | Quantity::Finite => false,
         }
     }
 

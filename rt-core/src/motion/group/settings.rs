@@ -135,7 +135,7 @@ pub fn admit(quantity: Quantity, index: usize, value: f64) -> Result<(), GroupEr
     match (ok, quantity.error()) {
         (true, _) => Ok(()),
         (false, Refusal::Group(e)) => Err(e),
-        (false, Refusal::Axis(_)) => Err(GroupError::CmdUnknown),
+        (false, Refusal::Axis(_) | Refusal::System(_)) => Err(GroupError::CmdUnknown),
     }
 }
 
