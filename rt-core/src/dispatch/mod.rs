@@ -2,7 +2,7 @@
 //! (decoded by `calls::wire`), so that the compiler holds every command of the registry
 //! to an implementation. The match is here; what a command does is in the module of its
 //! manual chapter: `axis` (HMPL ch. 5, 18, 20), `couplings` (ch. 6, 7), `drive_objects`
-//! (ch. 17), `io` (ch. 9), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
+//! (ch. 17), `io` (ch. 9), `touch_probe` (ch. 13), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
 
 mod axis;
 mod couplings;
@@ -11,6 +11,7 @@ mod fun147;
 mod groups;
 mod io;
 mod tasks;
+mod touch_probe;
 
 use api::alarms::{Alarm, Event as AlarmEvent};
 use api::call::{Doubles, Sink};
@@ -523,6 +524,17 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::SetGPIInvert { gpi_idx, invert } => io::pin(m.io.set_gpi_invert(gpi_idx, invert)),
         C::SetGPOInvert { gpo_idx, invert } => io::pin(m.io.set_gpo_invert(gpo_idx, invert)),
         C::BindEMO { gpi_idx } => io::pin(m.io.bind_emo(gpi_idx)),
+        // HMPL ch. 13: touch probes.
+        C::EnableTouchProbe1 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.enable(0)),
+        C::EnableTouchProbe2 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.enable(1)),
+        C::DisableTouchProbe1 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.disable(0)),
+        C::DisableTouchProbe2 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.disable(1)),
+        C::SetTouchProbe1Func { axis_id, tp_input, cont_trigger, detect_edge } => {
+            touch_probe::probes(m, axis_id, |tp| tp.set_function(0, tp_input, cont_trigger, detect_edge))
+        }
+        C::SetTouchProbe2Func { axis_id, tp_input, cont_trigger, detect_edge } => {
+            touch_probe::probes(m, axis_id, |tp| tp.set_function(1, tp_input, cont_trigger, detect_edge))
+        }
         C::SimSetSlvGPI { slv_slot_id, gpi_idx, on_off } => io::sim_set_slave_input(m, slv_slot_id, gpi_idx, on_off),
         C::SetSlvGPO { slv_slot_id, gpo_idx, on_off } => io::change_slave_outputs(m, slv_slot_id, |now, mask| {
             let bit = io::channel_bit(gpo_idx, mask)?;

@@ -17,6 +17,7 @@ pub mod pvt;
 pub mod settings;
 pub mod smoothing;
 pub mod source;
+pub mod touch_probe;
 
 use api::{AxisError, ErrorCode, SystemError};
 use ipc::messages::{AxisSnapshot, Snapshot, motion_status};
