@@ -759,7 +759,7 @@ impl AxisConfig {
         }
         for (name, input) in [("probe_input_1", t.probe_input_1), ("probe_input_2", t.probe_input_2)] {
             let Some([l, r]) = input else { continue };
-            if !(l <= r) {
+            if !l.is_finite() || !r.is_finite() || l > r {
                 return Err(invalid(format!("{key}.travel.{name}"), "[L, R] with L <= R"));
             }
             if self.drive_settings.touch_probe != TouchProbeKind::Cia402 {
@@ -828,6 +828,24 @@ mod tests {
         }
         let config = parse("[[axes]]\nname = \"x\"\nvel = 5000.0\n");
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
+    }
+
+    /// A probe input needs the CiA 402 touch probe (the CoE manual's drive latches the
+    /// index only) and a window `[L, R]` with L <= R.
+    #[test]
+    fn probe_inputs_need_a_cia402_touch_probe() {
+        let key = |text: &str| match parse(text).validate() {
+            Err(ConfigError::Invalid { key, .. }) => key,
+            other => panic!("{text}: {other:?}"),
+        };
+        let index_only = "[[axes]]\ntravel = { probe_input_1 = [1.0, 2.0] }\n";
+        assert_eq!(key(index_only), "axes[0].travel.probe_input_1");
+        let reversed =
+            "[[axes]]\ntravel = { probe_input_2 = [2.0, 1.0] }\ndrive_settings = { touch_probe = \"cia402\" }\n";
+        assert_eq!(key(reversed), "axes[0].travel.probe_input_2");
+        let good = "[[axes]]\ntravel = { probe_input_2 = [1.0, 2.0] }\ndrive_settings = { touch_probe = \"cia402\" }\n";
+        assert!(parse(good).validate().is_ok());
+        assert_eq!(parse(good).axes[0].touch_probe_tx_pdo().len(), 5, "0x60B9, 0x60BA..0x60BD");
     }
 
     /// `[ascii]`: HMPL 22.1's ports by default; the agent slot is an external task that no
