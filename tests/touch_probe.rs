@@ -27,9 +27,10 @@ fn a_program_latches_the_index_and_an_external_sensor() {
         Print("forward: tp1 %d %d %.4f tp2 %d %d %.4f", b(IsTouchProbe1Triggered(A)), rc1, p1, b(IsTouchProbe2Triggered(A)), rc2, p2)
         -- Back and forth across the sensor: a single trigger keeps its first edge; re-armed
         -- it takes the sensor's other end (moving negative the signal falls at L).
-        move(110) move(120)
+        move(110)
         rc1, p1 = GetTouchProbe1Pos(A)
-        Print("back and forth, single: %.4f", p1)
+        Print("back, single: %.4f", p1)
+        move(120)
         DisableTouchProbe1(A) EnableTouchProbe1(A)
         Print("re-armed: triggered %d", b(IsTouchProbe1Triggered(A)))
         move(110)
@@ -56,7 +57,7 @@ fn a_program_latches_the_index_and_an_external_sensor() {
         vec![
             // Marks at 1.25 + 7.5 k: 8.75 and 16.25 mm of the machine are 108.75 and 116.25.
             "forward: tp1 1 0 112.8000 tp2 1 0 116.2500",
-            "back and forth, single: 112.8000",
+            "back, single: 112.8000",
             "re-armed: triggered 0",
             // Moving back over the mark at 16.25 mm the index pulse rises at its end (mark
             // + 0.075 mm, 1 % of the pitch).
