@@ -871,6 +871,51 @@ function ToggleSlvGPO(slv_slot_id, gpo_idx) end
 ---@return integer
 function SetSlvAllGPO(slv_slot_id, all_gpo_state) end
 
+--- Arms touch probe 1 with the function `SetTouchProbe1Func` set (by default the
+--- index, single, rising edge); a single-trigger probe latches again once re-enabled.
+---HMPL 13.2 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function EnableTouchProbe1(axis_id) end
+
+--- Arms touch probe 2 (as `EnableTouchProbe1`).
+---HMPL 13.3 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function EnableTouchProbe2(axis_id) end
+
+--- Switches touch probe 1 off; its latched state is cleared.
+---HMPL 13.4 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function DisableTouchProbe1(axis_id) end
+
+--- Switches touch probe 2 off.
+---HMPL 13.5 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function DisableTouchProbe2(axis_id) end
+
+--- Touch probe 1's signal (`tp_input` 0 the drive's probe input, 1 the encoder index),
+--- trigger (`cont_trigger` 0 first edge only, 1 every edge) and edge (`detect_edge` 0
+--- rising, 1 falling); applied at once, re-arming an enabled probe.
+---HMPL 13.12 (command (round trip to the core))
+---@param axis_id integer
+---@param tp_input integer
+---@param cont_trigger integer
+---@param detect_edge integer
+---@return integer
+function SetTouchProbe1Func(axis_id, tp_input, cont_trigger, detect_edge) end
+
+--- Touch probe 2's function (as `SetTouchProbe1Func`).
+---HMPL 13.13 (command (round trip to the core))
+---@param axis_id integer
+---@param tp_input integer
+---@param cont_trigger integer
+---@param detect_edge integer
+---@return integer
+function SetTouchProbe2Func(axis_id, tp_input, cont_trigger, detect_edge) end
+
 --- Chooses the input whose rising edge is the E-stop (default 8; 0: none).
 ---HMPL 9.2.6 (command (round trip to the core))
 ---@param gpi_idx integer
@@ -1688,6 +1733,45 @@ function GetSlvAOOffset(slv_slot_id, ao_idx) end
 ---@param ao_idx integer
 ---@return integer
 function IsSlvAOBound(slv_slot_id, ao_idx) end
+
+--- 1 while touch probe 1 is enabled.
+---HMPL 13.6 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsTouchProbe1Enabled(axis_id) end
+
+--- 1 while touch probe 2 is enabled.
+---HMPL 13.7 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsTouchProbe2Enabled(axis_id) end
+
+--- 1 once touch probe 1 latched its edge since it was enabled (or its function set).
+---HMPL 13.8 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsTouchProbe1Triggered(axis_id) end
+
+--- 1 once touch probe 2 latched its edge.
+---HMPL 13.9 (query (local snapshot))
+---@param axis_id integer
+---@return boolean
+function IsTouchProbe2Triggered(axis_id) end
+
+--- `rc, pos`: the position (mm or deg, in the axis' coordinates as the feedback) touch
+--- probe 1 latched on its edge, the last one in continuous mode; 0 before any.
+---HMPL 13.10 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+---@return number
+function GetTouchProbe1Pos(axis_id) end
+
+--- `rc, pos` of touch probe 2.
+---HMPL 13.11 (query (local snapshot))
+---@param axis_id integer
+---@return integer
+---@return number
+function GetTouchProbe2Pos(axis_id) end
 
 --- The group of an axis, -1 when it is in none.
 ---HMPL 8.3.5 (query (local snapshot))

@@ -215,6 +215,19 @@ const SCRIPTS: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "ch13_touch_probe.lua",
+        &[
+            "13.6/13.8: enabled 1, triggered 0",
+            "13.10: single, rising: triggered 1, rc 0, 10.0000 mm", // the first mark of 10, 20, 30
+            "13.10: continuous, falling, moving back: rc 0, 10.0000 mm", // 30, 20, 10: the last
+            "13.4: enabled 0, triggered 0",
+            "13.3 on axis 0: 0x83000258; external input on axis 0: 0x8300012C",
+            "13.9/13.11: probe 1 1 at 30.0000 mm (rc 0), probe 2 1 at 40.0000 mm (rc 0)",
+            "after SetPos(1000) at 45 mm: probe 2 at 995.0000 mm",
+            "chapter 13 done",
+        ],
+    ),
+    (
         "ch15_filters.lua",
         &[
             "example 1: SetAxisInShape 0, EnableAxisInShape 0", // HMPL 15.1.1, 15.5, 15.7
@@ -378,6 +391,11 @@ fn chapter_4_math() {
 #[test]
 fn chapter_22_command_parser() {
     check("ch22_command_parser.lua");
+}
+
+#[test]
+fn chapter_13_touch_probe() {
+    check("ch13_touch_probe.lua");
 }
 
 #[test]

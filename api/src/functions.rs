@@ -286,6 +286,25 @@ declare_functions! {
     ["HMPL 9.3.2", ascii] fn ToggleSlvGPO(slv_slot_id: Int, gpo_idx: Int) -> Int;
     /// Sets all outputs of a slave from a bitmask (bit 0 is output 1).
     ["HMPL 9.3.3", ascii] fn SetSlvAllGPO(slv_slot_id: Int, all_gpo_state: Int) -> Int;
+
+    // HMPL ch. 13: touch probes, through the drive's 0x60B8 in the second RxPDO (0x1601).
+    // 0x83II0258 when the probe's objects are not in the process data (probe 2 on a drive
+    // without it), 0x83II012C for an argument the drive cannot do.
+    /// Arms touch probe 1 with the function `SetTouchProbe1Func` set (by default the
+    /// index, single, rising edge); a single-trigger probe latches again once re-enabled.
+    ["HMPL 13.2", ascii] fn EnableTouchProbe1(axis_id: Int[Axis]) -> Int;
+    /// Arms touch probe 2 (as `EnableTouchProbe1`).
+    ["HMPL 13.3", ascii] fn EnableTouchProbe2(axis_id: Int[Axis]) -> Int;
+    /// Switches touch probe 1 off; its latched state is cleared.
+    ["HMPL 13.4", ascii] fn DisableTouchProbe1(axis_id: Int[Axis]) -> Int;
+    /// Switches touch probe 2 off.
+    ["HMPL 13.5", ascii] fn DisableTouchProbe2(axis_id: Int[Axis]) -> Int;
+    /// Touch probe 1's signal (`tp_input` 0 the drive's probe input, 1 the encoder index),
+    /// trigger (`cont_trigger` 0 first edge only, 1 every edge) and edge (`detect_edge` 0
+    /// rising, 1 falling); applied at once, re-arming an enabled probe.
+    ["HMPL 13.12", ascii] fn SetTouchProbe1Func(axis_id: Int[Axis], tp_input: Int, cont_trigger: Int, detect_edge: Int) -> Int;
+    /// Touch probe 2's function (as `SetTouchProbe1Func`).
+    ["HMPL 13.13", ascii] fn SetTouchProbe2Func(axis_id: Int[Axis], tp_input: Int, cont_trigger: Int, detect_edge: Int) -> Int;
     /// Chooses the input whose rising edge is the E-stop (default 8; 0: none).
     ["HMPL 9.2.6", ascii] fn BindEMO(gpi_idx: Int) -> Int;
 
@@ -601,6 +620,22 @@ declare_functions! {
     ["HMPL 10.4.4", ascii] fn GetSlvAOOffset(slv_slot_id: Int, ao_idx: Int) -> Double;
     /// 1 when an analog output follows a controller variable, else 0.
     ["HMPL 10.4.5", ascii] fn IsSlvAOBound(slv_slot_id: Int, ao_idx: Int) -> Int;
+
+    // HMPL ch. 13: touch probes, read from the drive's 0x60B9 and 0x60BA..0x60BD in the
+    // second TxPDO (0x1A01).
+    /// 1 while touch probe 1 is enabled.
+    ["HMPL 13.6", ascii] fn IsTouchProbe1Enabled(axis_id: Int) -> Bool;
+    /// 1 while touch probe 2 is enabled.
+    ["HMPL 13.7", ascii] fn IsTouchProbe2Enabled(axis_id: Int) -> Bool;
+    /// 1 once touch probe 1 latched its edge since it was enabled (or its function set).
+    ["HMPL 13.8", ascii] fn IsTouchProbe1Triggered(axis_id: Int) -> Bool;
+    /// 1 once touch probe 2 latched its edge.
+    ["HMPL 13.9", ascii] fn IsTouchProbe2Triggered(axis_id: Int) -> Bool;
+    /// `rc, pos`: the position (mm or deg, in the axis' coordinates as the feedback) touch
+    /// probe 1 latched on its edge, the last one in continuous mode; 0 before any.
+    ["HMPL 13.10"] fn GetTouchProbe1Pos(axis_id: Int) -> (Int, Double);
+    /// `rc, pos` of touch probe 2.
+    ["HMPL 13.11"] fn GetTouchProbe2Pos(axis_id: Int) -> (Int, Double);
 
     // HMPL 8.3 and 8.4: group settings and status, read from the snapshot.
     /// The group of an axis, -1 when it is in none.

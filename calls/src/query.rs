@@ -213,6 +213,13 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
         QueryCall::IsSlvAOBound { slv_slot_id, ao_idx } => {
             Value::Int(analog_output(s, slv_slot_id, ao_idx)?.2.bound as i64).into()
         }
+        // HMPL ch. 13: touch probes.
+        QueryCall::IsTouchProbe1Enabled { axis_id } => probe_bit(s, axis_id, 0, |a| a.tp_enabled)?,
+        QueryCall::IsTouchProbe2Enabled { axis_id } => probe_bit(s, axis_id, 1, |a| a.tp_enabled)?,
+        QueryCall::IsTouchProbe1Triggered { axis_id } => probe_bit(s, axis_id, 0, |a| a.tp_triggered)?,
+        QueryCall::IsTouchProbe2Triggered { axis_id } => probe_bit(s, axis_id, 1, |a| a.tp_triggered)?,
+        QueryCall::GetTouchProbe1Pos { axis_id } => probe_pos(s, axis_id, 0),
+        QueryCall::GetTouchProbe2Pos { axis_id } => probe_pos(s, axis_id, 1),
         QueryCall::IsTaskStop { task_id } => {
             let task = usize::try_from(task_id).ok().and_then(|t| s.tasks.get(t));
             let task = task.ok_or(ErrorCode::System(SystemError::NotValidTaskid))?;
@@ -229,6 +236,22 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
 fn position_trigger(s: &Snapshot, id: i64) -> Result<&PtSnapshot, ErrorCode> {
     axis(s, id)?;
     Ok(&s.position_triggers[id as usize])
+}
+
+/// HMPL 13.6-13.9: touch probe `probe`'s bit of an axis' word.
+fn probe_bit(s: &Snapshot, id: i64, probe: u32, word: fn(&AxisSnapshot) -> u32) -> Result<Answer, ErrorCode> {
+    Ok(Value::Bool(word(axis(s, id)?) >> probe & 1 != 0).into())
+}
+
+/// HMPL 13.10, 13.11: `0, pos`, or the reason and 0 (the manual's "non-0", not a Lua
+/// error): 0x83II0258 when the probe is not in the process data, or no such axis.
+fn probe_pos(s: &Snapshot, id: i64, probe: usize) -> Answer {
+    let rc = match axis(s, id) {
+        Ok(a) if a.tp_mapped >> probe & 1 != 0 => return Answer(Value::Int(0), Some(Value::Double(a.tp_pos[probe]))),
+        Ok(_) => ErrorCode::axis(id as u8, api::AxisError::CmdInvalidNoSpecificPdo),
+        Err(code) => code,
+    };
+    Answer(Value::Int(rc.code() as i64), Some(Value::Double(0.0)))
 }
 
 /// HMPL 9.4: one pin of a bitmask, 1 or 0; -1 for a pin that does not exist.

@@ -333,6 +333,9 @@ pub struct AxisConfig {
     /// HMPL ch. 12: the drive has the position trigger (an E1-series drive with a digital
     /// encoder) and its PT output is wired to a controller GPO. None: no position trigger.
     pub pt: Option<PtConfig>,
+    /// The master maps the touch probe (HMPL ch. 13) into the second PDOs: 0x60B8 into
+    /// 0x1601 and `touch_probe_tx_pdo`'s objects into 0x1A01 (docs/decisions.md, "Touch probe").
+    pub touch_probe_pdo: bool,
 }
 
 /// `[axes.pt]`: where the drive's position-trigger output is seen (docs/decisions.md,
@@ -342,6 +345,31 @@ pub struct AxisConfig {
 pub struct PtConfig {
     /// The controller GPO (1..8) that pulses.
     pub output: i64,
+}
+
+/// Which touch probe the drive has (docs/decisions.md, "Touch probe").
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum TouchProbeKind {
+    /// CoE manual 3.9: touch probe 1 on the encoder index only; 0x60BC/0x60BD do not exist.
+    #[default]
+    Index,
+    /// The CiA 402 touch probe: probes 1 and 2, each on its own probe input or the index
+    /// (0x60B8 bits 2-3 and 10-11), with 0x60BC/0x60BD.
+    Cia402,
+}
+
+/// 0x1601: the touch probe function.
+pub const TOUCH_PROBE_RX_PDO: [u32; 1] = [0x60B8_0010];
+
+impl AxisConfig {
+    /// 0x1A01 for the drive's touch probe: its status and the edge positions it has.
+    pub fn touch_probe_tx_pdo(&self) -> &'static [u32] {
+        match self.drive_settings.touch_probe {
+            TouchProbeKind::Index => &[0x60B9_0010, 0x60BA_0020, 0x60BB_0020],
+            TouchProbeKind::Cia402 => &[0x60B9_0010, 0x60BA_0020, 0x60BB_0020, 0x60BC_0020, 0x60BD_0020],
+        }
+    }
 }
 
 /// Switches, index and hard stops along the travel, in units (mm or deg) of the machine's
@@ -360,6 +388,10 @@ pub struct TravelConfig {
     pub positive_hard_stop: Option<f64>,
     /// Where the motor stands at power-up.
     pub start_position: f64,
+    /// The drive's touch probe inputs 1 and 2 (a `cia402` touch probe only): a sensor
+    /// active over `[L, R]`, like the home switch.
+    pub probe_input_1: Option<[f64; 2]>,
+    pub probe_input_2: Option<[f64; 2]>,
 }
 
 /// Drive parameters set with HIWIN's Lightening tool rather than through objects.
@@ -379,6 +411,8 @@ pub struct DriveSettings {
     pub force_constant: f64,
     /// Outputs O1..O5 configured as general purpose ("PDL usage"), bit 0 = O1.
     pub general_purpose_outputs: u8,
+    /// The drive's touch probe: the CoE manual's (index) or the CiA 402 one.
+    pub touch_probe: TouchProbeKind,
 }
 
 impl Default for DriveSettings {
@@ -391,6 +425,7 @@ impl Default for DriveSettings {
             rated_current_a: 2.0,
             force_constant: 10.0,
             general_purpose_outputs: 0b1_1111,
+            touch_probe: TouchProbeKind::Index,
         }
     }
 }
@@ -408,6 +443,8 @@ impl TravelConfig {
             negative_hard_stop: Some(-1010.0),
             positive_hard_stop: Some(1010.0),
             start_position: 0.0,
+            probe_input_1: None,
+            probe_input_2: None,
         }
     }
 }
@@ -549,6 +586,7 @@ impl Default for AxisConfig {
             rx_pdo: Some(BUILT_IN_RX_PDO.to_vec()),
             tx_pdo: Some(BUILT_IN_TX_PDO.to_vec()),
             pt: None,
+            touch_probe_pdo: true,
         }
     }
 }
@@ -796,6 +834,18 @@ impl AxisConfig {
         {
             return Err(invalid(format!("{key}.travel.home_switch"), "[L, R] with L <= R"));
         }
+        for (name, input) in [("probe_input_1", t.probe_input_1), ("probe_input_2", t.probe_input_2)] {
+            let Some([l, r]) = input else { continue };
+            if !l.is_finite() || !r.is_finite() || l > r {
+                return Err(invalid(format!("{key}.travel.{name}"), "[L, R] with L <= R"));
+            }
+            if self.drive_settings.touch_probe != TouchProbeKind::Cia402 {
+                return Err(invalid(
+                    format!("{key}.travel.{name}"),
+                    "the drive's touch probe uses the index only (CoE manual 3.9); set drive_settings.touch_probe = \"cia402\"",
+                ));
+            }
+        }
         if let Some(pitch) = t.index_pitch {
             positive(&format!("{key}.travel.index_pitch"), pitch)?;
         }
@@ -855,6 +905,24 @@ mod tests {
         }
         let config = parse("[[axes]]\nname = \"x\"\nvel = 5000.0\n");
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
+    }
+
+    /// A probe input needs the CiA 402 touch probe (the CoE manual's drive latches the
+    /// index only) and a window `[L, R]` with L <= R.
+    #[test]
+    fn probe_inputs_need_a_cia402_touch_probe() {
+        let key = |text: &str| match parse(text).validate() {
+            Err(ConfigError::Invalid { key, .. }) => key,
+            other => panic!("{text}: {other:?}"),
+        };
+        let index_only = "[[axes]]\ntravel = { probe_input_1 = [1.0, 2.0] }\n";
+        assert_eq!(key(index_only), "axes[0].travel.probe_input_1");
+        let reversed =
+            "[[axes]]\ntravel = { probe_input_2 = [2.0, 1.0] }\ndrive_settings = { touch_probe = \"cia402\" }\n";
+        assert_eq!(key(reversed), "axes[0].travel.probe_input_2");
+        let good = "[[axes]]\ntravel = { probe_input_2 = [1.0, 2.0] }\ndrive_settings = { touch_probe = \"cia402\" }\n";
+        assert!(parse(good).validate().is_ok());
+        assert_eq!(parse(good).axes[0].touch_probe_tx_pdo().len(), 5, "0x60B9, 0x60BA..0x60BD");
     }
 
     /// `[ascii]`: HMPL 22.1's ports by default; the agent slot is an external task that no

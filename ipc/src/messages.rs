@@ -354,6 +354,15 @@ pub struct AxisSnapshot {
     pub pos_window_time: f64,
     /// Gear ratio to the master.
     pub gear_ratio: f64,
+    /// Touch probes 1 and 2 (HMPL ch. 13), bit 0 probe 1, bit 1 probe 2: enabled by the
+    /// master (HMPL 13.6, 13.7).
+    pub tp_enabled: u32,
+    /// Latched on the selected edge since enabled (HMPL 13.8, 13.9).
+    pub tp_triggered: u32,
+    /// The probe's objects are in the process data.
+    pub tp_mapped: u32,
+    /// The selected edge's latched position of each probe, units (HMPL 13.10, 13.11).
+    pub tp_pos: [f64; 2],
 }
 
 /// PDOs a slave may assign per direction (0x1600/0x1601 and 0x1A00/0x1A01).

@@ -145,7 +145,7 @@ mod tests {
     use crate::ecat::network::SlaveSetup;
 
     fn network(terminal: AnalogIoTerminal) -> Network {
-        let mut net = Network::with_slaves(vec![SlaveSetup { device: Box::new(terminal), rx_pdo: None, tx_pdo: None }]);
+        let mut net = Network::with_slaves(vec![SlaveSetup::own_mapping(Box::new(terminal))]);
         net.start(1_000_000).expect("start-up to Op");
         net
     }

@@ -3,7 +3,7 @@
 //! simulation does to its drives and terminals. The master (`ecat/`) knows none of these devices.
 
 use crate::analog_terminal::AnalogIoTerminal;
-use crate::config::{AxisConfig, MachineConfig, SlaveConfig, SlaveDevice};
+use crate::config::{self, AxisConfig, MachineConfig, SlaveConfig, SlaveDevice};
 use crate::drive::{Drive, FaultInjectionError};
 use crate::ecat::network::SlaveSetup;
 use crate::ecat::{Device, Network};
@@ -60,12 +60,20 @@ fn slave(config: &SlaveConfig) -> SlaveSetup {
         SlaveDevice::DigitalIo => Box::new(DigitalIoTerminal::new(config.inputs, config.outputs)),
         SlaveDevice::AnalogIo => Box::new(AnalogIoTerminal::new(config.inputs, config.outputs, config.loopback)),
     };
-    SlaveSetup { device, rx_pdo: None, tx_pdo: None }
+    SlaveSetup::own_mapping(device)
 }
 
-/// An axis' drive, with the PDO mapping the master writes to it.
+/// An axis' drive, with the PDO mapping the master writes to it: the touch probe's objects
+/// in the second PDOs unless the machine file says otherwise.
 fn drive(axis: &AxisConfig) -> SlaveSetup {
-    SlaveSetup { device: Box::new(Drive::new(axis)), rx_pdo: axis.rx_pdo.clone(), tx_pdo: axis.tx_pdo.clone() }
+    let probe = |entries: &[u32]| axis.touch_probe_pdo.then(|| entries.to_vec());
+    SlaveSetup {
+        device: Box::new(Drive::new(axis)),
+        rx_pdo: axis.rx_pdo.clone(),
+        tx_pdo: axis.tx_pdo.clone(),
+        rx_pdo_2: probe(&config::TOUCH_PROBE_RX_PDO),
+        tx_pdo_2: probe(axis.touch_probe_tx_pdo()),
+    }
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
-//! CiA 402 words as they cross the bus: the controlword commands and the statusword state
-//! encodings. Both the simulated drives and the motion kernel (the master) speak them.
+//! CiA 402 words as they cross the bus: the controlword commands, the statusword state
+//! encodings and the touch probe's function and status bits. Both the simulated drives and the motion kernel (the master) speak them.
 
 /// Controlword 0x6040 bits (CoE manual 3.1, table 3-2).
 pub mod controlword {
@@ -27,6 +27,22 @@ pub mod controlword {
 }
 
 /// Statusword 0x6041 bits (CoE manual 3.1, table 3-4).
+/// 0x60B8 (touch probe function) and 0x60B9 (status) bits of one probe, CoE tables 3-16,
+/// 3-17 and 4-18 for probe 1; probe 2's are `PROBE_2_SHIFT` higher (CiA 402).
+pub mod touch_probe {
+    pub const PROBE_2_SHIFT: usize = 8;
+    pub const ENABLE: u16 = 1 << 0;
+    pub const CONTINUOUS: u16 = 1 << 1;
+    /// Bits 2-3: 00 the probe's input, 01 the index (the CoE manual's drive: always the index).
+    pub const SOURCE: u16 = 0b11 << 2;
+    pub const SOURCE_INDEX: u16 = 0b01 << 2;
+    pub const POSITIVE_EDGE: u16 = 1 << 4;
+    pub const NEGATIVE_EDGE: u16 = 1 << 5;
+    pub const STATUS_ENABLED: u16 = 1 << 0;
+    pub const STATUS_POSITIVE_STORED: u16 = 1 << 1;
+    pub const STATUS_NEGATIVE_STORED: u16 = 1 << 2;
+}
+
 pub mod statusword {
     pub const READY_TO_SWITCH_ON: u16 = 1 << 0;
     pub const SWITCHED_ON: u16 = 1 << 1;

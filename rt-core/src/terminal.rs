@@ -104,7 +104,7 @@ mod tests {
     /// through the two process-data words only.
     #[test]
     fn channels_travel_in_process_data() {
-        let setup = SlaveSetup { device: Box::new(DigitalIoTerminal::new(4, 8)), rx_pdo: None, tx_pdo: None };
+        let setup = SlaveSetup::own_mapping(Box::new(DigitalIoTerminal::new(4, 8)));
         let mut net = Network::with_slaves(vec![setup]);
         net.start(1_000_000).expect("start-up to Op");
         let (inputs, outputs) = (net.input_field(0, 0x6000, 1).unwrap(), net.output_field(0, 0x7000, 1).unwrap());

@@ -408,8 +408,9 @@ fn the_process_image_of_two_slaves() {
 fn the_snapshot_shows_the_second_pdo_to_programs() {
     use api::QueryCall;
     use calls::query::{Value, evaluate};
-    // The built-in machine's TxPDO: 0x1A00 full (7 entries, 19 bytes).
-    let full = AxisConfig { counts_per_unit: bench::CPU, ..AxisConfig::default() };
+    // The built-in machine's TxPDO: 0x1A00 full (7 entries, 19 bytes); 0x1A01 as assigned
+    // here through SDO, not the master's touch probe mapping.
+    let full = AxisConfig { counts_per_unit: bench::CPU, touch_probe_pdo: false, ..AxisConfig::default() };
     let mut net = Bench::unstarted(AxisConfig { travel: at_15000_counts().travel, ..full });
     assign_touch_probe_pdo(&mut net, 0);
     net.sdo_write(0, 0x60B8, 0, &[0x01, 0x00]).unwrap();

@@ -2,7 +2,8 @@
 //! (decoded by `calls::wire`), so that the compiler holds every command of the registry
 //! to an implementation. The match is here; what a command does is in the module of its
 //! manual chapter: `axis` (HMPL ch. 5, 18, 20), `couplings` (ch. 6, 7), `drive_objects`
-//! (ch. 17), `io` (ch. 9), `analog` (ch. 10), `position_trigger` (ch. 12), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
+//! (ch. 17), `io` (ch. 9), `analog` (ch. 10), `position_trigger` (ch. 12), `touch_probe` (ch. 13), `tasks`
+//! (ch. 16); ch. 2's system commands are one-liners here.
 
 mod analog;
 mod axis;
@@ -13,6 +14,7 @@ mod groups;
 mod io;
 mod position_trigger;
 mod tasks;
+mod touch_probe;
 
 use api::alarms::{Alarm, Event as AlarmEvent};
 use api::call::{Doubles, Sink};
@@ -549,6 +551,17 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::DisableGrpInShape { group_id } => groups::group(m, |k| k.switch_group_shaper(group_id, false)),
         C::SetGrpInShape { group_id, frequency, damping_ratio, shaper_type } => {
             groups::group(m, |k| k.set_group_shaper(group_id, frequency, damping_ratio, shaper_type))
+        }
+        // HMPL ch. 13: touch probes.
+        C::EnableTouchProbe1 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.enable(0)),
+        C::EnableTouchProbe2 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.enable(1)),
+        C::DisableTouchProbe1 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.disable(0)),
+        C::DisableTouchProbe2 { axis_id } => touch_probe::probes(m, axis_id, |tp| tp.disable(1)),
+        C::SetTouchProbe1Func { axis_id, tp_input, cont_trigger, detect_edge } => {
+            touch_probe::probes(m, axis_id, |tp| tp.set_function(0, tp_input, cont_trigger, detect_edge))
+        }
+        C::SetTouchProbe2Func { axis_id, tp_input, cont_trigger, detect_edge } => {
+            touch_probe::probes(m, axis_id, |tp| tp.set_function(1, tp_input, cont_trigger, detect_edge))
         }
         C::SimSetSlvGPI { slv_slot_id, gpi_idx, on_off } => io::sim_set_slave_input(m, slv_slot_id, gpi_idx, on_off),
         // HMPL ch. 10: slave analog I/O.

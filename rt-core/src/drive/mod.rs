@@ -18,7 +18,7 @@ pub use config::DriveModel;
 
 use crate::cia402::{State, statusword};
 use crate::coe::ObjectStore;
-use crate::config::{AxisConfig, DriveSettings};
+use crate::config::{AxisConfig, DriveSettings, TouchProbeKind};
 use crate::ecat::SdoAbort;
 use crate::ecat::device::Device;
 use crate::profile::{Kinematics, ramp_velocity};
@@ -138,7 +138,7 @@ impl Drive {
             start,
             (travel.negative_hard_stop, travel.positive_hard_stop),
         );
-        let mut od = od::store(axis.drive);
+        let mut od = od::store(axis.drive, axis.drive_settings.touch_probe);
         od.set(od::MOTOR_RATED_CURRENT, (axis.drive_settings.rated_current_a * 1000.0) as i64);
         let mut drive = Drive {
             model: axis.drive,
@@ -153,7 +153,7 @@ impl Drive {
             limits: HardwareLimits::at_power_up(&travel, start),
             internal_limit: false,
             following: FollowingError::default(),
-            touch_probe: TouchProbe::default(),
+            touch_probe: TouchProbe::new(axis.drive_settings.touch_probe),
             edges: Edges::default(),
             outputs: 0,
         };
@@ -497,8 +497,14 @@ impl Drive {
             | (self.travel.home_switch_active(raw) as i64) << 2;
         self.od.set(od::DIGITAL_INPUTS, inputs);
         self.od.set(od::TOUCH_PROBE_STATUS, self.touch_probe.status() as i64);
-        self.od.set(od::TOUCH_PROBE_1_POSITIVE, self.touch_probe.positive_edge());
-        self.od.set(od::TOUCH_PROBE_1_NEGATIVE, self.touch_probe.negative_edge());
+        let (positive, negative) = self.touch_probe.edges(0);
+        self.od.set(od::TOUCH_PROBE_1_POSITIVE, positive);
+        self.od.set(od::TOUCH_PROBE_1_NEGATIVE, negative);
+        if self.settings.touch_probe == TouchProbeKind::Cia402 {
+            let (positive, negative) = self.touch_probe.edges(1);
+            self.od.set(od::TOUCH_PROBE_2_POSITIVE, positive);
+            self.od.set(od::TOUCH_PROBE_2_NEGATIVE, negative);
+        }
         self.od.set(od::STATUSWORD, self.statusword(state) as i64);
     }
 

@@ -8,6 +8,7 @@
 
 use crate::coe::{ALL_VARIANTS, Access, ObjectDef};
 use crate::coe::{ObjId, ObjectStore};
+use crate::config::TouchProbeKind;
 use crate::drive::DriveModel;
 
 /// The drive models an object exists on (CoE manual table 4-22).
@@ -16,6 +17,8 @@ enum Models {
     All,
     NotD1N,
     NotD1NNorAbily,
+    /// A drive with the CiA 402 touch probe (docs/decisions.md, "Touch probe").
+    TouchProbe2,
 }
 
 impl Models {
@@ -23,8 +26,9 @@ impl Models {
     const fn variants(self) -> u32 {
         match self {
             Models::All => ALL_VARIANTS,
-            Models::NotD1N => !variant(DriveModel::D1N),
-            Models::NotD1NNorAbily => !(variant(DriveModel::D1N) | variant(DriveModel::Abily)),
+            Models::NotD1N => MODELS & !variant(DriveModel::D1N),
+            Models::NotD1NNorAbily => MODELS & !(variant(DriveModel::D1N) | variant(DriveModel::Abily)),
+            Models::TouchProbe2 => TOUCH_PROBE_2,
         }
     }
 }
@@ -33,6 +37,11 @@ impl Models {
 const fn variant(model: DriveModel) -> u32 {
     1 << model as u32
 }
+
+/// The models' bits; a store's variant is its model's bit, plus `TOUCH_PROBE_2` for a
+/// drive with the CiA 402 touch probe, so a row of some models must not match that bit.
+const MODELS: u32 = 0xFF;
+const TOUCH_PROBE_2: u32 = 1 << 8;
 
 use crate::coe::DataType::*;
 use Access::{ReadOnly as RO, ReadWrite as RW};
@@ -203,6 +212,8 @@ pub static OBJECTS: &[ObjectDef] = rows![
     (0x60B9, 0, "Touch probe status", UInt16, RO, true, U16, 0, 0, ""),
     (0x60BA, 0, "Touch probe 1 positive edge", Int32, RO, true, I32_MAX, I32_MIN, 0, "count"),
     (0x60BB, 0, "Touch probe 1 negative edge", Int32, RO, true, I32_MAX, I32_MIN, 0, "count"),
+    (0x60BC, 0, "Touch probe 2 positive edge", Int32, RO, true, I32_MAX, I32_MIN, 0, "count", TouchProbe2),
+    (0x60BD, 0, "Touch probe 2 negative edge", Int32, RO, true, I32_MAX, I32_MIN, 0, "count", TouchProbe2),
     (0x60C2, 0, "Interpolation time period: highest sub-index", UInt8, RO, false, U8, 0, 2, ""),
     (0x60C2, 1, "Interpolation time period", UInt8, RW, false, 255, 0, 0, ""),
     (0x60C2, 2, "Interpolation time index", Int8, RW, false, 63, -128, 0, ""),
@@ -264,6 +275,8 @@ pub const TOUCH_PROBE_FUNCTION: ObjId = id(0x60B8, 0);
 pub const TOUCH_PROBE_STATUS: ObjId = id(0x60B9, 0);
 pub const TOUCH_PROBE_1_POSITIVE: ObjId = id(0x60BA, 0);
 pub const TOUCH_PROBE_1_NEGATIVE: ObjId = id(0x60BB, 0);
+pub const TOUCH_PROBE_2_POSITIVE: ObjId = id(0x60BC, 0);
+pub const TOUCH_PROBE_2_NEGATIVE: ObjId = id(0x60BD, 0);
 pub const MAX_ACCELERATION: ObjId = id(0x60C5, 0);
 pub const MAX_DECELERATION: ObjId = id(0x60C6, 0);
 pub const FOLLOWING_ERROR_ACTUAL: ObjId = id(0x60F4, 0);
@@ -273,9 +286,11 @@ pub const PHYSICAL_OUTPUTS: ObjId = id(0x60FE, 1);
 pub const OUTPUT_MASK: ObjId = id(0x60FE, 2);
 pub const TARGET_VELOCITY: ObjId = id(0x60FF, 0);
 
-/// A drive's dictionary at power-up: the manual's defaults, with the model's product code.
-pub fn store(model: DriveModel) -> ObjectStore {
-    let mut store = ObjectStore::new(OBJECTS, variant(model));
+/// A drive's dictionary at power-up: the manual's defaults, with the model's product code;
+/// 0x60BC/0x60BD only with the CiA 402 touch probe.
+pub fn store(model: DriveModel, touch_probe: TouchProbeKind) -> ObjectStore {
+    let probe = if touch_probe == TouchProbeKind::Cia402 { TOUCH_PROBE_2 } else { 0 };
+    let mut store = ObjectStore::new(OBJECTS, variant(model) | probe);
     store.set(PRODUCT_CODE, model.product_code() as i64);
     store
 }
@@ -287,7 +302,7 @@ mod tests {
     use crate::ecat::mailbox::{SdoAbort, check_download, upload};
 
     fn d1() -> ObjectStore {
-        store(DriveModel::D1)
+        store(DriveModel::D1, TouchProbeKind::Index)
     }
 
     /// CiA 301 abort codes, one row per case (CoE manual ch. 4 objects).
@@ -313,11 +328,12 @@ mod tests {
     /// CoE manual table 4-22: objects of other models do not exist.
     #[test]
     fn model_support() {
-        let d1n = store(DriveModel::D1N);
+        let d1n = store(DriveModel::D1N, TouchProbeKind::Cia402);
         assert_eq!(upload(&d1n, 0x6075, 0), Err(SdoAbort::NoObject));
         assert_eq!(upload(&d1n, 0x2060, 0), Err(SdoAbort::NoObject));
-        assert_eq!(upload(&store(DriveModel::Abily), 0x2110, 0), Err(SdoAbort::NoObject));
-        assert!(upload(&store(DriveModel::D2), 0x2110, 0).is_ok());
+        assert_eq!(upload(&store(DriveModel::Abily, TouchProbeKind::Cia402), 0x2110, 0), Err(SdoAbort::NoObject));
+        assert!(upload(&store(DriveModel::D2, TouchProbeKind::Index), 0x2110, 0).is_ok());
+        assert!(upload(&d1n, 0x60BC, 0).is_ok(), "a CiA 402 touch probe has 0x60BC");
     }
 
     #[test]

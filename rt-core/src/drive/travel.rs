@@ -1,5 +1,6 @@
 //! What the drive senses along the axis' travel: the negative and positive limit switches,
-//! the home switch (active over [L, R]), the encoder index pulses and the hard stops. In
+//! the home switch and the touch probe inputs (each active over [L, R]), the encoder index
+//! pulses and the hard stops. In
 //! raw encoder counts, fixed to the machine (homing shifts the drive's coordinates, not
 //! the switches).
 
@@ -21,6 +22,12 @@ pub enum Edge {
         rising: bool,
         at: f64,
     },
+    /// Touch probe input `input` (0 or 1) went high or low.
+    ProbeInput {
+        input: usize,
+        rising: bool,
+        at: f64,
+    },
     NegativeLimit {
         rising: bool,
         at: f64,
@@ -32,7 +39,7 @@ pub enum Edge {
 }
 
 /// At most this many edges in one servo period.
-pub const MAX_EDGES: usize = 8;
+pub const MAX_EDGES: usize = 12;
 
 /// A fixed-size list of edges: the servo loop must not allocate.
 #[derive(Clone, Copy, Debug)]
@@ -75,6 +82,7 @@ pub struct Travel {
     pub negative_limit: Option<f64>,
     pub positive_limit: Option<f64>,
     pub home_switch: Option<(f64, f64)>,
+    pub probe_inputs: [Option<(f64, f64)>; 2],
     pub index_pitch: Option<f64>,
     pub index_offset: f64,
     pub index_width: f64,
@@ -90,6 +98,7 @@ impl Travel {
             negative_limit: config.negative_limit.map(counts),
             positive_limit: config.positive_limit.map(counts),
             home_switch: config.home_switch.map(|[l, r]| (counts(l), counts(r))),
+            probe_inputs: [config.probe_input_1, config.probe_input_2].map(|i| i.map(|[l, r]| (counts(l), counts(r)))),
             index_pitch: pitch,
             index_offset: counts(config.index_offset),
             // The pulse lasts 1 % of a turn, at least one count.
@@ -109,6 +118,10 @@ impl Travel {
 
     pub fn home_switch_active(&self, x: f64) -> bool {
         self.home_switch.is_some_and(|(l, r)| (l..=r).contains(&x))
+    }
+
+    pub fn probe_input_active(&self, input: usize, x: f64) -> bool {
+        self.probe_inputs[input].is_some_and(|(l, r)| (l..=r).contains(&x))
     }
 
     pub fn index_active(&self, x: f64) -> bool {
@@ -155,17 +168,12 @@ impl Travel {
         {
             edges.push(Edge::PositiveLimit { rising: to > from, at });
         }
-        if let Some((l, r)) = self.home_switch {
-            let (was, is) = (self.home_switch_active(from), self.home_switch_active(to));
-            if was != is || (!was && from.min(to) < l && from.max(to) > r) {
-                // Entering on one side, leaving on the other, or both within one step.
-                let (entry, exit) = if to > from { (l, r) } else { (r, l) };
-                if !was {
-                    edges.push(Edge::HomeSwitch { rising: true, at: entry });
-                }
-                if !is {
-                    edges.push(Edge::HomeSwitch { rising: false, at: exit });
-                }
+        if let Some(window) = self.home_switch {
+            window_edges(window, from, to, |rising, at| edges.push(Edge::HomeSwitch { rising, at }));
+        }
+        for (input, window) in self.probe_inputs.iter().enumerate() {
+            if let Some(window) = *window {
+                window_edges(window, from, to, |rising, at| edges.push(Edge::ProbeInput { input, rising, at }));
             }
         }
         // The pulse is high over [mark, mark + width): moving positive it rises at the mark
@@ -184,6 +192,22 @@ impl Travel {
     }
 }
 
+/// The edges of a sensor active over `[l, r]` between two positions: entering on one side,
+/// leaving on the other, or both within one step.
+fn window_edges((l, r): (f64, f64), from: f64, to: f64, mut push: impl FnMut(bool, f64)) {
+    let active = |x: f64| (l..=r).contains(&x);
+    let (was, is) = (active(from), active(to));
+    if was != is || (!was && from.min(to) < l && from.max(to) > r) {
+        let (entry, exit) = if to > from { (l, r) } else { (r, l) };
+        if !was {
+            push(true, entry);
+        }
+        if !is {
+            push(false, exit);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -193,6 +217,7 @@ mod tests {
             negative_limit: Some(-1000.0),
             positive_limit: Some(1000.0),
             home_switch: Some((100.0, 200.0)),
+            probe_inputs: [Some((300.0, 310.0)), None],
             index_pitch: Some(50.0),
             index_offset: 10.0,
             index_width: 1.0,
@@ -221,5 +246,16 @@ mod tests {
         edges.clear();
         t.edges(999.0, 1001.0, &mut edges);
         assert!(edges.iter().any(|e| e == Edge::PositiveLimit { rising: true, at: 1000.0 }));
+        edges.clear();
+        t.edges(295.0, 315.0, &mut edges);
+        let probe: Vec<_> = edges.iter().filter(|e| matches!(e, Edge::ProbeInput { .. })).collect();
+        assert_eq!(
+            probe,
+            [
+                Edge::ProbeInput { input: 0, rising: true, at: 300.0 },
+                Edge::ProbeInput { input: 0, rising: false, at: 310.0 }
+            ],
+            "a probe input crossed within one step"
+        );
     }
 }

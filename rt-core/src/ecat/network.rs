@@ -45,19 +45,30 @@ pub enum StartError {
 }
 
 /// A slave as the controller puts it on the bus: its device, and the mapping entries
-/// (`0xIIIISSLL`) the master writes to its first RxPDO (0x1600) and TxPDO (0x1A00) in
-/// PreOp; `None` leaves the device's own.
+/// (`0xIIIISSLL`) the master writes to its first RxPDO (0x1600) and TxPDO (0x1A00) and to
+/// its second ones (0x1601, 0x1A01, then assigned as 0x1C12:02/0x1C13:02) in PreOp; `None`
+/// leaves the device's own.
 pub struct SlaveSetup {
     pub device: Box<dyn Device>,
     pub rx_pdo: Option<Vec<u32>>,
     pub tx_pdo: Option<Vec<u32>>,
+    pub rx_pdo_2: Option<Vec<u32>>,
+    pub tx_pdo_2: Option<Vec<u32>>,
 }
 
-/// The custom PDO mapping of one slave, written by the master in PreOp.
+impl SlaveSetup {
+    /// A slave whose mapping the master leaves as the device has it.
+    pub fn own_mapping(device: Box<dyn Device>) -> Self {
+        SlaveSetup { device, rx_pdo: None, tx_pdo: None, rx_pdo_2: None, tx_pdo_2: None }
+    }
+}
+
+/// The custom PDO mapping of one slave, written by the master in PreOp: per direction the
+/// first PDO's entries and the second's.
 #[derive(Clone, Debug, Default)]
 struct Mapping {
-    rx: Option<Vec<u32>>,
-    tx: Option<Vec<u32>>,
+    rx: [Option<Vec<u32>>; 2],
+    tx: [Option<Vec<u32>>; 2],
 }
 
 /// One object in the master's process image, as read from the slave's mapping objects.
@@ -91,7 +102,10 @@ pub struct Network {
 impl Network {
     /// The slaves in ring order.
     pub fn with_slaves(slaves: Vec<SlaveSetup>) -> Self {
-        let mappings = slaves.iter().map(|s| Mapping { rx: s.rx_pdo.clone(), tx: s.tx_pdo.clone() }).collect();
+        let mappings = slaves
+            .iter()
+            .map(|s| Mapping { rx: [s.rx_pdo.clone(), s.rx_pdo_2.clone()], tx: [s.tx_pdo.clone(), s.tx_pdo_2.clone()] })
+            .collect();
         Network {
             slaves: slaves.into_iter().map(|s| Slave::new(s.device)).collect(),
             mappings,
@@ -153,16 +167,28 @@ impl Network {
         let mut write = |index: u16, sub: u8, data: &[u8]| {
             self.slaves[slave].sdo_write(index, sub, data).map_err(|error| StartError::Sdo { slave, index, sub, error })
         };
-        for (entries, mapping, assignment, assigned) in
-            [(rx, 0x1600, 0x1C12, rx_assigned), (tx, 0x1A00, 0x1C13, tx_assigned)]
+        for ([first, second], mapping, assignment, assigned) in
+            [(rx, 0x1600u16, 0x1C12, rx_assigned), (tx, 0x1A00, 0x1C13, tx_assigned)]
         {
-            let Some(entries) = entries else { continue };
-            write(assignment, 0, &[0])?;
-            write(mapping, 0, &[0])?;
-            for (i, entry) in entries.iter().enumerate() {
-                write(mapping, i as u8 + 1, &entry.to_le_bytes())?;
+            if first.is_none() && second.is_none() {
+                continue;
             }
-            write(mapping, 0, &[entries.len() as u8])?;
+            write(assignment, 0, &[0])?;
+            for (pdo, entries) in [(mapping, first), (mapping + 1, second.clone())] {
+                let Some(entries) = entries else { continue };
+                write(pdo, 0, &[0])?;
+                for (i, entry) in entries.iter().enumerate() {
+                    write(pdo, i as u8 + 1, &entry.to_le_bytes())?;
+                }
+                write(pdo, 0, &[entries.len() as u8])?;
+            }
+            let assigned = match second {
+                Some(entries) if !entries.is_empty() => {
+                    write(assignment, 2, &(mapping + 1).to_le_bytes())?;
+                    2
+                }
+                _ => assigned,
+            };
             write(assignment, 0, &[assigned])?;
         }
         write(0x1C32, 2, &(cycle_ns as u32).to_le_bytes())?;
@@ -331,8 +357,7 @@ mod tests {
     /// mapping objects, beside a device of another kind.
     #[test]
     fn a_device_of_any_kind_is_laid_out_from_its_mapping_objects() {
-        let counter =
-            || SlaveSetup { device: Box::new(Counter(ObjectStore::new(COUNTER, 1))), rx_pdo: None, tx_pdo: None };
+        let counter = || SlaveSetup::own_mapping(Box::new(Counter(ObjectStore::new(COUNTER, 1))));
         let mut net = Network::with_slaves(vec![counter(), counter()]);
         net.start(1_000_000).expect("start-up to Op");
         assert_eq!(net.state(), AlState::Op);

@@ -18,6 +18,7 @@ pub mod settings;
 pub mod shaping;
 pub mod smoothing;
 pub mod source;
+pub mod touch_probe;
 
 use api::{AxisError, ErrorCode, SystemError};
 use ipc::messages::{AxisSnapshot, Snapshot, motion_status};

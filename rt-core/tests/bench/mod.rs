@@ -22,7 +22,7 @@ pub struct Bench {
 
 /// An axis whose drive keeps its default PDO mapping (CoE manual table 4-3).
 pub fn drive_defaults() -> AxisConfig {
-    AxisConfig { rx_pdo: None, tx_pdo: None, ..AxisConfig::default() }
+    AxisConfig { rx_pdo: None, tx_pdo: None, touch_probe_pdo: false, ..AxisConfig::default() }
 }
 
 impl Bench {

@@ -30,6 +30,7 @@ use crate::motion::pvt::{Pvt, PvtError, PvtPoint};
 use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
 use crate::motion::shaping::AXIS_MIN_SHAPER_HZ;
 use crate::motion::source::{Engagement, ReferenceSource};
+use crate::motion::touch_probe::TouchProbes;
 use crate::profile::Kinematics;
 
 /// Below this fraction of the axis' velocity limit the motor counts as standing.
@@ -82,6 +83,8 @@ pub struct Axis {
     emergency_stopped: bool,
     /// The run speed of the commander's program (DXMC A.3, 0x6B03), as a factor.
     run_speed: f64,
+    /// HMPL ch. 13.
+    touch_probes: TouchProbes,
 }
 
 impl Axis {
@@ -123,6 +126,7 @@ impl Axis {
             last_command: None,
             emergency_stopped: false,
             run_speed: 1.0,
+            touch_probes: TouchProbes::new(id as usize, config, network),
         };
         axis.rest_profile_at(0.0);
         axis
@@ -134,6 +138,11 @@ impl Axis {
 
     pub fn link(&self) -> &DriveLink {
         &self.link
+    }
+
+    /// HMPL ch. 13: the axis' touch probes.
+    pub fn touch_probes_mut(&mut self) -> &mut TouchProbes {
+        &mut self.touch_probes
     }
 
     pub fn settings(&self) -> &Settings {
@@ -669,6 +678,7 @@ impl Axis {
         self.cycle = cycle;
         let (inputs, _) = network.images_mut();
         self.feedback = self.link.read(inputs);
+        self.touch_probes.read(inputs);
         self.drive_position = self.feedback.position;
         let timeout = self.enable_timeout_cycles;
         let at_rest = self.vel_fb.abs() < STANDSTILL * self.settings.max_vel;
@@ -890,6 +900,7 @@ impl Axis {
             _ => 0.0,
         };
         self.link.write(network, Output { position, velocity, torque });
+        self.touch_probes.write(network.images_mut().1);
     }
 
     /// HMPL 5.3.41: the mode the axis runs in (8 csp, 9 csv, 10 cst).

@@ -5,6 +5,7 @@ use ipc::messages::{AxisSnapshot, fault_status, motion_status};
 
 use super::Axis;
 use crate::cia402::State;
+use crate::motion::touch_probe::TouchProbes;
 
 impl Axis {
     /// In position: within the window, at rest, for the window time (HMPL 5.3.45-48).
@@ -38,6 +39,11 @@ impl Axis {
 
     pub(super) fn in_position(&self) -> bool {
         self.in_window_cycles >= self.cycles(self.settings.pos_window_time_ms).max(1)
+    }
+
+    /// Bit p for touch probe p + 1.
+    fn probe_bits(&self, f: impl Fn(&TouchProbes, usize) -> bool) -> u32 {
+        (0..2).filter(|&p| f(&self.touch_probes, p)).fold(0, |bits, p| bits | 1 << p)
     }
 
     fn wrap(&self, pos: f64) -> f64 {
@@ -122,6 +128,11 @@ impl Axis {
             pos_window: s.pos_window,
             pos_window_time: s.pos_window_time_ms,
             gear_ratio: self.source.engagement().map_or(0.0, |e| e.ratio),
+            tp_enabled: self.probe_bits(|tp, p| tp.enabled(p)),
+            tp_triggered: self.probe_bits(|tp, p| tp.triggered(p)),
+            tp_mapped: self.probe_bits(|tp, p| tp.mapped(p)),
+            // In the axis' coordinates, as the feedback (HMPL 13.10).
+            tp_pos: [0, 1].map(|p| self.wrap(self.link.units(self.touch_probes.latched(p) as f64) - self.pos_offset)),
         }
     }
 }
