@@ -77,7 +77,7 @@ impl Setup {
         if (0..dims).any(|d| axes[..d].contains(&axes[d])) {
             return Err(invalid);
         }
-        let len = setup.len();
+        let len = setup.values();
         let start = usize::try_from(start).map_err(|_| invalid)?;
         if len > MAX_COMP_POINTS || start.checked_add(len).is_none_or(|end| end > USER_TABLE_LEN) {
             return Err(invalid);
@@ -87,7 +87,7 @@ impl Setup {
     }
 
     /// The number of values in the table.
-    pub fn len(&self) -> usize {
+    pub fn values(&self) -> usize {
         self.points[..self.dims].iter().product()
     }
 
@@ -127,12 +127,68 @@ struct Table {
     result: Option<Result<(), AxisError>>,
 }
 
-/// Every axis' compensation, and the room a 2-D spline needs each cycle.
-pub struct Compensations {
-    tables: Vec<Table>,
+impl Table {
+    /// Copies the values from the user table (`user_table(i)`: entry `i`) and makes the
+    /// table active; a value that is not a finite number refuses it (0x83II012C).
+    fn load(&mut self, user_table: &impl Fn(usize) -> Option<f64>, sweep: &mut [f64]) {
+        let Some(setup) = self.setup else { return };
+        let len = setup.values();
+        let mut finite = true;
+        for (i, value) in self.values[..len].iter_mut().enumerate() {
+            *value = user_table(setup.start + i).unwrap_or(f64::NAN);
+            finite &= value.is_finite();
+        }
+        if !finite {
+            self.phase = Phase::Off;
+            self.result = Some(Err(AxisError::CmdInvalidParameter));
+            return;
+        }
+        let moments = &mut self.moments[..len];
+        moments.fill(0.0);
+        if self.algorithm == Algorithm::Spline {
+            let n0 = setup.points[0];
+            for (row, m) in self.values[..len].chunks(n0).zip(moments.chunks_mut(n0)) {
+                spline_moments(row, setup.interval[0], m, sweep);
+            }
+        }
+        self.phase = Phase::Active;
+        self.over_limit = false;
+        self.result = Some(Ok(()));
+    }
+
+    /// The table's value at reference positions `at`. A 2-D spline is the tensor-product
+    /// natural spline: each row's spline at `at[0]`, then the spline through those values
+    /// at `at[1]`.
+    fn value(&self, setup: &Setup, at: [f64; 3], scratch: &mut Scratch) -> f64 {
+        match (self.algorithm, setup.dims) {
+            (Algorithm::Spline, 1) => spline_at(&self.values[..setup.values()], &self.moments, setup, 0, at[0]),
+            (Algorithm::Spline, _) => {
+                let (n0, n1) = (setup.points[0], setup.points[1]);
+                let Scratch { column, column_moments, sweep } = scratch;
+                let rows = self.values[..n0 * n1].chunks(n0).zip(self.moments.chunks(n0));
+                for (c, (row, m)) in column.iter_mut().zip(rows) {
+                    *c = spline_at(row, m, setup, 0, at[0]);
+                }
+                spline_moments(&column[..n1], setup.interval[1], column_moments, sweep);
+                spline_at(&column[..n1], column_moments, setup, 1, at[1])
+            }
+            (Algorithm::Linear, _) => multilinear(&self.values, setup, at),
+        }
+    }
+}
+
+/// The room a spline needs: a 2-D table's column of row values and its second
+/// derivatives, and the factors of the tridiagonal solve.
+struct Scratch {
     column: Vec<f64>,
     column_moments: Vec<f64>,
     sweep: Vec<f64>,
+}
+
+/// Every axis' compensation, and the room a spline needs.
+pub struct Compensations {
+    tables: Vec<Table>,
+    scratch: Scratch,
 }
 
 impl Compensations {
@@ -151,9 +207,11 @@ impl Compensations {
         let column = MAX_COMP_POINTS / 2;
         Compensations {
             tables: (0..axes).map(|_| table()).collect(),
-            column: vec![0.0; column],
-            column_moments: vec![0.0; column],
-            sweep: vec![0.0; MAX_COMP_POINTS],
+            scratch: Scratch {
+                column: vec![0.0; column],
+                column_moments: vec![0.0; column],
+                sweep: vec![0.0; MAX_COMP_POINTS],
+            },
         }
     }
 
@@ -169,9 +227,8 @@ impl Kernel {
     pub fn setup_comp(&mut self, axis: i64, setup: Result<(Setup, [i64; 3]), AxisError>) -> Result<(), ErrorCode> {
         let a = self.axis_id(axis)?;
         let (mut setup, ref_axes) = setup.map_err(|e| self.refuse(a, e))?;
-        for d in 0..setup.dims {
-            setup.ref_axes[d] =
-                self.axis_id(ref_axes[d]).map_err(|_| self.refuse(a, AxisError::CmdInvalidParameter))?;
+        for (slot, &id) in setup.ref_axes.iter_mut().zip(&ref_axes).take(setup.dims) {
+            *slot = self.axis_id(id).map_err(|_| self.refuse(a, AxisError::CmdInvalidParameter))?;
         }
         let table = &self.compensation.tables[a as usize];
         if table.phase != Phase::Off {
@@ -251,31 +308,9 @@ impl Kernel {
     /// `i`) and makes them active; a value that is not a finite number refuses the table
     /// (0x83II012C). Before the kernel's step, in the cycle of the command.
     pub fn load_compensation(&mut self, user_table: impl Fn(usize) -> Option<f64>) {
-        let Compensations { tables, sweep, .. } = &mut self.compensation;
+        let Compensations { tables, scratch } = &mut self.compensation;
         for table in tables.iter_mut().filter(|t| t.phase == Phase::Loading) {
-            let Some(setup) = table.setup else { continue };
-            let len = setup.len();
-            let mut finite = true;
-            for (i, value) in table.values[..len].iter_mut().enumerate() {
-                *value = user_table(setup.start + i).unwrap_or(f64::NAN);
-                finite &= value.is_finite();
-            }
-            if !finite {
-                table.phase = Phase::Off;
-                table.result = Some(Err(AxisError::CmdInvalidParameter));
-                continue;
-            }
-            let moments = &mut table.moments[..len];
-            moments.fill(0.0);
-            if table.algorithm == Algorithm::Spline {
-                let n0 = setup.points[0];
-                for (row, m) in table.values[..len].chunks(n0).zip(moments.chunks_mut(n0)) {
-                    spline_moments(row, setup.interval[0], m, sweep);
-                }
-            }
-            table.phase = Phase::Active;
-            table.over_limit = false;
-            table.result = Some(Ok(()));
+            table.load(&user_table, &mut scratch.sweep);
         }
     }
 
@@ -286,25 +321,10 @@ impl Kernel {
         for a in 0..self.axes.len() {
             let table = &self.compensation.tables[a];
             let (Phase::Active, Some(setup)) = (table.phase, table.setup) else { continue };
-            let mut at = [0.0; 3];
-            for d in 0..setup.dims {
-                at[d] = self.axes[setup.ref_axes[d] as usize].reference().pos;
-            }
-            let Compensations { tables, column, column_moments, sweep } = &mut self.compensation;
+            let at = setup.ref_axes.map(|r| self.axes.get(r as usize).map_or(0.0, |axis| axis.reference().pos));
+            let Compensations { tables, scratch } = &mut self.compensation;
             let table = &mut tables[a];
-            let value = match (table.algorithm, setup.dims) {
-                (Algorithm::Spline, 1) => spline_at(&table.values[..setup.len()], &table.moments, &setup, 0, at[0]),
-                (Algorithm::Spline, _) => {
-                    let (n0, n1) = (setup.points[0], setup.points[1]);
-                    let rows = table.values[..n0 * n1].chunks(n0).zip(table.moments.chunks(n0));
-                    for (c, (row, m)) in column.iter_mut().zip(rows) {
-                        *c = spline_at(row, m, &setup, 0, at[0]);
-                    }
-                    spline_moments(&column[..n1], setup.interval[1], column_moments, sweep);
-                    spline_at(&column[..n1], column_moments, &setup, 1, at[1])
-                }
-                (Algorithm::Linear, _) => multilinear(&table.values, &setup, at),
-            };
+            let value = table.value(&setup, at, scratch);
             let over = value.abs() > table.limit;
             let newly_over = over && !table.over_limit;
             table.over_limit = over;
@@ -402,6 +422,27 @@ mod tests {
             let rhs = 6.0 * (EXAMPLE_1[i + 1] - 2.0 * EXAMPLE_1[i] + EXAMPLE_1[i - 1]) / 200.0_f64.powi(2);
             assert!((m[i - 1] + 4.0 * m[i] + m[i + 1] - rhs).abs() < 1e-15);
         }
+    }
+
+    /// A 2-D spline over rows that are example 1's data shifted by a constant per row: the
+    /// tensor-product spline is the 1-D spline plus the spline through the shifts.
+    #[test]
+    fn the_2d_spline_is_the_1d_spline_along_each_dimension() {
+        let mut c = Compensations::new(1);
+        let shifts = [0.0, 0.1, -0.1];
+        let data: Vec<f64> = shifts.iter().flat_map(|s| EXAMPLE_1.map(|y| y + s)).collect();
+        let table = &mut c.tables[0];
+        let s = setup(2, &[-100.0, 0.0], &[200.0, 50.0], &[5.0, 3.0]);
+        (table.setup, table.algorithm) = (Some(s), Algorithm::Spline);
+        table.load(&|i| data.get(i - 1).copied(), &mut c.scratch.sweep);
+        assert_eq!(table.result, Some(Ok(())));
+        // Along y, the natural spline through 0, 0.1, -0.1 (h = 50): M1 = 6 (-0.1 - 0.2) /
+        // 50² / 4, at y = 25 (t = 1/2): 0.05 + 50²/6 (-3/8) M1 = 0.05 + 0.028125.
+        let along_y = 0.05 + 2500.0 / 6.0 * -0.375 * (6.0 * -0.3 / 2500.0 / 4.0);
+        let v = table.value(&s, [0.0, 25.0, 0.0], &mut c.scratch);
+        assert!((v - (0.0578125 + along_y)).abs() < 1e-12, "{v}");
+        // At a point of the table, its value.
+        assert!((table.value(&s, [300.0, 100.0, 0.0], &mut c.scratch) - (-0.3 - 0.1)).abs() < 1e-12);
     }
 
     #[test]
