@@ -2,7 +2,8 @@
 //! even while a task's commands are served (axis moves, a group's lines and arcs with
 //! look-ahead and corner blends), replies published and wake-ups sent, and a FUN147 box
 //! runs its step table on the group interpolator, and a digital I/O terminal's output
-//! toggles (HMPL 9.3).
+//! toggles (HMPL 9.3), and axis 1 is compensated by a 2-D spline table over axes 0 and 4
+//! that is read again from the user table every few cycles (HMPL ch. 14).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -68,10 +69,26 @@ fn profile() -> Value {
     list(&[100.0, 5000.0, 5000.0, 0.0])
 }
 
+/// HMPL 14.5: axis 1's 2-D table (4 x 3 values from user table index 0) over axes 0 and 4.
+fn comp_setup() -> Request {
+    let axes = [int(1), int(0), list(&[-1.0, -1.0]), list(&[1.0, 1.0]), list(&[4.0, 3.0]), list(&[0.0, 4.0])];
+    typed(Command::SetupComp2D, &axes)
+}
+
 /// A task that enables axis 0 and moves it back and forth without pause, while axes 4 and
 /// 5, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
 fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
+    for mut setup in [
+        request(Command::SetHomedStatus, &[0, 1], &[]),
+        request(Command::SetHomedStatus, &[1, 1], &[]),
+        request(Command::SetHomedStatus, &[4, 1], &[]),
+        request(Command::SetCompAlgType, &[1, 1], &[]),
+        comp_setup(),
+        request(Command::EnableComp, &[1], &[]),
+    ] {
+        assert_eq!(task.call(&mut setup).unwrap().rc, 0);
+    }
     for a in [0, 4, 5] {
         task.call(&mut request(Command::Enable, &[a], &[])).unwrap();
     }
@@ -135,6 +152,14 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
             &[int(0), text("Q1"), text("D0"), text("M1"), text("M2"), text("M3"), text("M4"), text("M5"), text("M6")],
         );
         assert_ne!(task.call(&mut { refused }).unwrap().rc, 0);
+        // HMPL 14.3, 14.5, 14.2: the table cleared, set up and read again.
+        if i % 10 == 0 {
+            for mut comp in
+                [request(Command::DisableComp, &[1], &[]), comp_setup(), request(Command::EnableComp, &[1], &[])]
+            {
+                assert_eq!(task.call(&mut comp).unwrap().rc, 0);
+            }
+        }
         // HMPL 9.3: the terminal's output 1 toggled and its input 1 switched.
         for mut io in [
             request(Command::ToggleSlvGPO, &[TERMINAL, 1], &[]),
@@ -176,6 +201,9 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
 
     // A Gp1 box moving Ps2/Ps3 back and forth without end (GOTO 1).
     let shared = Region::<SharedData>::open(&ns, "shared").unwrap();
+    for i in 0..12 {
+        shared.set_user_table(i, 0.01 * i as f64);
+    }
     let table = "001 SPD 20000\n LIN ADR,,,500,500,Ps\n002 SPD 20000\n LIN ADR,,,-500,-500,Ps\n GOTO 1";
     fun147::assemble(table).unwrap().write(&mut SharedPlc(shared.plc()), Reg::R(2000)).unwrap();
     let m = |n| Relay::M(n);
@@ -199,6 +227,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
     let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
+    let compensating = work.machine_mut().kernel.is_comp_active(1);
     let plc = SharedPlc(shared.plc());
     let (box_running, box_error) = (plc.relay(Relay::M(110)), plc.word(Reg::D(4061)));
 
@@ -210,6 +239,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
 
     assert!(enabled, "the task's commands were applied");
     assert!(grouped, "the group's commands were applied");
+    assert!(compensating, "axis 1 is compensated");
     assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");
