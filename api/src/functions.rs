@@ -231,12 +231,12 @@ declare_functions! {
     ["HMPL 14.3", ascii] fn DisableComp(axis_id: Int[Axis]) -> Int;
     /// A 1-D table: `num_pt` values (2 or more) for reference positions
     /// `base_val + k * interval` of axis `ref_axis_id`.
-    ["HMPL 14.4", ascii] fn SetupComp(axis_id: Int[Axis], start_idx: Int, base_val: Double, interval: Double, num_pt: Int, ref_axis_id: Int) -> Int;
+    ["HMPL 14.4", ascii] fn SetupComp(axis_id: Int[Axis], start_idx: Int, base_val: Double[CompTable], interval: Double[CompTable], num_pt: Int, ref_axis_id: Int) -> Int;
     /// A 2-D table: `base_val`, `interval`, `num_pt` and `ref_axis_id` are tables of 2, one
     /// entry per dimension; as many values as the product of `num_pt`.
-    ["HMPL 14.5"] fn SetupComp2D(axis_id: Int[Axis], start_idx: Int, base_val: Doubles, interval: Doubles, num_pt: Doubles, ref_axis_id: Doubles) -> Int;
+    ["HMPL 14.5"] fn SetupComp2D(axis_id: Int[Axis], start_idx: Int, base_val: Doubles[CompTable], interval: Doubles[CompTable], num_pt: Doubles[CompTable], ref_axis_id: Doubles[CompTable]) -> Int;
     /// A 3-D table: as `SetupComp2D` with tables of 3; linear only.
-    ["HMPL 14.6"] fn SetupComp3D(axis_id: Int[Axis], start_idx: Int, base_val: Doubles, interval: Doubles, num_pt: Doubles, ref_axis_id: Doubles) -> Int;
+    ["HMPL 14.6"] fn SetupComp3D(axis_id: Int[Axis], start_idx: Int, base_val: Doubles[CompTable], interval: Doubles[CompTable], num_pt: Doubles[CompTable], ref_axis_id: Doubles[CompTable]) -> Int;
     /// 0: linear between the points (the default), 1: natural cubic spline (1-D and 2-D);
     /// not while active.
     ["HMPL 14.8", ascii] fn SetCompAlgType(axis_id: Int[Axis], alg_type: Int) -> Int;

@@ -17,8 +17,9 @@ use super::Kernel;
 pub const MAX_COMP_POINTS: usize = 2048;
 /// HMPL 14.1: the default largest compensation, mm or deg (`HCV_ID_max_comp_lim`).
 pub const DEFAULT_COMP_LIMIT: f64 = 1.0;
-/// Coordinates a table's base and interval may have (those of a path, HMPL 8.3).
-const MAX_COORDINATE: f64 = 1e9;
+/// The largest number a table's setup may bring, as the coordinates of a path (HMPL 8.3);
+/// the registry's range (`api::Quantity::CompTable`) is the compensated axis' counts.
+const MAX_COMP_COORDINATE: f64 = 1e9;
 
 /// HMPL 14.8: how the table is read between its points.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -64,9 +65,13 @@ impl Setup {
         for d in 0..dims {
             let (b, h, n, a) = (base[d], interval[d], points[d], ref_axes[d]);
             let whole = |v: f64| v.is_finite() && v.fract() == 0.0;
-            if !(b.is_finite() && b.abs() <= MAX_COORDINATE && h.is_finite() && h > 0.0 && h <= MAX_COORDINATE)
+            if !(b.is_finite()
+                && b.abs() <= MAX_COMP_COORDINATE
+                && h.is_finite()
+                && h > 0.0
+                && h <= MAX_COMP_COORDINATE)
                 || !(whole(n) && (2.0..=MAX_COMP_POINTS as f64).contains(&n))
-                || !(whole(a) && a.abs() < 1e9)
+                || !(whole(a) && a.abs() <= MAX_COMP_COORDINATE)
             {
                 return Err(invalid);
             }

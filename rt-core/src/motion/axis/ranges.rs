@@ -63,6 +63,7 @@ impl Axis {
                     && (!(per_mille.is_finite() && per_mille > 0.0) || (v * per_mille).abs() <= MAX_TORQUE_PER_MILLE)
             }
             Quantity::PvtTime => within(0.0, MAX_TIME_MS),
+            Quantity::CompTable => self.fits_counts(v),
             Quantity::Group
             | Quantity::PathCoordinate
             | Quantity::PathAngle
