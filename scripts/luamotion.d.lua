@@ -633,7 +633,8 @@ function CircleAbs(group_id, center_pos, normal_vector, turns, target_pos, motio
 function CircleRel(group_id, center_pos, normal_vector, turns, relative_dist, motion_profile, coord_sys, buff_mode, trans_mode, trans_par) end
 
 --- Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
---- 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
+--- 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed, 0x83II00D2 while
+--- compensating).
 ---HMPL 20.2 (command (round trip to the core))
 ---@param axis_id integer
 ---@return integer

@@ -292,6 +292,7 @@ fn compensation_is_refused_where_the_manual_forbids_it() {
         Print("active %s", tostring(IsCompActive(0)))
         code("setupwhileactive", SetupComp(0, 0, 0, 10, 3, 1))
         code("setpos", SetPos(0, 5))
+        code("home", MoveHome(0))
         on(0)
         code("disableenabled", DisableComp(0))
         Print("stillactive %s", tostring(IsCompActive(0)))
@@ -321,6 +322,7 @@ fn compensation_is_refused_where_the_manual_forbids_it() {
         ("active", "true"),
         ("setupwhileactive", "0x830000D2"),
         ("setpos", "0x830000D2"),
+        ("home", "0x830000D2"),
         ("disableenabled", "0x8300006E"),
         ("stillactive", "true"),
         ("off", "0x00000000"),

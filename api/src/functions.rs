@@ -201,7 +201,8 @@ declare_functions! {
 
     // HMPL ch. 20: homing.
     /// Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
-    /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
+    /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed, 0x83II00D2 while
+    /// compensating).
     ["HMPL 20.2", ascii] fn MoveHome(axis_id: Int[Axis] as Moves) -> Int;
     /// Sets the homing method: 1, 2, 7-14, 17, 18, 23-30, 33, 34, 37 (default 33).
     ["HMPL 20.3", ascii] fn SetHomeMethod(axis_id: Int[Axis], method: Int) -> Int;

@@ -309,6 +309,16 @@ impl Kernel {
         self.compensation.is_active(axis)
     }
 
+    /// HMPL 14.1: the axis' coordinates stay fixed while it is compensated, so what moves
+    /// its origin (`SetPos`, `MoveHome`) is refused with 0x83II00D2.
+    pub fn keep_coordinates(&mut self, axis: i64) -> Result<(), ErrorCode> {
+        let a = self.axis_id(axis)?;
+        if self.compensation.is_active(a as usize) {
+            return Err(self.refuse(a, AxisError::CmdInvalidCompEnabled));
+        }
+        Ok(())
+    }
+
     /// Copies the tables `EnableComp` asked for from the user table (`user_table(i)`: entry
     /// `i`) and makes them active; a value that is not a finite number refuses the table
     /// (0x83II012C). Before the kernel's step, in the cycle of the command.

@@ -115,9 +115,7 @@ impl Kernel {
         if self.gantry.pair_of(id).is_some() {
             return Err(self.refuse(id, AxisError::CmdInvalidGantryMode));
         }
-        if self.compensation.is_active(id as usize) {
-            return Err(self.refuse(id, AxisError::CmdInvalidCompEnabled));
-        }
+        self.keep_coordinates(id as i64)?;
         self.axes[id as usize].set_pos(pos).map_err(|e| ErrorCode::axis(id, e))
     }
 
