@@ -633,7 +633,8 @@ function CircleAbs(group_id, center_pos, normal_vector, turns, target_pos, motio
 function CircleRel(group_id, center_pos, normal_vector, turns, relative_dist, motion_profile, coord_sys, buff_mode, trans_mode, trans_par) end
 
 --- Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
---- 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
+--- 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed, 0x83II00D2 while
+--- compensating).
 ---HMPL 20.2 (command (round trip to the core))
 ---@param axis_id integer
 ---@return integer
@@ -687,6 +688,64 @@ function SetHomeTimeout(axis_id, timeout) end
 ---@param is_homed integer
 ---@return integer
 function SetHomedStatus(axis_id, is_homed) end
+
+--- Enables the compensation set up for the axis (its values are read from the user
+--- table now); only while the axis is disabled (0x83II006E), after a setup (0x83II0190),
+--- with the axis and its reference axes homed (0x83II0064). It applies once enabled.
+---HMPL 14.2 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function EnableComp(axis_id) end
+
+--- Disables the compensation and clears its setup; only while the axis is disabled
+--- (0x83II006E). The reference becomes the position the axis stands at.
+---HMPL 14.3 (command (round trip to the core))
+---@param axis_id integer
+---@return integer
+function DisableComp(axis_id) end
+
+--- A 1-D table: `num_pt` values (2 or more) for reference positions
+--- `base_val + k * interval` of axis `ref_axis_id`.
+---HMPL 14.4 (command (round trip to the core))
+---@param axis_id integer
+---@param start_idx integer
+---@param base_val number
+---@param interval number
+---@param num_pt integer
+---@param ref_axis_id integer
+---@return integer
+function SetupComp(axis_id, start_idx, base_val, interval, num_pt, ref_axis_id) end
+
+--- A 2-D table: `base_val`, `interval`, `num_pt` and `ref_axis_id` are tables of 2, one
+--- entry per dimension; as many values as the product of `num_pt`.
+---HMPL 14.5 (command (round trip to the core))
+---@param axis_id integer
+---@param start_idx integer
+---@param base_val number[]
+---@param interval number[]
+---@param num_pt number[]
+---@param ref_axis_id number[]
+---@return integer
+function SetupComp2D(axis_id, start_idx, base_val, interval, num_pt, ref_axis_id) end
+
+--- A 3-D table: as `SetupComp2D` with tables of 3; linear only.
+---HMPL 14.6 (command (round trip to the core))
+---@param axis_id integer
+---@param start_idx integer
+---@param base_val number[]
+---@param interval number[]
+---@param num_pt number[]
+---@param ref_axis_id number[]
+---@return integer
+function SetupComp3D(axis_id, start_idx, base_val, interval, num_pt, ref_axis_id) end
+
+--- 0: linear between the points (the default), 1: natural cubic spline (1-D and 2-D);
+--- not while active.
+---HMPL 14.8 (command (round trip to the core))
+---@param axis_id integer
+---@param alg_type integer
+---@return integer
+function SetCompAlgType(axis_id, alg_type) end
 
 --- Clears the axis' last error.
 ---HMPL 18.4 (command (round trip to the core))
@@ -1250,7 +1309,8 @@ function GetSettlingTime(axis_id) end
 ---@return number
 function GetPosFb(axis_id) end
 
---- Position feedback with the compensation.
+--- Position feedback with the compensation in it, as the drive reports it; `GetPosFb`
+--- is the feedback without it, in the reference's coordinates.
 ---HMPL 5.3.21 (query (local snapshot))
 ---@param axis_id integer
 ---@return number
@@ -1530,6 +1590,12 @@ function GetGrpLastErr(group_id) end
 ---@param axis_id integer
 ---@return integer
 function GetDriveErr(axis_id) end
+
+--- The compensation added to the axis' reference this cycle (0 when none).
+---HMPL 14.7 (query (local snapshot))
+---@param axis_id integer
+---@return number
+function GetCompPos(axis_id) end
 
 --- Reads an object mapped in the process data (TxPDO or RxPDO). Returns its value, or -1
 --- when it is not mapped.

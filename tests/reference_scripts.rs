@@ -228,6 +228,32 @@ const SCRIPTS: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "ch14_compensation.lua",
+        &[
+            // HMPL 14.1.1 example 1: -100..700 every 200 mm; linear between, the end's outside.
+            "example 1: compensation active true",
+            "example 1: axis 1 at -100.0 -> compensation -0.2000, position output - reference -0.2000",
+            "example 1: axis 1 at    0.0 -> compensation -0.0500, position output - reference -0.0500",
+            "example 1: axis 1 at  100.0 -> compensation 0.1000, position output - reference 0.1000",
+            "example 1: axis 1 at  550.0 -> compensation 0.2750, position output - reference 0.2750",
+            "example 1: axis 1 at  800.0 -> compensation -0.1000, position output - reference -0.1000",
+            "example 1: disabled, active false, compensation 0.0000, reference at the drive's position true",
+            // Example 2: x fastest in the table.
+            "example 2: axes 0, 1 at (-100, -100) -> compensation 0.3000",
+            "example 2: axes 0, 1 at (100, 0) -> compensation 0.0000",
+            "example 2: axes 0, 1 at (0, 50) -> compensation -0.0750",
+            "example 2: axes 0, 1 at (300, 200) -> compensation 0.5000",
+            // Example 3: three 3 x 3 tables, one per position of axis 2; linear only.
+            "example 3: cubic spline on a 3-D table: 0x8302012C",
+            "example 3: axes 0, 1, 2 at (10, 15, 30) -> compensation 0.0000",
+            "example 3: axes 0, 1, 2 at (30, 25, 60) -> compensation -0.4000",
+            "example 3: axes 0, 1, 2 at (0, 10, 15) -> compensation 0.0625",
+            "example 3: SetPos while compensating: 0x830200D2",
+            "limit: error stop true, compensation 1.0000, last error 0x83030802",
+            "chapter 14 done",
+        ],
+    ),
+    (
         "ch15_filters.lua",
         &[
             "example 1: SetAxisInShape 0, EnableAxisInShape 0", // HMPL 15.1.1, 15.5, 15.7
@@ -366,6 +392,11 @@ fn chapter_15_filters() {
 #[test]
 fn chapter_18_errors() {
     check("ch18_errors.lua");
+}
+
+#[test]
+fn chapter_14_compensation() {
+    check("ch14_compensation.lua");
 }
 
 #[test]

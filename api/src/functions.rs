@@ -201,7 +201,8 @@ declare_functions! {
 
     // HMPL ch. 20: homing.
     /// Runs the drive's homing (needs 0x6060/0x6061 mapped) and returns when it is over:
-    /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed).
+    /// 0 when homed, else the error (0x83II0424 timeout, 0x83II042E failed, 0x83II00D2 while
+    /// compensating).
     ["HMPL 20.2", ascii] fn MoveHome(axis_id: Int[Axis] as Moves) -> Int;
     /// Sets the homing method: 1, 2, 7-14, 17, 18, 23-30, 33, 34, 37 (default 33).
     ["HMPL 20.3", ascii] fn SetHomeMethod(axis_id: Int[Axis], method: Int) -> Int;
@@ -217,6 +218,29 @@ declare_functions! {
     ["HMPL 20.8", ascii] fn SetHomeTimeout(axis_id: Int[Axis], timeout: Int) -> Int;
     /// Sets the homed flag by hand (for homing routines of one's own).
     ["HMPL 20.9", ascii] fn SetHomedStatus(axis_id: Int[Axis], is_homed: Int) -> Int;
+
+    // HMPL ch. 14: dynamic error compensation. The values are `num_pt` entries of the user
+    // table from `start_idx` (the first reference axis varies fastest), at most 2048; the
+    // position output is reference + compensation, at most 1 mm (0x83II0802). 0 or the
+    // axis' error: 0x83II012C a table no axis can have, 0x83II00D2 while active.
+    /// Enables the compensation set up for the axis (its values are read from the user
+    /// table now); only while the axis is disabled (0x83II006E), after a setup (0x83II0190),
+    /// with the axis and its reference axes homed (0x83II0064). It applies once enabled.
+    ["HMPL 14.2", ascii] fn EnableComp(axis_id: Int[Axis]) -> Int;
+    /// Disables the compensation and clears its setup; only while the axis is disabled
+    /// (0x83II006E). The reference becomes the position the axis stands at.
+    ["HMPL 14.3", ascii] fn DisableComp(axis_id: Int[Axis]) -> Int;
+    /// A 1-D table: `num_pt` values (2 or more) for reference positions
+    /// `base_val + k * interval` of axis `ref_axis_id`.
+    ["HMPL 14.4", ascii] fn SetupComp(axis_id: Int[Axis], start_idx: Int, base_val: Double[CompTable], interval: Double[CompTable], num_pt: Int, ref_axis_id: Int) -> Int;
+    /// A 2-D table: `base_val`, `interval`, `num_pt` and `ref_axis_id` are tables of 2, one
+    /// entry per dimension; as many values as the product of `num_pt`.
+    ["HMPL 14.5"] fn SetupComp2D(axis_id: Int[Axis], start_idx: Int, base_val: Doubles[CompTable], interval: Doubles[CompTable], num_pt: Doubles[CompTable], ref_axis_id: Doubles[CompTable]) -> Int;
+    /// A 3-D table: as `SetupComp2D` with tables of 3; linear only.
+    ["HMPL 14.6"] fn SetupComp3D(axis_id: Int[Axis], start_idx: Int, base_val: Doubles[CompTable], interval: Doubles[CompTable], num_pt: Doubles[CompTable], ref_axis_id: Doubles[CompTable]) -> Int;
+    /// 0: linear between the points (the default), 1: natural cubic spline (1-D and 2-D);
+    /// not while active.
+    ["HMPL 14.8", ascii] fn SetCompAlgType(axis_id: Int[Axis], alg_type: Int) -> Int;
 
     // HMPL ch. 18: errors.
     /// Clears the axis' last error.
@@ -445,7 +469,8 @@ declare_functions! {
     ["HMPL 5.3.18", ascii] fn GetSettlingTime(axis_id: Int) -> Double;
     /// Position feedback.
     ["HMPL 5.3.20", ascii] fn GetPosFb(axis_id: Int) -> Double;
-    /// Position feedback with the compensation.
+    /// Position feedback with the compensation in it, as the drive reports it; `GetPosFb`
+    /// is the feedback without it, in the reference's coordinates.
     ["HMPL 5.3.21", ascii] fn GetPosFbComp(axis_id: Int) -> Double;
     /// The offset `SetPos` put between the axis and the drive.
     ["HMPL 5.3.22", ascii] fn GetPosOffset(axis_id: Int) -> Double;
@@ -543,6 +568,10 @@ declare_functions! {
     ["HMPL 18.5", ascii] fn GetGrpLastErr(group_id: Int as Group) -> Int;
     /// The drive's own error code (0x603F).
     ["HMPL 18.7", ascii] fn GetDriveErr(axis_id: Int) -> Int;
+
+    // HMPL ch. 14: dynamic error compensation.
+    /// The compensation added to the axis' reference this cycle (0 when none).
+    ["HMPL 14.7", ascii] fn GetCompPos(axis_id: Int) -> Double;
 
     /// Reads an object mapped in the process data (TxPDO or RxPDO). Returns its value, or -1
     /// when it is not mapped.

@@ -174,6 +174,10 @@ pub enum Quantity {
     /// A number of no axis or group that only has to be finite (HMPL ch. 10's analog values,
     /// scales and offsets; their own ranges are the command's).
     Finite,
+    /// A number of a compensation table's setup (HMPL 14.4-14.6: base, interval, point
+    /// count, reference axis): a coordinate the compensated axis can show, as `Position`;
+    /// the setup checks the rest.
+    CompTable,
 }
 
 /// Which error a value out of range records: the axis', the group's or the system's
@@ -204,7 +208,9 @@ impl Quantity {
     pub fn error(self) -> Refusal {
         use Refusal::{Axis as A, Group as G};
         match self {
-            Quantity::Axis | Quantity::Length | Quantity::Time | Quantity::Torque => A(AxisError::CmdInvalidParameter),
+            Quantity::Axis | Quantity::Length | Quantity::Time | Quantity::Torque | Quantity::CompTable => {
+                A(AxisError::CmdInvalidParameter)
+            }
             Quantity::Position | Quantity::Target | Quantity::Distance => A(AxisError::CmdInvalidPos),
             Quantity::Rollover => A(AxisError::CmdInvalidRolloverPos),
             Quantity::Speed | Quantity::Velocity => A(AxisError::CmdInvalidVel),

@@ -60,8 +60,8 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
         QueryCall::GetSMTime { axis_id } => double(axis_id, |a| a.sm_time)?,
         QueryCall::GetMoveTime { axis_id } => double(axis_id, |a| a.move_time)?,
         QueryCall::GetSettlingTime { axis_id } => double(axis_id, |a| a.settling_time)?,
-        // No compensation is configured: the compensated feedback is the feedback.
-        QueryCall::GetPosFb { axis_id } | QueryCall::GetPosFbComp { axis_id } => double(axis_id, |a| a.pos_fb)?,
+        QueryCall::GetPosFb { axis_id } => double(axis_id, |a| a.pos_fb)?,
+        QueryCall::GetPosFbComp { axis_id } => double(axis_id, |a| a.pos_fb_comp)?,
         QueryCall::GetPosOffset { axis_id } => double(axis_id, |a| a.pos_offset)?,
         QueryCall::GetPosErr { axis_id } => double(axis_id, |a| a.pos_err)?,
         QueryCall::GetVelFb { axis_id } => double(axis_id, |a| a.vel_fb)?,
@@ -93,8 +93,8 @@ pub fn evaluate(call: &QueryCall, s: &Snapshot) -> Result<Answer, ErrorCode> {
         QueryCall::IsSWRL { axis_id } => fault(axis_id, fault_status::SW_RIGHT_LIMIT)?,
         QueryCall::IsDriveErr { axis_id } => fault(axis_id, fault_status::DRIVE_FAULT)?,
         QueryCall::IsPosErr { axis_id } => fault(axis_id, fault_status::POSITION_ERROR)?,
-        // Compensation (HMPL ch. 14) has no functions here, so it is never active.
-        QueryCall::IsCompActive { axis_id } => axis(s, axis_id).map(|_| Value::Bool(false).into())?,
+        QueryCall::GetCompPos { axis_id } => double(axis_id, |a| a.comp_pos)?,
+        QueryCall::IsCompActive { axis_id } => axis(s, axis_id).map(|a| Value::Bool(a.comp_active != 0).into())?,
         QueryCall::IsAcc { axis_id } => status(axis_id, motion_status::ACCELERATING)?,
         QueryCall::GetGearRatio { axis_slave_id } => double(axis_slave_id, |a| a.gear_ratio)?,
         QueryCall::IsInGear { axis_id } => axis(s, axis_id).map(|a| Value::Bool(a.in_gear != 0).into())?,

@@ -363,6 +363,13 @@ pub struct AxisSnapshot {
     pub tp_mapped: u32,
     /// The selected edge's latched position of each probe, units (HMPL 13.10, 13.11).
     pub tp_pos: [f64; 2],
+    // HMPL ch. 14: dynamic error compensation.
+    /// The compensation added to the reference (`comp_pos_set`), mm or deg.
+    pub comp_pos: f64,
+    /// The feedback as the drive reports it, the compensation in it (HMPL 5.3.21).
+    pub pos_fb_comp: f64,
+    /// 1 while compensation is active (HMPL 5.4.14).
+    pub comp_active: u32,
 }
 
 /// PDOs a slave may assign per direction (0x1600/0x1601 and 0x1A00/0x1A01).

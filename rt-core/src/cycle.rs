@@ -196,6 +196,9 @@ impl CycleWork {
             let mut plc = calls::plc::SharedPlc(self.endpoint.shared().plc());
             boxes.step(kernel, &mut plc, period as f64 * 1e-9);
         }
+        // HMPL 14.2: the tables EnableComp asked for, copied before the kernel uses them.
+        let shared = self.endpoint.shared();
+        self.machine.kernel.load_compensation(|i| shared.user_table(i));
         self.machine.kernel.step(cycle, &mut self.machine.network);
         {
             let Machine { triggers, kernel, io, .. } = &mut self.machine;

@@ -4,7 +4,9 @@
 //! runs its step table on the group interpolator, and a digital I/O terminal's output
 //! toggles (HMPL 9.3), with input shaping on axis 0 (which carries a flexible load) and
 //! on the group, and the VSF on axis 6 (HMPL ch. 15), and axis 1's position trigger
-//! pulses twice a cycle (HMPL ch. 12), and an analog output follows an axis (HMPL 10.4).
+//! pulses twice a cycle (HMPL ch. 12), and an analog output follows an axis (HMPL 10.4),
+//! and axis 7 is compensated by a 2-D spline table over axes 0 and 4 that is read again
+//! from the user table every few cycles (HMPL ch. 14).
 //! (iceoryx2 0.10 allocates a small `Rc` per publisher loan; `rt_alloc` serves those
 //! from the RT thread's pool.)
 
@@ -50,10 +52,10 @@ fn typed(command: Command, values: &[Value]) -> Request {
     request
 }
 
-/// The digital I/O terminal after the seven axes' drives.
-const TERMINAL: i64 = 7;
+/// The digital I/O terminal after the eight axes' drives.
+const TERMINAL: i64 = 8;
 /// The analog I/O terminal after it (HMPL ch. 10).
-const ANALOG: i64 = 8;
+const ANALOG: i64 = 9;
 
 fn int(v: i64) -> Value {
     Value::Int(v)
@@ -72,10 +74,26 @@ fn profile() -> Value {
     list(&[100.0, 5000.0, 5000.0, 0.0])
 }
 
-/// A task that enables axes 0 and 1 and moves them back and forth without pause, while axes
-/// 4 and 5, as group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
+/// HMPL 14.5: axis 7's 2-D table (4 x 3 values from user table index 0) over axes 0 and 4.
+fn comp_setup() -> Request {
+    let axes = [int(7), int(0), list(&[-1.0, -1.0]), list(&[1.0, 1.0]), list(&[4.0, 3.0]), list(&[0.0, 4.0])];
+    typed(Command::SetupComp2D, &axes)
+}
+
+/// A task that enables axes 0, 1 and 6 and moves them without pause, while axes 4 and 5, as
+/// group 0 (HMPL ch. 8), run lines and arcs with look-ahead and rounded corners.
 fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
     let mut task = TaskEndpoint::open(&ns, 0, std::process::id()).unwrap();
+    for mut setup in [
+        request(Command::SetHomedStatus, &[0, 1], &[]),
+        request(Command::SetHomedStatus, &[7, 1], &[]),
+        request(Command::SetHomedStatus, &[4, 1], &[]),
+        request(Command::SetCompAlgType, &[7, 1], &[]),
+        comp_setup(),
+        request(Command::EnableComp, &[7], &[]),
+    ] {
+        assert_eq!(task.call(&mut setup).unwrap().rc, 0);
+    }
     for a in [0, 1, 4, 5, 6] {
         task.call(&mut request(Command::Enable, &[a], &[])).unwrap();
     }
@@ -161,6 +179,14 @@ fn busy_task(ns: Namespace, stop: Arc<AtomicBool>) {
         );
         assert_ne!(task.call(&mut { refused }).unwrap().rc, 0);
         task.call(&mut request(Command::GetPTPulse, &[1, 0], &[])).unwrap();
+        // HMPL 14.3, 14.5, 14.2: the table cleared, set up and read again.
+        if i % 10 == 0 {
+            for mut comp in
+                [request(Command::DisableComp, &[7], &[]), comp_setup(), request(Command::EnableComp, &[7], &[])]
+            {
+                assert_eq!(task.call(&mut comp).unwrap().rc, 0);
+            }
+        }
         // HMPL 9.3: the terminal's output 1 toggled and its input 1 switched.
         for mut io in [
             request(Command::ToggleSlvGPO, &[TERMINAL, 1], &[]),
@@ -188,10 +214,10 @@ fn run(work: &mut CycleWork, cycles: usize) {
 fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     rt_alloc::claim_pool_for_this_thread();
     // Axis 0 for the task's moves, 1 for the position trigger, 2 and 3 for the box (Ps2, Ps3),
-    // 4 and 5 for the group, 6 for the VSF.
+    // 4 and 5 for the group, 6 for the VSF, 7 compensated.
     let mut config = MachineConfig::default();
     let first = config.axes[0].clone();
-    config.axes = (0..7).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
+    config.axes = (0..8).map(|i| rt_core::config::AxisConfig { name: format!("axis{i}"), ..first.clone() }).collect();
     config.axes[0].plant.load_frequency_hz = 20.0;
     config.slaves.push(SlaveConfig { device: SlaveDevice::DigitalIo, inputs: 8, outputs: 8, loopback: false });
     config.slaves.push(SlaveConfig { device: SlaveDevice::AnalogIo, inputs: 2, outputs: 2, loopback: false });
@@ -210,6 +236,9 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
 
     // A Gp1 box moving Ps2/Ps3 back and forth without end (GOTO 1).
     let shared = Region::<SharedData>::open(&ns, "shared").unwrap();
+    for i in 0..12 {
+        shared.set_user_table(i, 0.01 * i as f64);
+    }
     let table = "001 SPD 20000\n LIN ADR,,,500,500,Ps\n002 SPD 20000\n LIN ADR,,,-500,-500,Ps\n GOTO 1";
     fun147::assemble(table).unwrap().write(&mut SharedPlc(shared.plc()), Reg::R(2000)).unwrap();
     let m = |n| Relay::M(n);
@@ -237,6 +266,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
         && work.machine_mut().kernel.groups()[0].in_shape();
     let grouped = work.machine_mut().kernel.groups()[0].is_enabled();
     let pulsed = work.machine_mut().triggers.pulse(1, 255).is_ok();
+    let compensating = work.machine_mut().kernel.is_comp_active(7);
     let plc = SharedPlc(shared.plc());
     let (box_running, box_error) = (plc.relay(Relay::M(110)), plc.word(Reg::D(4061)));
 
@@ -250,6 +280,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     assert!(grouped, "the group's commands were applied");
     assert!(filters, "the filters of ch. 15 were on");
     assert!(pulsed, "axis 1's position trigger gave pulses");
+    assert!(compensating, "axis 7 is compensated");
     assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");
     assert!(pool >= 3000, "every cycle's publication was served by the pool ({pool})");
     assert_eq!(system, 0, "system allocations of the RT thread in 3000 steady-state cycles");

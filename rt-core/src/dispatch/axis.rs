@@ -64,8 +64,10 @@ pub(super) fn move_pvt(m: &mut Machine, a: i64, tables: [&Doubles; 3], num_pt: i
 }
 
 /// HMPL 20.2: starts the drive's homing; the call answers when it is over (`resume`).
+/// Not while compensating (HMPL 14.1: the coordinates are fixed).
 pub(super) fn move_home(m: &mut Machine, a: i64) -> Outcome {
     motion(m, |m| {
+        m.kernel.keep_coordinates(a)?;
         let Machine { kernel, network, .. } = m;
         let ax = kernel.axis_mut(a)?;
         let id = ax.id();

@@ -2,11 +2,12 @@
 //! (decoded by `calls::wire`), so that the compiler holds every command of the registry
 //! to an implementation. The match is here; what a command does is in the module of its
 //! manual chapter: `axis` (HMPL ch. 5, 18, 20), `couplings` (ch. 6, 7), `drive_objects`
-//! (ch. 17), `io` (ch. 9), `analog` (ch. 10), `position_trigger` (ch. 12), `touch_probe` (ch. 13), `tasks`
-//! (ch. 16); ch. 2's system commands are one-liners here.
+//! (ch. 17), `io` (ch. 9), `analog` (ch. 10), `position_trigger` (ch. 12), `touch_probe` (ch. 13),
+//! `compensation` (ch. 14), `tasks` (ch. 16); ch. 2's system commands are one-liners here.
 
 mod analog;
 mod axis;
+mod compensation;
 mod couplings;
 mod drive_objects;
 mod fun147;
@@ -99,6 +100,10 @@ pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bo
                 Some(result) => result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))),
             }
         }
+        Ok(CommandCall::EnableComp { axis_id }) => match machine.kernel.take_comp_result(axis_id) {
+            None => return false,
+            Some(result) => result.map_err(Failure::Code),
+        },
         Ok(CommandCall::StartTask { task_id } | CommandCall::StartTaskFunc { task_id, .. }) => {
             let Ok(task) = u8::try_from(task_id) else { return true };
             match machine.tasks.take_start_result(task) {
@@ -497,6 +502,19 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             ax.set_homed(is_homed != 0);
             Ok(())
         }),
+        // HMPL ch. 14: dynamic error compensation.
+        C::EnableComp { axis_id } => compensation::enable(m, axis_id),
+        C::DisableComp { axis_id } => motion(m, |m| now(m.kernel.disable_comp(axis_id))),
+        C::SetupComp { axis_id, start_idx, base_val, interval, num_pt, ref_axis_id } => {
+            compensation::setup_1d(m, axis_id, start_idx, base_val, interval, num_pt, ref_axis_id)
+        }
+        C::SetupComp2D { axis_id, start_idx, ref base_val, ref interval, ref num_pt, ref ref_axis_id } => {
+            compensation::setup_nd(m, axis_id, start_idx, [base_val, interval, num_pt, ref_axis_id], 2)
+        }
+        C::SetupComp3D { axis_id, start_idx, ref base_val, ref interval, ref num_pt, ref ref_axis_id } => {
+            compensation::setup_nd(m, axis_id, start_idx, [base_val, interval, num_pt, ref_axis_id], 3)
+        }
+        C::SetCompAlgType { axis_id, alg_type } => motion(m, |m| now(m.kernel.set_comp_alg_type(axis_id, alg_type))),
         // HMPL ch. 18: errors.
         C::ClearAxisLastErr { axis_id } => axis(m, axis_id, |ax| {
             ax.clear_last_err();

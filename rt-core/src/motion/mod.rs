@@ -5,6 +5,7 @@
 //! commands. The cycle's stages are in `Kernel::step`.
 
 pub mod axis;
+pub mod compensation;
 pub mod drive_link;
 pub mod filter;
 pub mod gantry;
@@ -26,6 +27,7 @@ use ipc::messages::{AxisSnapshot, Snapshot, motion_status};
 use crate::config::{FaultReaction, MachineConfig};
 use crate::ecat::Network;
 use axis::Axis;
+use compensation::Compensations;
 use gantry::Gantries;
 use group::Group;
 
@@ -44,6 +46,8 @@ pub struct Kernel {
     group_last_err: [u32; MAX_GROUPS],
     /// HMPL 18.2: the last system error.
     system_last_err: u32,
+    /// HMPL ch. 14: each axis' compensation table.
+    compensation: Compensations,
 }
 
 impl Kernel {
@@ -61,6 +65,7 @@ impl Kernel {
             commands: vec![0.0; n],
             group_last_err: [0; MAX_GROUPS],
             system_last_err: 0,
+            compensation: Compensations::new(n),
         }
     }
 
@@ -105,12 +110,14 @@ impl Kernel {
         Ok(())
     }
 
-    /// HMPL 5.3.19: refused on a gantry axis (`0x83II00DC`), whose position is a pair's.
+    /// HMPL 5.3.19: refused on a gantry axis (`0x83II00DC`), whose position is a pair's,
+    /// and while compensation fixes the axis' coordinates (`0x83II00D2`, HMPL 14.1).
     pub fn set_pos(&mut self, id: i64, pos: f64) -> Result<(), ErrorCode> {
         let id = self.axis_id(id)?;
         if self.gantry.pair_of(id).is_some() {
             return Err(self.refuse(id, AxisError::CmdInvalidGantryMode));
         }
+        self.keep_coordinates(id as i64)?;
         self.axes[id as usize].set_pos(pos).map_err(|e| ErrorCode::axis(id, e))
     }
 
@@ -138,8 +145,10 @@ impl Kernel {
     ///    their references from it (HMPL ch. 8), or leaves sync when an axis faulted; then
     ///    engaged gear slaves follow their masters' references (HMPL 6.1; masters are never
     ///    slaves, and a group axis may be a master);
-    /// 5. limits and status: limits, position error, in position (`Axis::monitor`);
-    /// 6. drive commands: output + offset, through the gantry transform, to the drives.
+    /// 5. compensation: each compensated axis' value from its table at its reference axes'
+    ///    references (HMPL ch. 14), so that output = reference + compensation;
+    /// 6. limits and status: limits, position error, in position (`Axis::monitor`);
+    /// 7. drive commands: output + offset, through the gantry transform, to the drives.
     pub fn step(&mut self, cycle: u64, network: &mut Network) {
         for axis in &mut self.axes {
             axis.sense(network, cycle);
@@ -150,6 +159,7 @@ impl Kernel {
         }
         self.step_groups();
         self.follow_gears();
+        self.compensate();
         for axis in &mut self.axes {
             axis.monitor();
         }
@@ -238,6 +248,7 @@ impl Kernel {
             s.gantry_pair_id = pair as i32;
         }
         s.gear_master = self.gear_slaves[id].min(1) as u32;
+        s.comp_active = self.compensation.is_active(id) as u32;
         if let Some(g) = self.axes[id].source().group() {
             s.motion_status |= motion_status::GROUP;
             s.group_id = g as i32;

@@ -60,7 +60,7 @@ impl Axis {
                 if active { self.faults |= flag } else { self.faults &= !flag }
             }
         }
-        let error = self.pos_out() - self.pos_fb;
+        let error = self.pos_err();
         if self.link.is_enabled() && !self.settings.ignore_pe && error.abs() > self.settings.max_pos_err {
             self.faults |= fault_status::POSITION_ERROR;
             self.error_stop = true;

@@ -51,6 +51,11 @@ pub struct Axis {
     reference: Kinematics,
     /// HMPL 5.3.19: `SetPos` moves the origin; drive position = axis position + offset.
     pos_offset: f64,
+    /// HMPL 14.1: this cycle's compensation (`comp_pos_set`), added to the reference.
+    compensation: f64,
+    /// The compensation the drive's feedback of this cycle holds (the last cycle's output):
+    /// taken off it, the feedback is in the reference's coordinates.
+    comp_in_fb: f64,
     feedback: Feedback,
     /// The drive's position in units before the offset (a gantry replaces it).
     drive_position: f64,
@@ -103,6 +108,8 @@ impl Axis {
             cycle: 0,
             reference: Kinematics::default(),
             pos_offset: 0.0,
+            compensation: 0.0,
+            comp_in_fb: 0.0,
             feedback: Feedback::default(),
             drive_position: 0.0,
             pos_fb: 0.0,
@@ -205,6 +212,11 @@ impl Axis {
     /// feedback plus the load's deflection); `None` for a rigid load.
     pub fn load_position(&self, network: &Network) -> Option<f64> {
         network.load_position(self.link.slave()).map(|counts| self.link.units(counts) - self.pos_offset)
+    }
+
+    /// HMPL 5.3.21: the feedback with the compensation it holds, as the drive reports it.
+    pub fn pos_fb_comp(&self) -> f64 {
+        self.pos_fb + self.comp_in_fb
     }
 
     /// The drive's position before the axis' offset (the gantry transform works on it).
@@ -722,7 +734,8 @@ impl Axis {
     /// The profile generator's through the filter chain, or the feedback (disabled,
     /// homing, torque); an engaged gear slave's comes from the kernel (`follow`).
     pub fn plan(&mut self) {
-        let fb = self.drive_position - self.pos_offset;
+        self.comp_in_fb = self.compensation;
+        let fb = self.drive_position - self.pos_offset - self.comp_in_fb;
         self.vel_fb = (fb - self.pos_fb) / self.period_s;
         self.pos_fb = fb;
         if std::mem::take(&mut self.enabled_pending) {
@@ -882,9 +895,40 @@ impl Axis {
         self.generator.stop_with(dec);
     }
 
-    /// HMPL 5.1.1: position output = reference + compensation (none configured: 0).
+    /// HMPL 5.1.1, 14.1: position output = reference + compensation.
     pub fn pos_out(&self) -> f64 {
-        self.reference.pos
+        self.reference.pos + self.compensation
+    }
+
+    /// HMPL 5.1.1: the position error, output minus the feedback as the drive reports it.
+    pub fn pos_err(&self) -> f64 {
+        self.pos_out() - self.pos_fb_comp()
+    }
+
+    /// HMPL 14.1: this cycle's compensation (`Kernel::compensate`).
+    pub(in crate::motion) fn set_compensation(&mut self, value: f64) {
+        self.compensation = value;
+    }
+
+    pub fn compensation(&self) -> f64 {
+        self.compensation
+    }
+
+    /// HMPL 14.1: the compensation passed its limit (0x83II0802): the axis' own motion
+    /// stops with the kill deceleration in ErrorStop, as at a software limit
+    /// (docs/decisions.md, "Compensation").
+    pub(in crate::motion) fn compensation_limit(&mut self) {
+        self.kill_stop();
+        self.error_stop = true;
+        self.fail(AxisError::CompLimit);
+    }
+
+    /// HMPL 14.3: without compensation the reference is where the (disabled) axis stands.
+    pub(in crate::motion) fn end_compensation(&mut self) {
+        self.compensation = 0.0;
+        self.comp_in_fb = 0.0;
+        self.pos_fb = self.drive_position - self.pos_offset;
+        self.follow_feedback();
     }
 
     /// The drive's position command before the gantry transform: output + offset.

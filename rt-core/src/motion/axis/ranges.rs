@@ -69,6 +69,7 @@ impl Axis {
             Quantity::VsfDamping => within(0.7, 1.5),
             Quantity::ShaperFrequency => within(AXIS_MIN_SHAPER_HZ, 300.0),
             Quantity::ShaperDamping => within(0.0, MAX_SHAPER_DAMPING),
+            Quantity::CompTable => self.fits_counts(v),
             Quantity::Group
             | Quantity::PathCoordinate
             | Quantity::PathAngle

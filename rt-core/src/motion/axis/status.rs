@@ -11,7 +11,7 @@ impl Axis {
     /// In position: within the window, at rest, for the window time (HMPL 5.3.45-48).
     pub(super) fn track_in_position(&mut self) {
         let moving = self.is_moving();
-        let in_window = (self.pos_out() - self.pos_fb).abs() <= self.settings.pos_window;
+        let in_window = self.pos_err().abs() <= self.settings.pos_window;
         self.in_window_cycles =
             if in_window && !moving && self.link.is_enabled() { self.in_window_cycles + 1 } else { 0 };
         if moving {
@@ -112,7 +112,7 @@ impl Axis {
             pos_offset: self.pos_offset,
             pos_fb: self.wrap(self.pos_fb),
             vel_fb: self.vel_fb,
-            pos_err: self.pos_out() - self.pos_fb,
+            pos_err: self.pos_err(),
             vel_err: self.reference.vel - self.vel_fb,
             curr_fb: self.feedback.torque.map_or(0.0, |t| t / 1000.0 * self.link.rated_current_a),
             vel: s.vel,
@@ -133,6 +133,9 @@ impl Axis {
             tp_mapped: self.probe_bits(|tp, p| tp.mapped(p)),
             // In the axis' coordinates, as the feedback (HMPL 13.10).
             tp_pos: [0, 1].map(|p| self.wrap(self.link.units(self.touch_probes.latched(p) as f64) - self.pos_offset)),
+            comp_pos: self.compensation,
+            pos_fb_comp: self.wrap(self.pos_fb_comp()),
+            comp_active: 0,
         }
     }
 }
