@@ -184,6 +184,22 @@ const SCRIPTS: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "ch09_io.lua",
+        &[
+            "GetAllGPI with GPI 1 and 4 on: 9",                                  // HMPL 9.1, 9.4.3
+            "GetAllGPO with GPO 2 and 3 on: 6",                                  // HMPL 9.4.4
+            "example 1: rising edge seen true, axis 0 enabled false, GPO 3 = 1", // HMPL 9.1.2
+            "example 2: slave 1 output 2 = 1, controller outputs 0xFF",
+            "GetSlvAllGPIByStartIdx(1, 8) with inputs 8 and 11 on: 9", // HMPL 9.5.5
+            "GetSlvAllGPOByStartIdx(1, 8) with outputs 9 and 10 on: 6", // HMPL 9.5.6
+            "SetSlvAllGPO(1, 0x6): GetSlvAllGPO 6",                    // HMPL 9.3.3, 9.5.4
+            "inverted: GPI 2 reads 1, invert masks 0x2 0x10",          // HMPL 9.2.4, 9.2.5, 9.4.5, 9.4.6
+            "GetGPI(9) -1, SetGPO(0, 1) -1, SetSlvGPO(1, 17, 1) -1, GetSlvGPI(5, 1) -1", // HMPL 9.1: -1
+            "SetSlvGPO(1 | HMPL_SLOT_2, 3, 1) -1",
+            "chapter 9 done",
+        ],
+    ),
+    (
         "ch10_analog.lua",
         &[
             "65535",    // HMPL 10.1.1 example 1
@@ -372,6 +388,11 @@ fn chapter_8_group_line() {
 #[test]
 fn chapter_8_helix() {
     check("ch08_helix.lua");
+}
+
+#[test]
+fn chapter_9_digital_io() {
+    check("ch09_io.lua");
 }
 
 #[test]

@@ -455,6 +455,34 @@ pub const SIMULATION: &[(&str, &str)] = &[
         "Home switch, limit switches, index pulses and hard stops are where the machine file's `[axes.travel]` puts them.",
     ),
     (
+        "GetSlvAIRaw",
+        "Analog terminals are `[[slaves]] device = \"analog_io\"`; the simulator sets an input's word with `SimSetSlvAIRaw`, or an output drives its input (`loopback = true`).",
+    ),
+    ("GetSlvAI", "The input's word comes from `SimSetSlvAIRaw` or the terminal's loopback."),
+    (
+        "EnablePT",
+        "An axis has the trigger when the machine file wires it to a controller GPO (`[axes.pt] output = n`; no E1 drive is simulated, other axes get 0x1451). Crossings are found on the feedback, interpolated inside the cycle; their exact positions are in `GetPTPulse` and the trace's `FILE.pulses.csv`.",
+    ),
+    ("SetPT_PulseWidth", "Checked, not seen: the GPO is high for the one cycle in which the pulse falls."),
+    (
+        "EnableTouchProbe1",
+        "The HIWIN drive latches on the encoder index only (CoE manual 3.9); `drive_settings.touch_probe = \"cia402\"` gives a drive probes 1 and 2 on the index or on probe inputs placed along the travel (`[axes.travel] probe_input_1/2`).",
+    ),
+    ("EnableTouchProbe2", "Only on a drive with `drive_settings.touch_probe = \"cia402\"`; otherwise 0x83II0258."),
+    (
+        "SetTouchProbe1Func",
+        "The external input is a sensor placed along the travel in the machine file (`probe_input_1`), on a `cia402` drive.",
+    ),
+    ("EnableComp", "The limit is 1 mm; `HCV_ID_max_comp_lim` does not change it."),
+    (
+        "SetAxisInShape",
+        "A rigid load does not ring: give the axis a flexible load (`[axes.plant] load_frequency_hz`, `load_damping`, `load_mass_ratio`) to see what the shaper does; the load's position is in the trace.",
+    ),
+    (
+        "SetAxisVsf",
+        "The VSF is a notch on the reference (docs/decisions.md); its effect shows on a flexible load (`[axes.plant] load_*`).",
+    ),
+    (
         "START_ASCII_AGENT",
         "Listens on 127.0.0.1 (`[ascii] bind`) and port 4000 (`[ascii] user_port`, `--ascii-user-port`).",
     ),

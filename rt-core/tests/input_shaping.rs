@@ -33,7 +33,7 @@ struct Load {
 
 /// A light cantilever: 8 Hz, 2 % damping, a tenth of the motor's mass.
 const LIGHT: Load = Load { hz: 8.0, damping: 0.02, mass_ratio: 0.1 };
-/// A heavy one, half the motor's mass on a stiffer spring: the loops give way to it, and
+/// A heavy one, twice the motor's mass on a stiffer spring: the loops give way to it, and
 /// its mode moves off the spring's frequency.
 const HEAVY: Load = Load { hz: 14.0, damping: 0.02, mass_ratio: 2.0 };
 /// The move: 50 mm at 200 mm/s, 4000 mm/s² (accelerations of 50 ms, under half the
