@@ -28,6 +28,10 @@ pub struct ServeArgs {
     /// the OS for a free one.
     #[arg(long)]
     ascii_port: Option<u16>,
+    /// Serve the live web view on this port (on `--bind`'s address); 0 asks the OS for a
+    /// free one. Without it, no web view.
+    #[arg(long)]
+    http: Option<u16>,
     /// DRL projects folder [default: the machine file's, else <data dir>/projects].
     #[arg(long)]
     projects: Option<PathBuf>,
@@ -53,7 +57,7 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
         max_connections: config.modbus.max_connections as usize,
         idle_timeout: Duration::from_millis(config.modbus.idle_timeout_ms),
     };
-    let ascii_bind = args.bind.unwrap_or_else(|| config.ascii.bind.clone());
+    let ascii_bind = args.bind.clone().unwrap_or_else(|| config.ascii.bind.clone());
     let ascii_port = args.ascii_port.unwrap_or(config.ascii.native_port);
     let ascii_limits = drl::listener::Limits {
         max_connections: config.ascii.max_connections as usize,
@@ -87,7 +91,7 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
         data_dir,
     };
     let servers = drl::Server::start(setup, &bind, port, limits).and_then(|modbus| {
-        let ascii = drl::ascii::Server::start(ns, agent_task, &ascii_bind, ascii_port, ascii_limits)?;
+        let ascii = drl::ascii::Server::start(ns.clone(), agent_task, &ascii_bind, ascii_port, ascii_limits)?;
         Ok((modbus, ascii))
     });
     let (server, ascii) = match servers {
@@ -97,15 +101,34 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
             return Err(e.into());
         }
     };
+    let web = match args.http {
+        Some(http_port) => {
+            let web_bind = args.bind.as_deref().unwrap_or("127.0.0.1");
+            match crate::web::WebView::start(ns, web_bind, http_port, ascii.agent(), Box::new(server.pdu_handler())) {
+                Ok(web) => Some(web),
+                Err(e) => {
+                    drop((ascii, server));
+                    let _ = controller.stop();
+                    return Err(e);
+                }
+            }
+        }
+        None => None,
+    };
     if let Some(port) = &serial {
         // Modbus RTU on the serial port: the same register logic as Modbus TCP.
         port.serve_modbus(Box::new(server.pdu_handler()));
     }
     println!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
     println!("Native ASCII on {}; task {agent_task} carries out its commands", ascii.address);
+    if let Some(web) = &web {
+        println!("Web view on http://{}/", web.address);
+    }
     // The controller ends on Ctrl-C or SIGTERM; the servers go with it, the serial port
     // before the Modbus server (its Modbus handler holds the console's channel).
     let report = controller.join();
+    // The web view holds the agent and the console: it goes first.
+    drop(web);
     drop(ascii);
     drop(serial);
     drop(server);

@@ -13,6 +13,7 @@ use rt_core::supervisor::{Outcome, ScriptLauncher};
 mod drl_cli;
 mod soak;
 mod tools;
+mod web;
 
 /// Small allocations of the RT thread come from a pre-touched pool (see rt_core::rt_alloc).
 #[global_allocator]

@@ -46,19 +46,20 @@ pub fn tasks(ns: &str) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn print(record: &EventRecord) {
+/// One event in words, as `luamotion events` prints it and the web view lists it.
+pub fn describe(record: &EventRecord) -> String {
     let who = if record.task == ipc::messages::CONTROLLER {
         "controller".to_string()
     } else {
         format!("task {}", record.task)
     };
     match record.kind() {
-        Some(EventKind::Event) => println!("cycle {} {who} event {}", record.cycle, record.code),
-        Some(EventKind::Message) => println!("cycle {} {who} message {:?}", record.cycle, record.text()),
+        Some(EventKind::Event) => format!("cycle {} {who} event {}", record.cycle, record.code),
+        Some(EventKind::Message) => format!("cycle {} {who} message {:?}", record.cycle, record.text()),
         Some(EventKind::Alarm) => {
-            println!("cycle {} {who} alarm {}: {}", record.cycle, Alarm(record.code), record.text())
+            format!("cycle {} {who} alarm {}: {}", record.cycle, Alarm(record.code), record.text())
         }
-        None => println!("cycle {} {who} unknown record kind {}", record.cycle, record.kind),
+        None => format!("cycle {} {who} unknown record kind {}", record.cycle, record.kind),
     }
 }
 
@@ -71,7 +72,7 @@ pub fn events(ns: &str, count: Option<usize>) -> Result<ExitCode> {
     let mut last_check = Instant::now();
     loop {
         while let Some(record) = reader.try_next()? {
-            print(&record);
+            println!("{}", describe(&record));
             seen += 1;
             if count.is_some_and(|n| seen >= n) {
                 return Ok(ExitCode::SUCCESS);

@@ -114,14 +114,8 @@ impl Host for Resources {
 /// controller's resources (it must be ready: `ipc::controller_ready`), restores DH from its file, says whether it is
 /// ready, then serves.
 pub fn run(setup: Setup, requests: Receiver<Request>, ready: Sender<Result<(), IpcError>>) {
-    match open_resources(&setup).map(|parts| assemble(setup, parts)) {
-        Ok(state) => {
-            let _ = ready.send(Ok(()));
-            state.serve(requests);
-        }
-        Err(e) => {
-            let _ = ready.send(Err(e));
-        }
+    if let Some(state) = crate::listener::opened(&ready, open_resources(&setup).map(|parts| assemble(setup, parts))) {
+        state.serve(requests);
     }
 }
 

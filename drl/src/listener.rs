@@ -31,6 +31,21 @@ pub fn start_owner(
     Ok(owner)
 }
 
+/// What an owner thread of `start_owner` opened, once it has told the starter whether it
+/// could; `None` when it could not (the thread then ends).
+pub fn opened<T>(ready: &mpsc::Sender<Result<(), IpcError>>, opened: Result<T, IpcError>) -> Option<T> {
+    match opened {
+        Ok(opened) => {
+            let _ = ready.send(Ok(()));
+            Some(opened)
+        }
+        Err(e) => {
+            let _ = ready.send(Err(e));
+            None
+        }
+    }
+}
+
 /// A one-worker tokio runtime (threads named `name`) and a listener on `bind:port` (port
 /// 0: a free port), with the address it got.
 pub fn listen(name: &str, bind: &str, port: u16) -> Result<(Runtime, TcpListener, SocketAddr), ServerError> {

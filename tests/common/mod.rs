@@ -164,13 +164,18 @@ pub fn pymodbus_python() -> &'static Path {
 /// The path of a Debian tool the tests use as an outside client (`tests/debian-packages.txt`),
 /// installed with apt-get on first use when missing (CI runs as root on a clean machine).
 pub fn debian_tool(command: &str) -> PathBuf {
+    try_debian_tool(command).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `debian_tool`, or why the tool cannot be had.
+pub fn try_debian_tool(command: &str) -> Result<PathBuf, String> {
     static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
     let find = || {
         std::env::var_os("PATH")
             .and_then(|paths| std::env::split_paths(&paths).map(|dir| dir.join(command)).find(|p| p.is_file()))
     };
     if let Some(path) = find() {
-        return path;
+        return Ok(path);
     }
     let installed = INSTALLED.get_or_init(|| {
         let list = std::fs::read_to_string(repo_path("tests/debian-packages.txt")).expect("tests/debian-packages.txt");
@@ -196,7 +201,7 @@ pub fn debian_tool(command: &str) -> PathBuf {
         }
     });
     if let Err(e) = installed {
-        panic!("{command} is missing: {e}");
+        return Err(format!("{command} is missing: {e}"));
     }
-    find().unwrap_or_else(|| panic!("{command} is still missing after installing tests/debian-packages.txt"))
+    find().ok_or_else(|| format!("{command} is still missing after installing tests/debian-packages.txt"))
 }

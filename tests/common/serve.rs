@@ -16,6 +16,8 @@ pub struct Serving {
     pub port: u16,
     /// The Native ASCII server's port (HMPL 22.1).
     pub ascii_port: u16,
+    /// The web view's address, `http://HOST:PORT/`, with `--http`.
+    pub web: Option<String>,
     stdout: Arc<Mutex<String>>,
     stderr: Arc<Mutex<String>>,
 }
@@ -56,6 +58,7 @@ pub fn serve(ns: &str, dir: &Path, args: &[&str]) -> Serving {
     };
     let address = said("Modbus TCP on ");
     let ascii = said("Native ASCII on ");
+    let web = args.contains(&"--http").then(|| said("Web view on "));
     // Programs' output goes on coming: keep the pipe drained, and what it said.
     let sink = output.clone();
     std::thread::spawn(move || {
@@ -66,7 +69,7 @@ pub fn serve(ns: &str, dir: &Path, args: &[&str]) -> Serving {
     });
     let port_of = |address: &str| address.rsplit(':').next().and_then(|port| port.parse().ok()).expect("port");
     let (port, ascii_port) = (port_of(&address), port_of(&ascii));
-    Serving { child, address, port, ascii_port, stdout: output, stderr }
+    Serving { child, address, port, ascii_port, web, stdout: output, stderr }
 }
 
 impl Serving {

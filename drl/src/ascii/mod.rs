@@ -39,6 +39,8 @@ type Job = (Call, oneshot::Sender<String>);
 /// A running Native ASCII server and its agent thread; both end when it is dropped.
 pub struct Server {
     pub address: SocketAddr,
+    /// For other front ends (`agent`); dropped before the runtime so the agent can end.
+    jobs: Option<SyncSender<Job>>,
     runtime: Option<tokio::runtime::Runtime>,
     agent: Option<JoinHandle<()>>,
 }
@@ -50,6 +52,7 @@ impl Server {
         let (jobs, inbox) = mpsc::sync_channel(QUEUE);
         let agent = start_owner("ascii-agent", move |ready| agent(ns, agent_task, inbox, ready))?;
         let (runtime, listener, address) = listen("ascii", bind, port)?;
+        let own_jobs = jobs.clone();
         let serve = move |stream, peer: SocketAddr| {
             let jobs = jobs.clone();
             async move {
@@ -65,13 +68,37 @@ impl Server {
         };
         runtime.spawn(accept_loop(("Native ASCII", "ascii"), listener, limits, serve, refuse));
         tracing::info!(%address, "Native ASCII server up");
-        Ok(Server { address, runtime: Some(runtime), agent: Some(agent) })
+        Ok(Server { address, jobs: Some(own_jobs), runtime: Some(runtime), agent: Some(agent) })
+    }
+
+    /// The agent, for another front end's calls (the web view): they queue with the
+    /// clients' lines and go to the core from the same task slot. Every handle must be gone
+    /// before the server is dropped (the agent ends when the last one goes).
+    pub fn agent(&self) -> Agent {
+        Agent(self.jobs.clone().expect("taken only on drop"))
+    }
+}
+
+/// A handle on the agent thread: a call given as an ASCII line is carried out as a
+/// client's line would be, and answered with the same text.
+#[derive(Clone)]
+pub struct Agent(SyncSender<Job>);
+
+impl Agent {
+    /// Carries out one line (`Enable(0)`, `MoveRel(0, 5)`) and answers it: the return
+    /// value(s) as text, or `ERROR ...`.
+    pub async fn call(&self, text: &str) -> String {
+        match line::parse(text.as_bytes()) {
+            Ok(call) => ask(&self.0, call).await,
+            Err(e) => format!("ERROR {e}"),
+        }
     }
 }
 
 impl Drop for Server {
     fn drop(&mut self) {
         // The runtime's end drops the last job sender: the agent thread ends.
+        self.jobs = None;
         if let Some(runtime) = self.runtime.take() {
             runtime.shutdown_timeout(Duration::from_millis(200));
         }
@@ -151,16 +178,7 @@ async fn ask(jobs: &SyncSender<Job>, call: Call) -> String {
 fn agent(ns: Namespace, task: u8, inbox: Receiver<Job>, ready: mpsc::Sender<Result<(), IpcError>>) {
     let opened = TaskEndpoint::open(&ns, task, std::process::id())
         .and_then(|endpoint| Ok((endpoint, Region::<SharedData>::open(&ns, "shared")?)));
-    let (mut endpoint, shared) = match opened {
-        Ok(opened) => {
-            let _ = ready.send(Ok(()));
-            opened
-        }
-        Err(e) => {
-            let _ = ready.send(Err(e));
-            return;
-        }
-    };
+    let Some((mut endpoint, shared)) = crate::listener::opened(&ready, opened) else { return };
     while let Ok((call, answer)) = inbox.recv() {
         let _ = answer.send(carry_out(&mut endpoint, &shared, &call));
     }

@@ -1,0 +1,319 @@
+//! The live web view of `luamotion serve --http`: its state stream and its commands over
+//! HTTP, then the page itself in headless Chromium driven over WebDriver (chromedriver,
+//! both from Debian), which watches a DRL program move an axis, jogs another and saves a
+//! screenshot.
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use common::serve::{Serving, serve};
+use common::*;
+use serde_json::{Value, json};
+
+/// `luamotion serve --http 0` with `config` (a machine file's text, may be empty).
+fn serve_web(ns: &str, dir: &Path, config: &str) -> (Serving, String) {
+    let machine = dir.join("machine.toml");
+    std::fs::write(&machine, config).unwrap();
+    let serving = serve(ns, dir, &["--http", "0", "--config", machine.to_str().unwrap()]);
+    let web = serving.web.clone().expect("serve printed the web view's address");
+    (serving, web)
+}
+
+fn get_json(url: &str) -> Value {
+    ureq::get(url).call().unwrap_or_else(|e| panic!("GET {url}: {e}")).body_mut().read_json().expect("JSON")
+}
+
+/// POSTs to the web view; the status and the body.
+fn post(url: &str) -> (u16, String) {
+    let agent: ureq::Agent = ureq::Agent::config_builder().http_status_as_error(false).build().into();
+    let mut response = agent.post(url).send_empty().unwrap_or_else(|e| panic!("POST {url}: {e}"));
+    (response.status().as_u16(), response.body_mut().read_to_string().expect("a body"))
+}
+
+fn position(state: &Value, axis: usize) -> f64 {
+    state["axes"][axis]["pos"].as_f64().unwrap_or_else(|| panic!("axis {axis} in {state}"))
+}
+
+/// A DRL project `id` in the served data dir: `main.lua` is `source`.
+fn project(dir: &Path, id: u16, source: &str) {
+    let folder = dir.join("projects").join(id.to_string());
+    std::fs::create_dir_all(&folder).unwrap();
+    std::fs::write(folder.join("main.lua"), source).unwrap();
+}
+
+/// A DRL program that keeps axis 1 moving at 20 units/s.
+const MOVER: &str = r#"
+    Till(IsSystemOper)
+    Enable(1)
+    Till(function() return IsEnabled(1) end)
+    MoveVel(1, 20)
+    while true do Sleep(100) end
+"#;
+
+/// The stream sends the newest state again and again: every update is a later cycle than
+/// the one before, with the axes and the web agent's task slot in it.
+#[test]
+fn stream_sends_each_update_from_a_newer_snapshot() {
+    let ns = unique_ns("web-stream");
+    let dir = tempfile::tempdir().unwrap();
+    let (_serving, web) = serve_web(&ns, dir.path(), "");
+    let mut response = ureq::get(&format!("{web}api/stream")).call().expect("the stream");
+    assert_eq!(response.headers().get("content-type").unwrap(), "text/event-stream");
+    let lines = BufReader::new(response.body_mut().as_reader()).lines();
+    let mut cycles = Vec::new();
+    for line in lines {
+        let line = line.expect("a line of the stream");
+        let Some(data) = line.strip_prefix("data: ") else { continue };
+        let state: Value = serde_json::from_str(data).expect("JSON state");
+        // The first event may come before the first snapshot was read.
+        let Some(cycle) = state["cycle"].as_u64() else { continue };
+        assert_eq!(state["axes"].as_array().unwrap().len(), 4, "the built-in machine's 4 axes");
+        assert!(state["tasks"].as_array().unwrap().iter().any(|t| t["id"] == 62), "the agent's slot: {state}");
+        cycles.push(cycle);
+        if cycles.len() == 20 {
+            break;
+        }
+    }
+    assert!(cycles.windows(2).all(|w| w[1] > w[0]), "each update a newer cycle: {cycles:?}");
+}
+
+/// Enable and jog go to the core as the ASCII agent's calls: refused with the HMPL code
+/// while the axis is disabled, carried out once it is enabled; an unknown command or a jog
+/// without a step is the client's error.
+#[test]
+fn enable_and_jog_move_an_axis_through_the_agent_slot() {
+    let ns = unique_ns("web-jog");
+    let dir = tempfile::tempdir().unwrap();
+    let (_serving, web) = serve_web(&ns, dir.path(), "");
+    let (status, body) = post(&format!("{web}api/axis/0/jog?dist=5"));
+    assert_eq!(status, 200);
+    let refused: Value = serde_json::from_str(&body).unwrap();
+    assert_eq!(refused["ok"], false, "{body}");
+    assert!(refused["answer"].as_str().unwrap().starts_with("ERROR 0x"), "the HMPL code: {body}");
+
+    let (_, body) = post(&format!("{web}api/axis/0/enable"));
+    assert_eq!(serde_json::from_str::<Value>(&body).unwrap()["answer"], "0", "{body}");
+    assert!(
+        eventually(Duration::from_secs(20), || get_json(&format!("{web}api/state"))["axes"][0]["state"] != "disabled")
+    );
+    let (_, body) = post(&format!("{web}api/axis/0/jog?dist=5"));
+    let jog: Value = serde_json::from_str(&body).unwrap();
+    assert_eq!((jog["call"].as_str(), jog["answer"].as_str()), (Some("MoveRel(0, 5.0)"), Some("0")), "{body}");
+    assert!(
+        eventually(Duration::from_secs(20), || (position(&get_json(&format!("{web}api/state")), 0) - 5.0).abs() < 1e-6),
+        "axis 0 at 5"
+    );
+    assert_eq!(post(&format!("{web}api/axis/0/jog")).0, 400, "a jog needs its step");
+    assert_eq!(post(&format!("{web}api/axis/0/fly")).0, 404);
+    assert_eq!(position(&get_json(&format!("{web}api/state")), 0), 5.0, "nothing more moved it");
+}
+
+/// The page's commands are a task's: an axis a program commands every cycle refuses the
+/// web's jog with the command-buffer-busy alarm (0x001F), as for any two tasks, and the
+/// program runs on. The DRL control starts that program and stops it.
+#[test]
+fn drl_control_runs_a_program_whose_axis_refuses_the_web_jog() {
+    let ns = unique_ns("web-own");
+    let dir = tempfile::tempdir().unwrap();
+    project(
+        dir.path(),
+        3,
+        r#"
+        Till(IsSystemOper)
+        Enable(1)
+        Till(function() return IsEnabled(1) end)
+        local i = 0
+        while true do
+          i = i + 1
+          MoveAbs(1, (i % 2) * 0.5)
+        end
+    "#,
+    );
+    let (_serving, web) = serve_web(&ns, dir.path(), "");
+    let (status, body) = post(&format!("{web}api/drl/open-run?id=3"));
+    assert_eq!(status, 200, "{body}");
+    let registers: Value = serde_json::from_str(&body).unwrap();
+    assert_eq!((registers["id"].as_u64(), registers["state_name"].as_str()), (Some(3), Some("Running")), "{body}");
+    assert!(
+        eventually(Duration::from_secs(20), || get_json(&format!("{web}api/state"))["axes"][1]["state"] != "disabled"),
+        "the program enables axis 1"
+    );
+    let mut answer = String::new();
+    let refused = eventually(Duration::from_secs(20), || {
+        let (_, body) = post(&format!("{web}api/axis/1/jog?dist=5"));
+        answer = serde_json::from_str::<Value>(&body).unwrap()["answer"].as_str().unwrap().to_string();
+        answer != "0"
+    });
+    assert!(refused && answer.starts_with("ERROR 0x1001001F alarm: command buffer busy"), "{answer}");
+    let (status, body) = post(&format!("{web}api/drl/stop"));
+    assert_eq!(status, 200, "{body}");
+    assert_ne!(serde_json::from_str::<Value>(&body).unwrap()["state_name"], "Running", "{body}");
+}
+
+/// A free TCP port on 127.0.0.1.
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
+/// A headless Chromium session through chromedriver's WebDriver endpoint; both end on drop.
+struct Browser {
+    driver: Child,
+    base: String,
+    session: String,
+}
+
+/// The key of an element reference (W3C WebDriver 12.1).
+const ELEMENT: &str = "element-6066-11e4-a52e-4f735466cecf";
+
+impl Browser {
+    fn start(chromium: &Path, chromedriver: &Path, profile: &Path) -> Browser {
+        let port = free_port();
+        let driver = Command::new(chromedriver)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start chromedriver");
+        let base = format!("http://127.0.0.1:{port}");
+        let ready = eventually(Duration::from_secs(30), || {
+            ureq::get(&format!("{base}/status"))
+                .call()
+                .ok()
+                .and_then(|mut r| r.body_mut().read_json::<Value>().ok())
+                .is_some_and(|s| s["value"]["ready"] == true)
+        });
+        let mut browser = Browser { driver, base, session: String::new() };
+        assert!(ready, "chromedriver answers on port {port}");
+        let capabilities = json!({"capabilities": {"alwaysMatch": {"browserName": "chrome", "goog:chromeOptions": {
+            "binary": chromium,
+            "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                     "--window-size=1280,900", format!("--user-data-dir={}", profile.display())]}}}});
+        let session = browser.send("POST", "/session", Some(capabilities));
+        browser.session = session["sessionId"].as_str().expect("a session id").to_string();
+        browser
+    }
+
+    /// One WebDriver command; its `value`.
+    fn send(&self, method: &str, path: &str, body: Option<Value>) -> Value {
+        self.try_send(method, path, body).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// One WebDriver command; its `value`, or the error it answered.
+    fn try_send(&self, method: &str, path: &str, body: Option<Value>) -> Result<Value, String> {
+        let url = format!("{}{path}", self.base);
+        let response = match (method, body) {
+            ("GET", _) => ureq::get(&url).call(),
+            (_, body) => ureq::post(&url).send_json(body.unwrap_or_else(|| json!({}))),
+        };
+        let mut response = response.map_err(|e| format!("WebDriver {method} {path}: {e}"))?;
+        let answer: Value = response.body_mut().read_json().map_err(|e| format!("WebDriver JSON: {e}"))?;
+        Ok(answer["value"].clone())
+    }
+
+    fn session(&self, path: &str) -> String {
+        format!("/session/{}{path}", self.session)
+    }
+
+    /// The element `css` selects, once the page has it (its rows come with the first state).
+    fn element(&self, css: &str) -> String {
+        let find = json!({"using": "css selector", "value": css});
+        let mut found = None;
+        eventually(Duration::from_secs(20), || {
+            found = self.try_send("POST", &self.session("/element"), Some(find.clone())).ok();
+            found.is_some()
+        });
+        let found = found.unwrap_or_else(|| panic!("the page has no {css}"));
+        found[ELEMENT].as_str().unwrap_or_else(|| panic!("no element {css}: {found}")).to_string()
+    }
+
+    fn text(&self, element: &str) -> String {
+        self.send("GET", &self.session(&format!("/element/{element}/text")), None).as_str().unwrap_or("").to_string()
+    }
+
+    fn click(&self, css: &str) {
+        let element = self.element(css);
+        self.send("POST", &self.session(&format!("/element/{element}/click")), None);
+    }
+
+    /// The shown number in `css`, once the page shows one.
+    fn number(&self, css: &str) -> f64 {
+        let element = self.element(css);
+        let mut value = None;
+        eventually(Duration::from_secs(20), || {
+            value = self.text(&element).parse().ok();
+            value.is_some()
+        });
+        value.unwrap_or_else(|| panic!("{css} shows no number"))
+    }
+
+    fn screenshot(&self, path: &Path) {
+        use base64::Engine;
+        let png = self.send("GET", &self.session("/screenshot"), None);
+        let bytes = base64::engine::general_purpose::STANDARD.decode(png.as_str().expect("base64 PNG")).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG"), "a PNG");
+        std::fs::write(path, bytes).unwrap();
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        if !self.session.is_empty() {
+            let _ = ureq::delete(&format!("{}/session/{}", self.base, self.session)).call();
+        }
+        let _ = self.driver.kill();
+        let _ = self.driver.wait();
+    }
+}
+
+/// The page in a real browser: it shows axis 1's position change while the DRL program it
+/// started moves it, enables and jogs axis 0 with its buttons and shows it arrive, and is
+/// saved as a PNG (also to `LUAMOTION_WEB_SCREENSHOT` when set, for the README).
+#[test]
+fn browser_watches_a_program_move_an_axis_and_jogs_another() {
+    let tools = try_debian_tool("chromium").and_then(|chromium| Ok((chromium, try_debian_tool("chromedriver")?)));
+    let (chromium, chromedriver) = match tools {
+        Ok(tools) => tools,
+        Err(e) => {
+            eprintln!(
+                "SKIPPED browser_watches_a_program_move_an_axis_and_jogs_another: no browser could be installed: {e}"
+            );
+            return;
+        }
+    };
+    let ns = unique_ns("web-browser");
+    let dir = tempfile::tempdir().unwrap();
+    project(dir.path(), 1, MOVER);
+    let (_serving, web) = serve_web(&ns, dir.path(), "");
+    let browser = Browser::start(&chromium, &chromedriver, &dir.path().join("chromium"));
+    browser.send("POST", &browser.session("/url"), Some(json!({"url": web})));
+
+    // The page's DRL control starts project 1 (the id field's default), which moves axis 1.
+    let before = browser.number("#pos-1");
+    browser.click("#drl-open-run");
+    assert!(
+        eventually(Duration::from_secs(30), || browser.number("#pos-1") > before + 1.0),
+        "the page shows axis 1 moving (from {before})"
+    );
+
+    browser.click("#enable-0");
+    let state = browser.element("#state-0");
+    assert!(eventually(Duration::from_secs(20), || browser.text(&state) == "standstill"), "axis 0 enabled");
+    let start = browser.number("#pos-0");
+    browser.click("#jog-plus-0");
+    assert!(
+        eventually(Duration::from_secs(20), || (browser.number("#pos-0") - (start + 10.0)).abs() < 1e-3),
+        "the page shows axis 0 jogged by the step of 10"
+    );
+    let answer = browser.element("#answer");
+    assert_eq!(browser.text(&answer), "MoveRel(0, 10.0) -> 0");
+
+    let png = dir.path().join("web_view.png");
+    browser.screenshot(&png);
+    if let Some(copy) = std::env::var_os("LUAMOTION_WEB_SCREENSHOT") {
+        std::fs::copy(&png, copy).expect("copy the screenshot");
+    }
+}
