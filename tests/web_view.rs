@@ -114,7 +114,8 @@ fn enable_and_jog_move_an_axis_through_the_agent_slot() {
 
 /// The page's commands are a task's: an axis a program commands every cycle refuses the
 /// web's jog with the command-buffer-busy alarm (0x001F), as for any two tasks, and the
-/// program runs on. The DRL control starts that program and stops it.
+/// program runs on. The DRL control starts that program and stops it; its event is in
+/// the state's events.
 #[test]
 fn drl_control_runs_a_program_whose_axis_refuses_the_web_jog() {
     let ns = unique_ns("web-own");
@@ -126,6 +127,7 @@ fn drl_control_runs_a_program_whose_axis_refuses_the_web_jog() {
         Till(IsSystemOper)
         Enable(1)
         Till(function() return IsEnabled(1) end)
+        SendEvent(4242)
         local i = 0
         while true do
           i = i + 1
@@ -142,6 +144,9 @@ fn drl_control_runs_a_program_whose_axis_refuses_the_web_jog() {
         eventually(Duration::from_secs(20), || get_json(&format!("{web}api/state"))["axes"][1]["state"] != "disabled"),
         "the program enables axis 1"
     );
+    let event =
+        |state: Value| state["events"].as_array().unwrap().iter().any(|e| e.as_str().unwrap().ends_with("event 4242"));
+    assert!(eventually(Duration::from_secs(20), || event(get_json(&format!("{web}api/state")))), "the program's event");
     let mut answer = String::new();
     let refused = eventually(Duration::from_secs(20), || {
         let (_, body) = post(&format!("{web}api/axis/1/jog?dist=5"));
@@ -316,4 +321,46 @@ fn browser_watches_a_program_move_an_axis_and_jogs_another() {
     if let Some(copy) = std::env::var_os("LUAMOTION_WEB_SCREENSHOT") {
         std::fs::copy(&png, copy).expect("copy the screenshot");
     }
+}
+
+/// The figure for the README (run by hand, release build recommended): updates per second
+/// each of 5 stream clients gets at 96 axes, and the controller's overruns over the same
+/// seconds with and without them.
+#[test]
+#[ignore = "a measurement: cargo test --release --test web_view -- --ignored --nocapture"]
+fn measure_updates_with_five_clients_at_96_axes() {
+    const SECONDS: u64 = 5;
+    let ns = unique_ns("web-rate");
+    let dir = tempfile::tempdir().unwrap();
+    let (_serving, web) = serve_web(&ns, dir.path(), &"[[axes]]\n".repeat(96));
+    let overruns = || get_json(&format!("{web}api/state"))["overruns"].as_u64().unwrap();
+    let quiet = overruns();
+    std::thread::sleep(Duration::from_secs(SECONDS));
+    let quiet = overruns() - quiet;
+    let clients: Vec<_> = (0..5)
+        .map(|_| {
+            let url = format!("{web}api/stream");
+            std::thread::spawn(move || {
+                let mut response = ureq::get(&url).call().expect("the stream");
+                let start = std::time::Instant::now();
+                let mut updates = 0u64;
+                for line in BufReader::new(response.body_mut().as_reader()).lines() {
+                    if line.expect("a line").starts_with("data: ") {
+                        updates += 1;
+                    }
+                    if start.elapsed() >= Duration::from_secs(SECONDS) {
+                        break;
+                    }
+                }
+                updates as f64 / start.elapsed().as_secs_f64()
+            })
+        })
+        .collect();
+    let before = overruns();
+    let rates: Vec<f64> = clients.into_iter().map(|c| c.join().unwrap()).collect();
+    let loaded = overruns() - before;
+    assert!(rates.iter().all(|&r| r > 0.0), "every client got updates");
+    println!(
+        "96 axes, 5 stream clients: {rates:.1?} updates/s; overruns in {SECONDS} s: {quiet} without clients, {loaded} with"
+    );
 }
