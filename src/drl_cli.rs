@@ -104,7 +104,13 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let web = match args.http {
         Some(http_port) => {
             let web_bind = args.bind.as_deref().unwrap_or("127.0.0.1");
-            match crate::web::WebView::start(ns, web_bind, http_port, ascii.agent(), Box::new(server.pdu_handler())) {
+            match crate::web::WebView::start(
+                ns,
+                web_bind,
+                http_port,
+                ascii.agent(),
+                Some(Box::new(server.pdu_handler())),
+            ) {
                 Ok(web) => Some(web),
                 Err(e) => {
                     drop((ascii, server));

@@ -38,6 +38,10 @@ enum Cmd {
         /// Write every cycle's reference, feedback and status of the first 8 axes to this CSV file.
         #[arg(long)]
         trace: Option<PathBuf>,
+        /// Serve the live web view on 127.0.0.1 at this port (0: a free one); its axis
+        /// commands go through task slot `[ascii] agent_task`.
+        #[arg(long)]
+        http: Option<u16>,
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
     },
@@ -235,7 +239,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     init_logging(cli.verbose);
     let result = match cli.command {
-        Cmd::Run { controller, trace, scripts } => run(&controller, trace, scripts),
+        Cmd::Run { controller, trace, http, scripts } => run(&controller, trace, http, scripts),
         Cmd::Tasks { ns } => tools::tasks(&ns),
         Cmd::Serve(args) => drl_cli::serve(args),
         Cmd::Drl(args) => drl_cli::drl(args),
@@ -314,7 +318,12 @@ fn default_data_dir(ns: &str) -> PathBuf {
     state.unwrap_or_else(std::env::temp_dir).join("luamotion").join(ns)
 }
 
-fn run(controller: &ControllerArgs, trace: Option<PathBuf>, scripts: Vec<PathBuf>) -> Result<ExitCode> {
+fn run(
+    controller: &ControllerArgs,
+    trace: Option<PathBuf>,
+    http: Option<u16>,
+    scripts: Vec<PathBuf>,
+) -> Result<ExitCode> {
     let mut config = controller.machine()?;
     if scripts.len() > MAX_TASKS {
         bail!("at most {MAX_TASKS} programs (HMPL tasks 0..63)");
@@ -339,9 +348,34 @@ fn run(controller: &ControllerArgs, trace: Option<PathBuf>, scripts: Vec<PathBuf
     let data_dir = controller.data_dir();
     // Before the tasks start, so their first FreePort.Serial call finds it.
     let serial = controller.serial_port(&config);
+    let web_ns = ns.clone();
     let options =
         rt_core::RunOptions { ns, launcher, exit_when_tasks_end: true, data_dir, trace, stop: None, console: None };
-    let report = rt_core::run(config, options);
+    let report = match http {
+        None => rt_core::run(config, options),
+        Some(port) => {
+            // The web view's commands need a task slot of their own: the ASCII agent's.
+            let agent_task = config.ascii.agent_task;
+            let controller = rt_core::controller::Background::start(config.with_ascii_task()?, options)?;
+            let web = drl::ascii::start_agent(web_ns.clone(), agent_task)
+                .map_err(anyhow::Error::from)
+                .and_then(|(agent, thread)| Ok((web::WebView::start(web_ns, "127.0.0.1", port, agent, None)?, thread)));
+            match web {
+                Ok((web, agent_thread)) => {
+                    println!("Web view on http://{}/", web.address);
+                    let report = controller.join();
+                    // The web view holds the agent's last handle: the agent ends after it.
+                    drop(web);
+                    let _ = agent_thread.join();
+                    report
+                }
+                Err(e) => {
+                    let _ = controller.stop();
+                    return Err(e);
+                }
+            }
+        }
+    };
     drop(serial);
     let report = report?;
 

@@ -159,6 +159,43 @@ fn drl_control_runs_a_program_whose_axis_refuses_the_web_jog() {
     assert_ne!(serde_json::from_str::<Value>(&body).unwrap()["state_name"], "Running", "{body}");
 }
 
+/// `run --http`: the page follows a run's program (axis 1 moving), its commands go
+/// through the agent's slot, and the run still ends when its program does.
+#[test]
+fn run_serves_the_web_view_and_ends_with_its_program() {
+    let ns = unique_ns("web-run");
+    let dir = tempfile::tempdir().unwrap();
+    let mover = program(
+        dir.path(),
+        "mover.lua",
+        r#"
+        Till(IsSystemOper)
+        Enable(1)
+        Till(function() return IsEnabled(1) end)
+        MoveVel(1, 20)
+        Sleep(4000)
+    "#,
+    );
+    let mut child = start_run(&ns, &["--http", "0", mover.to_str().unwrap()]);
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let web = loop {
+        let mut line = String::new();
+        assert!(stdout.read_line(&mut line).unwrap() > 0, "run ended before it said where the web view is");
+        if let Some(address) = line.trim().strip_prefix("Web view on ") {
+            break address.to_string();
+        }
+    };
+    let moving = |state: Value| position(&state, 1) > 1.0;
+    assert!(eventually(Duration::from_secs(20), || moving(get_json(&format!("{web}api/state")))), "axis 1 moves");
+    let (_, body) = post(&format!("{web}api/axis/0/enable"));
+    assert_eq!(serde_json::from_str::<Value>(&body).unwrap()["answer"], "0", "{body}");
+    assert_eq!(post(&format!("{web}api/drl/stop")).0, 404, "run has no DRL console");
+    // The program ends after its sleep; the run with it, the agent's slot no matter.
+    std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
+    let finished = finish(child, Duration::from_secs(60));
+    assert!(finished.status.success(), "the run ends with its program: {}", finished.stderr);
+}
+
 /// A free TCP port on 127.0.0.1.
 fn free_port() -> u16 {
     std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()

@@ -47,7 +47,8 @@ pub type DrlHandler = Box<dyn FnMut(&[u8]) -> Vec<u8> + Send>;
 struct App {
     state: watch::Receiver<Arc<str>>,
     agent: Agent,
-    drl: Arc<Mutex<DrlHandler>>,
+    /// None in `run`, which has no DRL console.
+    drl: Option<Arc<Mutex<DrlHandler>>>,
 }
 
 /// A running web view: its server and the thread that reads the controller's state. Drop
@@ -62,7 +63,7 @@ pub struct WebView {
 impl WebView {
     /// Follows the controller in `ns` and serves the page on `bind:port` (0: a free port,
     /// see `address`).
-    pub fn start(ns: Namespace, bind: &str, port: u16, agent: Agent, drl: DrlHandler) -> Result<Self> {
+    pub fn start(ns: Namespace, bind: &str, port: u16, agent: Agent, drl: Option<DrlHandler>) -> Result<Self> {
         let (publish, state) = watch::channel(Arc::<str>::from("{}"));
         let stop = Arc::new(AtomicBool::new(false));
         let stopped = stop.clone();
@@ -75,7 +76,7 @@ impl WebView {
             .route("/api/axis/{id}/{action}", post(axis_command))
             .route("/api/drl", get(drl_status))
             .route("/api/drl/{op}", post(drl_command))
-            .with_state(App { state, agent, drl: Arc::new(Mutex::new(drl)) });
+            .with_state(App { state, agent, drl: drl.map(|drl| Arc::new(Mutex::new(drl))) });
         runtime.spawn(async move {
             if let Err(e) = axum::serve(listener, app).await {
                 tracing::warn!("web view: {e}");
@@ -244,8 +245,9 @@ async fn drl_command(State(app): State<App>, Path(op): Path<String>, Query(args)
         "open-run" => 6,
         _ => return Err((axum::http::StatusCode::NOT_FOUND, format!("no DRL command {op}"))),
     };
+    let drl = app.drl.ok_or_else(no_console)?;
     let answer = tokio::task::spawn_blocking(move || {
-        let mut drl = app.drl.lock().unwrap_or_else(|e| e.into_inner());
+        let mut drl = drl.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(id) = args.id {
             write_register(&mut drl, ID_SELECT, id)?;
         }
@@ -257,6 +259,20 @@ async fn drl_command(State(app): State<App>, Path(op): Path<String>, Query(args)
         drl_registers(&mut drl)
     })
     .await;
+    registers_answer(answer)
+}
+
+async fn drl_status(State(app): State<App>) -> impl IntoResponse {
+    let drl = app.drl.ok_or_else(no_console)?;
+    let answer =
+        tokio::task::spawn_blocking(move || drl_registers(&mut drl.lock().unwrap_or_else(|e| e.into_inner()))).await;
+    registers_answer(answer)
+}
+
+/// The registers read after a DRL command, or why not.
+fn registers_answer(
+    answer: Result<Result<Value, String>, tokio::task::JoinError>,
+) -> Result<Json<Value>, (axum::http::StatusCode, String)> {
     match answer {
         Ok(Ok(registers)) => Ok(Json(registers)),
         Ok(Err(e)) => Err((axum::http::StatusCode::CONFLICT, e)),
@@ -264,15 +280,8 @@ async fn drl_command(State(app): State<App>, Path(op): Path<String>, Query(args)
     }
 }
 
-async fn drl_status(State(app): State<App>) -> impl IntoResponse {
-    let answer =
-        tokio::task::spawn_blocking(move || drl_registers(&mut app.drl.lock().unwrap_or_else(|e| e.into_inner())))
-            .await;
-    match answer {
-        Ok(Ok(registers)) => Ok(Json(registers)),
-        Ok(Err(e)) => Err((axum::http::StatusCode::CONFLICT, e)),
-        Err(e) => Err((axum::http::StatusCode::INTERNAL_SERVER_ERROR, e.to_string())),
-    }
+fn no_console() -> (axum::http::StatusCode, String) {
+    (axum::http::StatusCode::NOT_FOUND, "no DRL program control here: it is `luamotion serve`'s".into())
 }
 
 /// The DRL registers 0x6B00..0x6B06 with the names of their codes.

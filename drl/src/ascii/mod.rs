@@ -40,7 +40,7 @@ type Job = (Call, oneshot::Sender<String>);
 pub struct Server {
     pub address: SocketAddr,
     /// For other front ends (`agent`); dropped before the runtime so the agent can end.
-    jobs: Option<SyncSender<Job>>,
+    jobs: Option<Agent>,
     runtime: Option<tokio::runtime::Runtime>,
     agent: Option<JoinHandle<()>>,
 }
@@ -49,10 +49,9 @@ impl Server {
     /// Attaches to task slot `agent_task` of the controller in this process (`ns`), then
     /// listens on `bind:port` (port 0: a free port, see `address`) within `limits`.
     pub fn start(ns: Namespace, agent_task: u8, bind: &str, port: u16, limits: Limits) -> Result<Self, ServerError> {
-        let (jobs, inbox) = mpsc::sync_channel(QUEUE);
-        let agent = start_owner("ascii-agent", move |ready| agent(ns, agent_task, inbox, ready))?;
+        let (own, agent) = start_agent(ns, agent_task)?;
+        let jobs = own.0.clone();
         let (runtime, listener, address) = listen("ascii", bind, port)?;
-        let own_jobs = jobs.clone();
         let serve = move |stream, peer: SocketAddr| {
             let jobs = jobs.clone();
             async move {
@@ -68,15 +67,24 @@ impl Server {
         };
         runtime.spawn(accept_loop(("Native ASCII", "ascii"), listener, limits, serve, refuse));
         tracing::info!(%address, "Native ASCII server up");
-        Ok(Server { address, jobs: Some(own_jobs), runtime: Some(runtime), agent: Some(agent) })
+        Ok(Server { address, jobs: Some(own), runtime: Some(runtime), agent: Some(agent) })
     }
 
     /// The agent, for another front end's calls (the web view): they queue with the
     /// clients' lines and go to the core from the same task slot. Every handle must be gone
     /// before the server is dropped (the agent ends when the last one goes).
     pub fn agent(&self) -> Agent {
-        Agent(self.jobs.clone().expect("taken only on drop"))
+        self.jobs.clone().expect("taken only on drop")
     }
+}
+
+/// The agent thread alone, attached to task slot `agent_task` of the controller in this
+/// process (`run --http` has no ASCII listener): its handle, and the thread, which ends
+/// once the last handle is gone.
+pub fn start_agent(ns: Namespace, agent_task: u8) -> Result<(Agent, JoinHandle<()>), ServerError> {
+    let (jobs, inbox) = mpsc::sync_channel(QUEUE);
+    let thread = start_owner("ascii-agent", move |ready| agent(ns, agent_task, inbox, ready))?;
+    Ok((Agent(jobs), thread))
 }
 
 /// A handle on the agent thread: a call given as an ASCII line is carried out as a

@@ -130,10 +130,12 @@ impl Tasks {
         matches!(self.state(task), TaskState::Starting | TaskState::Running)
     }
 
-    /// Tasks that are starting, running or being stopped.
+    /// Programs that are starting, running or being stopped (external slots are not).
     pub fn active(&self) -> usize {
         self.tasks
             .iter()
+            // An external slot is a client's (the ASCII agent of `run --http`), not a program.
+            .filter(|t| !t.spec.is_some_and(|s| s.external))
             .filter(|t| matches!(t.state, TaskState::Starting | TaskState::Running | TaskState::Stopping))
             .count()
     }
