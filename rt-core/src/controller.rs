@@ -108,16 +108,17 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
             .spawn(move || {
                 let granted = realtime::setup_current_thread(&rt_config);
                 crate::rt_alloc::claim_pool_for_this_thread();
-                // Before the endpoint: a tool that sees the controller ready finds the ring.
-                let scope = match ipc::scope::ScopeRing::create(&ns, period_ns, &scope_codes) {
-                    Ok(ring) => ScopeSampler::new(ring),
+                let endpoint = match CoreEndpoint::create(&ns, &task_ids) {
+                    Ok(endpoint) => endpoint,
                     Err(e) => {
                         let _ = ready_tx.send(Err(e));
                         return None;
                     }
                 };
-                let endpoint = match CoreEndpoint::create(&ns, &task_ids) {
-                    Ok(endpoint) => endpoint,
+                // After the endpoint (whose services are the room check's first concern), before
+                // any task starts: SetHMIScope finds the ring.
+                let scope = match ipc::scope::ScopeRing::create(&ns, period_ns, &scope_codes) {
+                    Ok(ring) => ScopeSampler::new(ring),
                     Err(e) => {
                         let _ = ready_tx.send(Err(e));
                         return None;

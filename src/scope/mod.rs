@@ -348,7 +348,14 @@ pub fn record_run(
             }
             std::thread::sleep(Duration::from_millis(5));
         }
-        let mut reader = Reader::attach(&ns, &options, true)?;
+        // The controller creates the ring just after it says it is up.
+        let mut reader = loop {
+            match Reader::attach(&ns, &options, true) {
+                Ok(reader) => break reader,
+                Err(e) if stop.load(Ordering::Acquire) || since.elapsed() > Duration::from_secs(10) => return Err(e),
+                Err(_) => std::thread::sleep(Duration::from_millis(2)),
+            }
+        };
         while !reader.drain() && !stop.load(Ordering::Acquire) {
             std::thread::sleep(Duration::from_millis(5));
         }
