@@ -78,6 +78,7 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
         exit_when_tasks_end: false,
         data_dir: data_dir.clone(),
         trace: None,
+        scope: Vec::new(),
         stop: None,
         console: Some(inbox),
     };

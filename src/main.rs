@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
@@ -11,6 +13,7 @@ use ipc::Namespace;
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
 mod drl_cli;
+mod scope;
 mod soak;
 mod tools;
 mod web;
@@ -42,9 +45,18 @@ enum Cmd {
         /// commands go through task slot `[ascii] agent_task`.
         #[arg(long)]
         http: Option<u16>,
+        /// Record the scope's variables (--scope-vars) every cycle of the run into this
+        /// .csv, .svg or .png file (repeat for several).
+        #[arg(long)]
+        scope: Vec<PathBuf>,
+        #[command(flatten)]
+        scope_options: scope::ScopeOptions,
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
     },
+    /// Record variables of a running controller (`run` or `serve`) every cycle into CSV,
+    /// SVG or PNG: decimation, a trigger, pre- and post-trigger samples.
+    Scope(scope::ScopeArgs),
     /// Start a controller that runs until stopped, with the Modbus TCP server and DRL
     /// program control (DXMC appendix A).
     Serve(drl_cli::ServeArgs),
@@ -238,8 +250,13 @@ enum ApiFormat {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     init_logging(cli.verbose);
+    // plotters lays text out with it (the soak's report and the scope's plots).
+    scope::register_font();
     let result = match cli.command {
-        Cmd::Run { controller, trace, http, scripts } => run(&controller, trace, http, scripts),
+        Cmd::Run { controller, trace, http, scope, scope_options, scripts } => {
+            run(&controller, trace, http, (scope, scope_options), scripts)
+        }
+        Cmd::Scope(args) => scope::scope(args),
         Cmd::Tasks { ns } => tools::tasks(&ns),
         Cmd::Serve(args) => drl_cli::serve(args),
         Cmd::Drl(args) => drl_cli::drl(args),
@@ -322,8 +339,11 @@ fn run(
     controller: &ControllerArgs,
     trace: Option<PathBuf>,
     http: Option<u16>,
+    (scope, scope_options): (Vec<PathBuf>, scope::ScopeOptions),
     scripts: Vec<PathBuf>,
 ) -> Result<ExitCode> {
+    // Before anything starts: a name the scope does not know is the operator's first error.
+    let scope_codes = if scope.is_empty() { Vec::new() } else { scope::Reader::codes(&scope_options)? };
     let mut config = controller.machine()?;
     if scripts.len() > MAX_TASKS {
         bail!("at most {MAX_TASKS} programs (HMPL tasks 0..63)");
@@ -348,9 +368,19 @@ fn run(
     let data_dir = controller.data_dir();
     // Before the tasks start, so their first FreePort.Serial call finds it.
     let serial = controller.serial_port(&config);
+    let scope_stop = Arc::new(AtomicBool::new(false));
+    let recorder = (!scope.is_empty()).then(|| scope::record_run(ns.clone(), scope_options, scope, scope_stop.clone()));
     let web_ns = ns.clone();
-    let options =
-        rt_core::RunOptions { ns, launcher, exit_when_tasks_end: true, data_dir, trace, stop: None, console: None };
+    let options = rt_core::RunOptions {
+        ns,
+        launcher,
+        exit_when_tasks_end: true,
+        data_dir,
+        trace,
+        scope: scope_codes,
+        stop: None,
+        console: None,
+    };
     let report = match http {
         None => rt_core::run(config, options),
         Some(port) => {
@@ -377,6 +407,10 @@ fn run(
         }
     };
     drop(serial);
+    scope_stop.store(true, Ordering::Release);
+    if let Some(recorder) = recorder {
+        recorder.join().map_err(|_| anyhow::anyhow!("the scope's reader panicked"))??;
+    }
     let report = report?;
 
     let mut failed = false;

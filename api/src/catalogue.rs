@@ -440,7 +440,7 @@ pub const SIMULATION: &[(&str, &str)] = &[
     ("GetFirmwareHash", "A hash of the luamotion executable."),
     ("GetModelNum", "The machine file's `[identity] model`."),
     ("GetSerialNum", "The machine file's `[identity] serial`."),
-    ("SetHMIScope", "Sends the scope start/stop messages as events; `luamotion run --trace` records every cycle."),
+    ("SetHMIScope", "Starts/stops the recording of `luamotion scope`, `run --scope`; sends the messages as events."),
     ("Sleep", "Rounded up to whole controller cycles, counted on the controller's clock."),
     ("RunScheduler", "Yields the processor: each task is a process of its own."),
     ("MoveTrq", "Drives the simulated motor and load (the machine file's `[axes.plant]`)."),

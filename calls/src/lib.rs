@@ -8,5 +8,6 @@
 
 pub mod plc;
 pub mod query;
+pub mod scope;
 pub mod user_area;
 pub mod wire;

@@ -23,6 +23,7 @@ mod monitor;
 mod namespace;
 pub mod output;
 pub mod plc_image;
+pub mod scope;
 pub mod services;
 pub mod shared;
 pub mod shm;

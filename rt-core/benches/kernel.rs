@@ -6,7 +6,8 @@
 //!   every axis moving, for 1 to 64 axes. The drives' own simulation is not timed;
 //! - groups (HMPL ch. 8): one kernel cycle with 4 groups of 2 axes each running a polygon
 //!   of short segments with look-ahead, their queues kept full (512), beside the same
-//!   8 axes with no group; and queuing one segment with look-ahead onto a full queue.
+//!   8 axes with no group; and queuing one segment with look-ahead onto a full queue;
+//! - the scope's part of a cycle: 16 variables sampled into the scope ring.
 //!
 //! `cargo bench -p rt-core --bench kernel`
 
@@ -186,5 +187,41 @@ fn groups(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, planning, kernel_cycle, groups);
+/// What the scope adds to a cycle: 16 variables of every kind into the ring.
+fn scope(c: &mut Criterion) {
+    let names = [
+        "a0.ref_pos",
+        "a0.pos_out",
+        "a0.pos_fb",
+        "a0.pos_err",
+        "a0.vel_fb",
+        "a0.ref_vel",
+        "a0.motion_status",
+        "a0.fault_status",
+        "a1.pos_fb",
+        "a1.vel_fb",
+        "g0.carte_pose_cmd[0]",
+        "g0.grp_pg_vel",
+        "gpi",
+        "gpo",
+        "system_dtest0",
+        "system_user_table[5]",
+    ];
+    let codes: Vec<u32> = names.iter().map(|n| calls::scope::Var::parse(n).unwrap().code()).collect();
+    let ns = ipc::Namespace::new(&format!("bench{}-scope", std::process::id())).unwrap();
+    let ring = ipc::scope::ScopeRing::create(&ns, 1_000_000, &codes).unwrap();
+    let mut sampler = rt_core::scope::ScopeSampler::new(ring);
+    let shared = ipc::shm::zeroed::<ipc::shared::SharedData>();
+    let mut snapshot = Box::<ipc::messages::Snapshot>::default();
+    c.bench_function("scope_16_variables", |b| {
+        b.iter(|| {
+            snapshot.cycle += 1;
+            sampler.sample(black_box(&snapshot), &shared)
+        })
+    });
+    drop(sampler);
+    ipc::remove_namespace_files(&ns);
+}
+
+criterion_group!(benches, planning, kernel_cycle, groups, scope);
 criterion_main!(benches);

@@ -15,6 +15,7 @@ use crate::ecat::Network;
 use crate::machine::Machine;
 use crate::motion::Kernel;
 use crate::realtime;
+use crate::scope::ScopeSampler;
 use crate::supervisor::{ScriptLauncher, Supervisor, TaskReport};
 use crate::tasks::{self, Tasks};
 use crate::trace;
@@ -47,6 +48,9 @@ pub struct RunOptions {
     pub data_dir: PathBuf,
     /// A CSV file for every cycle's axis data (`--trace`).
     pub trace: Option<PathBuf>,
+    /// The scope's channels from the first cycle (`run --scope`): `calls::scope::Var`
+    /// codes. Tools can ask for others later through the ring.
+    pub scope: Vec<u32>,
     /// Set by the caller to shut the controller down (the soak test ends its run so).
     pub stop: Option<Arc<AtomicBool>>,
     /// The RT thread's end of a console (`console::channel`): the Modbus server's orders.
@@ -98,6 +102,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         let (ns, control, rt_config) = (options.ns.clone(), control.clone(), config.rt.clone());
         let console = options.console;
         let identity = config.identity.clone();
+        let (period_ns, scope_codes) = (config.period_ns(), options.scope);
         std::thread::Builder::new()
             .name("rt-cycle".into())
             .spawn(move || {
@@ -110,10 +115,19 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                         return None;
                     }
                 };
+                // After the endpoint (whose services are the room check's first concern), before
+                // any task starts: SetHMIScope finds the ring.
+                let scope = match ipc::scope::ScopeRing::create(&ns, period_ns, &scope_codes) {
+                    Ok(ring) => ScopeSampler::new(ring),
+                    Err(e) => {
+                        let _ = ready_tx.send(Err(e));
+                        return None;
+                    }
+                };
                 // Before any task can start: what GetModelNum and GetSerialNum report.
                 endpoint.shared().set_identity(&identity.model, &identity.serial);
                 let _ = ready_tx.send(Ok(granted));
-                Some(cycle::run(machine, endpoint, control, granted, trace, console))
+                Some(cycle::run(machine, endpoint, control, granted, trace, Some(scope), console))
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };

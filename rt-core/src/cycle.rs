@@ -25,6 +25,7 @@ use crate::dispatch;
 use crate::machine::Machine;
 use crate::master;
 use crate::realtime::{self, Granted};
+use crate::scope::ScopeSampler;
 use crate::trace::{TraceRow, TraceSender};
 
 /// Requests one task may have applied per cycle; the rest wait for the next cycle.
@@ -113,6 +114,7 @@ pub struct CycleWork {
     /// Time spent exchanging the frame with the simulated drives, ns.
     simulation_ns: u64,
     trace: Option<TraceSender>,
+    scope: Option<ScopeSampler>,
     console: Option<ConsoleInbox>,
 }
 
@@ -137,6 +139,7 @@ impl CycleWork {
             previous_execution_ns: 0,
             simulation_ns: 0,
             trace: None,
+            scope: None,
             console: None,
         }
     }
@@ -150,6 +153,12 @@ impl CycleWork {
     /// Records every cycle into `trace`.
     pub fn with_trace(mut self, trace: Option<TraceSender>) -> Self {
         self.trace = trace;
+        self
+    }
+
+    /// Samples the scope's channels every cycle.
+    pub fn with_scope(mut self, scope: Option<ScopeSampler>) -> Self {
+        self.scope = scope;
         self
     }
 
@@ -225,6 +234,9 @@ impl CycleWork {
         self.machine.tasks.fill(&mut self.snapshot.tasks, &self.machine.run_speed);
         self.endpoint.publish(&self.snapshot);
         self.endpoint.wake(cycle);
+        if let Some(scope) = &mut self.scope {
+            scope.sample(&self.snapshot, self.endpoint.shared());
+        }
         if let Some(trace) = &self.trace {
             let row = TraceRow::of(&self.snapshot, self.lateness_ns, self.previous_execution_ns);
             trace.push(
@@ -242,10 +254,11 @@ pub fn run(
     control: Arc<RtControl>,
     granted: Granted,
     trace: Option<TraceSender>,
+    scope: Option<ScopeSampler>,
     console: Option<ConsoleInbox>,
 ) -> CycleStats {
     let period = machine.period_ns;
-    let mut work = CycleWork::new(machine, endpoint).with_trace(trace).with_console(console);
+    let mut work = CycleWork::new(machine, endpoint).with_trace(trace).with_scope(scope).with_console(console);
     let mut stats = CycleStats::new(granted);
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();

@@ -23,6 +23,7 @@ pub mod position_trigger;
 pub mod profile;
 pub mod realtime;
 pub mod rt_alloc;
+pub mod scope;
 pub mod signals;
 pub mod supervisor;
 pub mod tasks;

@@ -232,7 +232,30 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     let machine = Machine::new(network, kernel, tasks, config.period_ns()).with_position_triggers(&config);
     let ns = Namespace::new(&format!("t{}-alloc", std::process::id())).unwrap();
     ipc::claim_namespace(&ns).unwrap();
-    let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap());
+    // The scope on: 16 channels of every kind, a tool changing them inside the window.
+    let names = [
+        "a0.pos_fb",
+        "a0.ref_pos",
+        "a0.pos_out",
+        "a0.pos_err",
+        "a0.vel_fb",
+        "a0.motion_status",
+        "a2.pos_fb",
+        "a3.vel_fb",
+        "g0.carte_pose_cmd[0]",
+        "g0.carte_pose_fb[1]",
+        "g0.grp_pg_vel",
+        "gpi",
+        "gpo",
+        "system_dtest0",
+        "system_ltest1",
+        "system_user_table[3]",
+    ];
+    let codes: Vec<u32> = names.iter().map(|n| calls::scope::Var::parse(n).unwrap().code()).collect();
+    let ring = ipc::scope::ScopeRing::create(&ns, config.period_ns(), &codes).unwrap();
+    let tool = ipc::scope::ScopeRing::open(&ns).unwrap();
+    let mut work = CycleWork::new(machine, CoreEndpoint::create(&ns, &[0]).unwrap())
+        .with_scope(Some(rt_core::scope::ScopeSampler::new(ring)));
 
     // A Gp1 box moving Ps2/Ps3 back and forth without end (GOTO 1).
     let shared = Region::<SharedData>::open(&ns, "shared").unwrap();
@@ -257,7 +280,11 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     run(&mut work, 500);
     SharedPlc(shared.plc()).set_relay(Relay::M(100), true);
     let (system_before, pool_before) = (rt_alloc::owner_system_allocations(), rt_alloc::pool_allocations());
-    run(&mut work, 3000);
+    let rows_before = tool.written();
+    run(&mut work, 1000);
+    let request = tool.request(&codes[8..]);
+    run(&mut work, 2000);
+    let scoped = (tool.written() - rows_before, tool.active_request() == request);
     let system = rt_alloc::owner_system_allocations() - system_before;
     let pool = rt_alloc::pool_allocations() - pool_before;
     let enabled = work.machine_mut().kernel.axes()[0].is_enabled();
@@ -279,6 +306,7 @@ fn a_cycle_never_calls_the_system_allocator_in_steady_state() {
     assert!(enabled, "the task's commands were applied");
     assert!(grouped, "the group's commands were applied");
     assert!(filters, "the filters of ch. 15 were on");
+    assert_eq!(scoped, (3000, true), "the scope recorded every cycle and took over a new request");
     assert!(pulsed, "axis 1's position trigger gave pulses");
     assert!(compensating, "axis 7 is compensated");
     assert!(box_running && box_error == 0, "the box runs its table (ACT {box_running}, error {box_error})");

@@ -204,6 +204,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<(Merged,
         exit_when_tasks_end: false,
         data_dir: dir.path().to_path_buf(),
         trace: None,
+        scope: Vec::new(),
         stop: None,
         console: None,
     };

@@ -54,11 +54,17 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         }),
         Local::SetHMIScope => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
-            let code = match int_arg(lua, spec, &args, 0)? {
-                1 => 0xB2C8,
-                0 => 0xB2C9,
+            let (code, open) = match int_arg(lua, spec, &args, 0)? {
+                1 => (0xB2C8, true),
+                0 => (0xB2C9, false),
                 _ => return Ok(system_code(SystemError::HmplArgOutOfRange)),
             };
+            // The scope ring's gate (docs/decisions.md "SetHMIScope"); opened per call,
+            // which is rare.
+            match ipc::scope::ScopeRing::open(&host.ns) {
+                Ok(ring) => ring.set_gate(open),
+                Err(_) => return Ok(system_code(SystemError::HmplExecFailed)),
+            }
             Ok(host.send_event(EventKind::Event, code, ""))
         }),
         // HMPL ch. 3: strings.
