@@ -276,3 +276,68 @@ fn unknown_variables_and_bad_triggers_are_refused_with_the_names_to_use() {
     let out = run(&unique_ns("scope-bad"), &["--scope", "x.csv", "--scope-trigger", "a0.pos_fb=3", "nothing.lua"]);
     assert!(out.stderr.contains("VAR>LEVEL"), "{}", out.stderr);
 }
+
+/// The figure for the README (run by hand, release build): `luamotion scope` records the 16
+/// variables of `SIXTEEN` every cycle of a `serve` at 1 kHz while a program moves two axes;
+/// rows lost, cycles missing, and the RT thread's share of a core and the overruns over the
+/// same seconds without and with the recording.
+#[test]
+#[ignore = "a measurement: cargo test --release --test scope -- --ignored --nocapture"]
+fn measure_sixteen_variables_every_cycle() {
+    const SECONDS: u64 = 10;
+    let dir = tempfile::tempdir().unwrap();
+    let main = program(
+        dir.path(),
+        "loop.lua",
+        r#"
+        Enable(0) Enable(1)
+        Till(function() return IsEnabled(0) and IsEnabled(1) end)
+        while true do
+            MoveAbs(0, 100) MoveAbs(1, 50)
+            Till(function() return not IsMoving(0) and not IsMoving(1) end)
+            MoveAbs(0, 0) MoveAbs(1, 0)
+            Till(function() return not IsMoving(0) and not IsMoving(1) end)
+        end
+        "#,
+    );
+    let machine = dir.path().join("machine.toml");
+    let task = format!("[[tasks]]\nid = 0\nprogram = {:?}\nautorun = true\n", main.display().to_string());
+    std::fs::write(&machine, format!("{}{task}", "[[axes]]\n".repeat(4))).unwrap();
+    let ns = unique_ns("scope-rate");
+    let serving =
+        common::serve::serve(&ns, &dir.path().join("data"), &["--http", "0", "--config", machine.to_str().unwrap()]);
+    let state = format!("{}api/state", serving.web.clone().expect("the web view's address"));
+    let overruns = || get_json(&state)["overruns"].as_u64().unwrap();
+    let rt_cost = |span: &mut dyn FnMut()| {
+        let (cpu, overrun, start) = (thread_cpu_ns(serving.pid(), "rt-cycle"), overruns(), std::time::Instant::now());
+        span();
+        let busy = (thread_cpu_ns(serving.pid(), "rt-cycle") - cpu) as f64 / start.elapsed().as_nanos() as f64;
+        (100.0 * busy, overruns() - overrun)
+    };
+    let quiet = rt_cost(&mut || std::thread::sleep(Duration::from_secs(SECONDS)));
+    let csv_path = dir.path().join("sixteen.csv");
+    let mut out = None;
+    let recording = rt_cost(&mut || {
+        let child = Command::new(BIN)
+            .args(["scope", "--ns", &ns, "--scope-vars", SIXTEEN, "--out", csv_path.to_str().unwrap()])
+            .args(["--duration-ms", &(SECONDS * 1000).to_string()])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        out = Some(finish(child, Duration::from_secs(SECONDS + 30)));
+    });
+    let out = out.unwrap();
+    assert!(out.status.success(), "{}", out.stderr);
+    let cycles = Csv::read(&csv_path).cycles();
+    let missing: u64 = cycles.windows(2).map(|w| w[1] - w[0] - 1).sum();
+    println!(
+        "16 variables at 1 kHz for {SECONDS} s: {} rows, {missing} cycles missing ({}); RT thread: {:.1} % of a core and {} overruns without the scope, {:.1} % and {} recording",
+        cycles.len(),
+        out.stderr.trim(),
+        quiet.0,
+        quiet.1,
+        recording.0,
+        recording.1
+    );
+}

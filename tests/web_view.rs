@@ -23,10 +23,6 @@ fn serve_web(ns: &str, dir: &Path, config: &str) -> (Serving, String) {
     (serving, web)
 }
 
-fn get_json(url: &str) -> Value {
-    ureq::get(url).call().unwrap_or_else(|e| panic!("GET {url}: {e}")).body_mut().read_json().expect("JSON")
-}
-
 /// POSTs to the web view; the status and the body.
 fn post(url: &str) -> (u16, String) {
     let agent: ureq::Agent = ureq::Agent::config_builder().http_status_as_error(false).build().into();
@@ -361,43 +357,50 @@ fn browser_watches_a_program_move_an_axis_and_jogs_another() {
 }
 
 /// The figure for the README (run by hand, release build recommended): updates per second
-/// each of 5 stream clients gets at 96 axes, and the controller's overruns over the same
-/// seconds with and without them.
+/// each of 5 stream clients gets at 96 axes, and the RT thread's share of a core and the
+/// controller's overruns over the same seconds with and without them.
 #[test]
 #[ignore = "a measurement: cargo test --release --test web_view -- --ignored --nocapture"]
 fn measure_updates_with_five_clients_at_96_axes() {
     const SECONDS: u64 = 5;
     let ns = unique_ns("web-rate");
     let dir = tempfile::tempdir().unwrap();
-    let (_serving, web) = serve_web(&ns, dir.path(), &"[[axes]]\n".repeat(96));
+    let (serving, web) = serve_web(&ns, dir.path(), &"[[axes]]\n".repeat(96));
     let overruns = || get_json(&format!("{web}api/state"))["overruns"].as_u64().unwrap();
-    let quiet = overruns();
-    std::thread::sleep(Duration::from_secs(SECONDS));
-    let quiet = overruns() - quiet;
-    let clients: Vec<_> = (0..5)
-        .map(|_| {
-            let url = format!("{web}api/stream");
-            std::thread::spawn(move || {
-                let mut response = ureq::get(&url).call().expect("the stream");
-                let start = std::time::Instant::now();
-                let mut updates = 0u64;
-                for line in BufReader::new(response.body_mut().as_reader()).lines() {
-                    if line.expect("a line").starts_with("data: ") {
-                        updates += 1;
+    // The RT thread's share of a core and the overruns over a span.
+    let rt_cost = |span: &mut dyn FnMut()| {
+        let (cpu, overrun, start) = (thread_cpu_ns(serving.pid(), "rt-cycle"), overruns(), std::time::Instant::now());
+        span();
+        let busy = (thread_cpu_ns(serving.pid(), "rt-cycle") - cpu) as f64 / start.elapsed().as_nanos() as f64;
+        (100.0 * busy, overruns() - overrun)
+    };
+    let quiet = rt_cost(&mut || std::thread::sleep(Duration::from_secs(SECONDS)));
+    let mut rates = Vec::new();
+    let loaded = rt_cost(&mut || {
+        let clients: Vec<_> = (0..5)
+            .map(|_| {
+                let url = format!("{web}api/stream");
+                std::thread::spawn(move || {
+                    let mut response = ureq::get(&url).call().expect("the stream");
+                    let start = std::time::Instant::now();
+                    let mut updates = 0u64;
+                    for line in BufReader::new(response.body_mut().as_reader()).lines() {
+                        if line.expect("a line").starts_with("data: ") {
+                            updates += 1;
+                        }
+                        if start.elapsed() >= Duration::from_secs(SECONDS) {
+                            break;
+                        }
                     }
-                    if start.elapsed() >= Duration::from_secs(SECONDS) {
-                        break;
-                    }
-                }
-                updates as f64 / start.elapsed().as_secs_f64()
+                    updates as f64 / start.elapsed().as_secs_f64()
+                })
             })
-        })
-        .collect();
-    let before = overruns();
-    let rates: Vec<f64> = clients.into_iter().map(|c| c.join().unwrap()).collect();
-    let loaded = overruns() - before;
+            .collect();
+        rates = clients.into_iter().map(|c| c.join().unwrap()).collect();
+    });
     assert!(rates.iter().all(|&r| r > 0.0), "every client got updates");
     println!(
-        "96 axes, 5 stream clients: {rates:.1?} updates/s; overruns in {SECONDS} s: {quiet} without clients, {loaded} with"
+        "96 axes, 5 stream clients: {rates:.1?} updates/s; RT thread over {SECONDS} s: {:.1} % of a core and {} overruns without clients, {:.1} % and {} with",
+        quiet.0, quiet.1, loaded.0, loaded.1
     );
 }

@@ -112,6 +112,24 @@ pub fn process_alive(pid: u32) -> bool {
         .unwrap_or(false)
 }
 
+/// CPU time a thread of `pid` named `name` has used, ns, from its `schedstat` (the
+/// scheduler's own account, finer than the clock ticks of `stat`).
+pub fn thread_cpu_ns(pid: u32, name: &str) -> u64 {
+    for entry in std::fs::read_dir(format!("/proc/{pid}/task")).expect("the process' threads").flatten() {
+        let path = entry.path();
+        if std::fs::read_to_string(path.join("comm")).is_ok_and(|comm| comm.trim() == name) {
+            let schedstat = std::fs::read_to_string(path.join("schedstat")).expect("schedstat");
+            return schedstat.split_whitespace().next().and_then(|ns| ns.parse().ok()).expect("run time");
+        }
+    }
+    panic!("no thread {name} in process {pid}")
+}
+
+/// GETs a JSON document (the web view's `/api/state`).
+pub fn get_json(url: &str) -> serde_json::Value {
+    ureq::get(url).call().unwrap_or_else(|e| panic!("GET {url}: {e}")).body_mut().read_json().expect("JSON")
+}
+
 /// Files the namespace has in shared memory.
 pub fn shm_files(ns: &str) -> Vec<String> {
     let prefix = format!("lm.{ns}.");
