@@ -287,6 +287,10 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                         SystemError::HmplMutexLockTwice,
                         &format!("MutexLock({id}): this task holds the mutex already"),
                     ),
+                    // On the simulation clock the core grants the next turn once it is free.
+                    Some(Lock::HeldBy(_)) if host.endpoint.borrow().lockstep() => {
+                        host.endpoint.borrow_mut().wait_for_mutex_turn(id).map_err(mlua::Error::external)?;
+                    }
                     Some(Lock::HeldBy(owner)) => {
                         let endpoint = host.endpoint.borrow();
                         endpoint.slot().set_state(RunState::Blocked);
