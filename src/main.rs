@@ -474,6 +474,11 @@ fn run(
         overruns = stats.overruns,
         lateness_p99_us = stats.lateness.value_at_quantile(0.99) as f64 / 1000.0,
         execution_p99_us = stats.execution.value_at_quantile(0.99) as f64 / 1000.0,
+        execution_mean_us = stats.execution.mean() / 1000.0,
+        drives_ms = stats.simulation_ns / 1_000_000,
+        lockstep_ms = stats.lockstep_ns / 1_000_000,
+        rt_cpu_ms = stats.cpu_ns / 1_000_000,
+        wall_ms = stats.wall_ns / 1_000_000,
         "cycle statistics"
     );
     Ok(if let Some(signal) = report.interrupted {

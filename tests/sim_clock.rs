@@ -82,8 +82,8 @@ fn contender(dir: &Path, axis: usize) -> PathBuf {
     program(dir, &format!("contender{axis}.lua"), &source)
 }
 
-/// Polls without a wait until the others have counted to `total`: its share of each
-/// cycle lets the clock go on.
+/// Polls without a wait until the others have counted to `total`, letting them go first
+/// now and then: its share of each cycle lets the clock go on.
 fn poller(dir: &Path, total: usize) -> PathBuf {
     let source = format!(
         "local polls = 0\n\
@@ -91,6 +91,7 @@ fn poller(dir: &Path, total: usize) -> PathBuf {
            local rc, v = GetUserTable(0, 1)\n\
            if v[1] >= {total} then break end\n\
            polls = polls + GetGPI(0) + 1\n\
+           if polls % 7 == 0 then RunScheduler() end\n\
          end\n\
          Print('polled %d times', polls)\n"
     );
@@ -144,4 +145,37 @@ fn a_hung_task_is_still_caught_and_the_others_go_on() {
     assert!(out.stderr.contains("task 0: watchdog: no progress for 500 ms"), "{}", out.stderr);
     assert!(out.stderr.contains("sleeper.lua): finished"), "{}", out.stderr);
     assert_eq!(out.lines_of_task(1).len(), 1, "{}", out.stderr);
+}
+
+/// A Modbus client holds the clock while it waits for the server (here another
+/// controller's, `luamotion serve`): its answers come at the same cycle in every run.
+#[test]
+fn a_modbus_client_beside_mutexes_gives_the_same_trace() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = common::serve::serve(&unique_ns("sim-mb"), dir.path(), &[]);
+    let client = program(
+        dir.path(),
+        "client.lua",
+        &format!(
+            "local rc, s = Modbus_ClientConnect('127.0.0.1:{port}')\n\
+             Enable(3)\n\
+             Till(function() return IsEnabled(3) end)\n\
+             for i = 1, 6 do\n\
+               MutexLock(0)\n\
+               Modbus_ClientWrite_HoldReg(s, 0x0100, 1, {{i * 7}})\n\
+               local rc, bytes = Modbus_ClientRead_HoldReg(s, 0x0100, 1)\n\
+               MutexUnlock(0)\n\
+               MoveAbs(3, bytes[2] + i)\n\
+               Sleep(2)\n\
+             end\n\
+             Till(function() return IsInPos(3) end)\n\
+             Print('read %.0f', GetPosFb(3))\n\
+             Modbus_ClientDisconnect(s)\n",
+            port = server.port
+        ),
+    );
+    let mut programs: Vec<PathBuf> = (0..3).map(|axis| contender(dir.path(), axis)).collect();
+    programs.push(client);
+    let runs = twice_the_same(dir.path(), 4, &programs);
+    assert_eq!(runs[0].lines_of_task(3), ["read 48"], "{}", runs[0].stderr);
 }

@@ -20,8 +20,8 @@ use crate::{IpcError, Namespace};
 /// How often a blocked script checks that its controller is still alive.
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
 /// On the simulation clock, a task's share of a cycle: after this many API calls in one
-/// turn it waits for the next cycle (docs/decisions.md, "Simulation clock").
-pub const CALLS_PER_TURN: u32 = 200;
+/// cycle it waits for the next (docs/decisions.md, "A task's share of a simulated cycle").
+pub const CALLS_PER_CYCLE: u32 = 200;
 
 /// When the legs of the last call happened (CLOCK_MONOTONIC, ns), for the soak test.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -65,8 +65,9 @@ pub struct TaskEndpoint {
     wait_seq: u16,
     /// On the simulation clock: runs Lua only in the turns the core grants.
     lockstep: bool,
-    /// API calls in the current turn.
-    calls_in_turn: u32,
+    /// API calls in the cycle `share_cycle`.
+    calls_in_cycle: u32,
+    share_cycle: u64,
     latest: Option<Sample<Ipc, Snapshot, ()>>,
     state: StateSubscriber,
     requests: RequestPublisher,
@@ -107,7 +108,8 @@ impl TaskEndpoint {
             last_call: CallTiming::default(),
             wait_seq,
             lockstep,
-            calls_in_turn: 0,
+            calls_in_cycle: 0,
+            share_cycle: 0,
             latest: None,
             state,
             requests,
@@ -318,12 +320,15 @@ impl TaskEndpoint {
         if !self.lockstep {
             return Ok(());
         }
-        self.calls_in_turn += 1;
-        if self.calls_in_turn < CALLS_PER_TURN {
+        let cycle = self.snapshot().cycle;
+        if cycle != self.share_cycle {
+            (self.share_cycle, self.calls_in_cycle) = (cycle, 0);
+        }
+        self.calls_in_cycle += 1;
+        if self.calls_in_cycle < CALLS_PER_CYCLE {
             return Ok(());
         }
-        let next = self.snapshot().cycle + 1;
-        self.wait_in_lockstep(next)
+        self.wait_in_lockstep(cycle + 1)
     }
 
     /// On the simulation clock: the first turn, before the program's first line (a
@@ -332,6 +337,12 @@ impl TaskEndpoint {
         if !self.lockstep {
             return Ok(());
         }
+        self.yield_turn()
+    }
+
+    /// On the simulation clock: lets the other tasks whose wait has come take their turns
+    /// in this cycle first (`RunScheduler`).
+    pub fn yield_turn(&mut self) -> Result<(), IpcError> {
         self.park();
         self.next_turn(|_| true)
     }
@@ -349,7 +360,6 @@ impl TaskEndpoint {
 
     /// Gives the turn back (the core goes on with the other tasks or the next cycle).
     fn park(&mut self) {
-        self.calls_in_turn = 0;
         self.table.park(self.task);
     }
 

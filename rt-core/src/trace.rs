@@ -284,3 +284,31 @@ fn write(
         std::thread::sleep(Duration::from_millis(10));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn digest_of(rows: &[TraceRow]) -> u64 {
+        let mut digest = Digest::default();
+        rows.iter().for_each(|row| digest.add(row));
+        digest.value()
+    }
+
+    /// The digest is FNV-1a over a fixed encoding: the empty digest is FNV's offset basis,
+    /// the wall-time columns do not count, and one bit of a position does.
+    #[test]
+    fn the_digest_sees_the_machine_not_the_wall() {
+        assert_eq!(Digest::default().value(), 0xcbf2_9ce4_8422_2325);
+        let mut row = TraceRow { cycle: 7, gpo: 3, ..TraceRow::default() };
+        row.axes[0].pos_fb = 100.0;
+        let base = digest_of(&[row, row]);
+        assert_eq!(base, digest_of(&[row, row]));
+        let timed = TraceRow { lateness_ns: 12_345, previous_execution_ns: 678, ..row };
+        assert_eq!(digest_of(&[row, timed]), base, "wall time is left out");
+        let mut moved = row;
+        moved.axes[0].pos_fb = f64::from_bits(100f64.to_bits() + 1);
+        assert_ne!(digest_of(&[row, moved]), base, "the last bit of a position counts");
+        assert_ne!(digest_of(&[row]), base, "so does every row");
+    }
+}

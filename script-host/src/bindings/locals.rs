@@ -273,8 +273,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         }),
         Local::RunScheduler => lua.create_function(move |_, ()| {
             host.beat();
-            std::thread::yield_now();
-            Ok(())
+            let mut endpoint = host.endpoint.borrow_mut();
+            if endpoint.lockstep() {
+                // On the simulation clock the other tasks' turns come first.
+                endpoint.yield_turn().map_err(mlua::Error::external)
+            } else {
+                std::thread::yield_now();
+                Ok(())
+            }
         }),
         Local::MutexLock => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
