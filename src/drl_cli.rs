@@ -81,6 +81,7 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
         scope: Vec::new(),
         stop: None,
         console: Some(inbox),
+        clock: rt_core::sim_clock::Clock::RealTime,
     };
     let controller = rt_core::controller::Background::start(config, options)?;
     let setup = drl::Setup {

@@ -10,6 +10,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use config::{MAX_TASKS, MachineConfig, TaskConfig};
 use ipc::Namespace;
+use rt_core::sim_clock::{Clock, Speed};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
 mod drl_cli;
@@ -32,6 +33,33 @@ struct Cli {
     command: Cmd,
 }
 
+/// The clock of `run`.
+#[derive(clap::Args)]
+struct ClockArgs {
+    /// `realtime` (one cycle per period) or `sim`: the cycles in lockstep with the
+    /// programs, as fast as they allow, the same run after run (a trace digest at the end).
+    #[arg(long, value_enum, default_value_t = ClockKind::Realtime)]
+    clock: ClockKind,
+    /// With `--clock sim`: at most N times real time, or `max`.
+    #[arg(long, default_value = "max", requires = "clock")]
+    speed: Speed,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum ClockKind {
+    Realtime,
+    Sim,
+}
+
+impl ClockArgs {
+    fn clock(&self) -> Clock {
+        match self.clock {
+            ClockKind::Realtime => Clock::RealTime,
+            ClockKind::Sim => Clock::Sim { speed: self.speed },
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Cmd {
     /// Start a controller and run Lua programs, one script process each.
@@ -51,6 +79,8 @@ enum Cmd {
         scope: Vec<PathBuf>,
         #[command(flatten)]
         scope_options: scope::ScopeOptions,
+        #[command(flatten)]
+        clock: ClockArgs,
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
     },
@@ -253,8 +283,8 @@ fn main() -> ExitCode {
     // plotters lays text out with it (the soak's report and the scope's plots).
     scope::register_font();
     let result = match cli.command {
-        Cmd::Run { controller, trace, http, scope, scope_options, scripts } => {
-            run(&controller, trace, http, (scope, scope_options), scripts)
+        Cmd::Run { controller, trace, http, scope, scope_options, clock, scripts } => {
+            run(&controller, trace, http, (scope, scope_options), clock.clock(), scripts)
         }
         Cmd::Scope(args) => scope::scope(args),
         Cmd::Tasks { ns } => tools::tasks(&ns),
@@ -340,6 +370,7 @@ fn run(
     trace: Option<PathBuf>,
     http: Option<u16>,
     (scope, scope_options): (Vec<PathBuf>, scope::ScopeOptions),
+    clock: Clock,
     scripts: Vec<PathBuf>,
 ) -> Result<ExitCode> {
     // Before anything starts: a name the scope does not know is the operator's first error.
@@ -355,6 +386,7 @@ fn run(
     }
     config.tasks.sort_by_key(|t| t.id);
     config.validate()?;
+    let config_period_s = config.period_ns() as f64 * 1e-9;
     let ns = controller.namespace()?;
 
     let launcher = controller.launcher(&config, &config.ascii.bind)?;
@@ -380,6 +412,7 @@ fn run(
         scope: scope_codes,
         stop: None,
         console: None,
+        clock,
     };
     let report = match http {
         None => rt_core::run(config, options),
@@ -426,11 +459,26 @@ fn run(
         }
     }
     let stats = &report.stats;
+    if let Clock::Sim { .. } = clock {
+        let simulated_s = stats.digest.rows() as f64 * config_period_s;
+        let wall_s = stats.wall_ns as f64 * 1e-9;
+        eprintln!(
+            "simulated {simulated_s:.3} s in {wall_s:.3} s ({:.1}x); trace digest fnv1a64:{:016x} over {} cycles",
+            simulated_s / wall_s.max(1e-9),
+            stats.digest.value(),
+            stats.digest.rows()
+        );
+    }
     tracing::info!(
         cycles = stats.cycles,
         overruns = stats.overruns,
         lateness_p99_us = stats.lateness.value_at_quantile(0.99) as f64 / 1000.0,
         execution_p99_us = stats.execution.value_at_quantile(0.99) as f64 / 1000.0,
+        execution_mean_us = stats.execution.mean() / 1000.0,
+        drives_ms = stats.simulation_ns / 1_000_000,
+        lockstep_ms = stats.lockstep_ns / 1_000_000,
+        rt_cpu_ms = stats.cpu_ns / 1_000_000,
+        wall_ms = stats.wall_ns / 1_000_000,
         "cycle statistics"
     );
     Ok(if let Some(signal) = report.interrupted {

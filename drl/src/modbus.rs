@@ -86,7 +86,7 @@ async fn connection(
         };
         let pdu = &frame[HEADER..HEADER + pdu_len];
         let response = match decode(pdu) {
-            Ok(request) => answer(console, request).await,
+            Ok(request) => answer(console, pdu[0], request).await,
             Err(exception) => Err(exception),
         };
         let response = encode(&frame[..HEADER], pdu[0], response);
@@ -140,20 +140,25 @@ enum Answered {
     Written { address: u16, value_or_count: u16 },
 }
 
-async fn answer(console: &SyncSender<ConsoleRequest>, op: Op) -> Result<Answered, ExceptionCode> {
-    let (reply, echo) = submit(console, op)?;
+async fn answer(console: &SyncSender<ConsoleRequest>, function: u8, op: Op) -> Result<Answered, ExceptionCode> {
+    let (reply, echo) = submit(console, function, op)?;
     answered(reply.await, echo)
 }
 
 /// How a write is echoed: its address and its value (FC 06) or count (FC 16).
 type Echo = Option<(u16, u16)>;
 
-/// Queues `op` with the console.
-fn submit(console: &SyncSender<ConsoleRequest>, op: Op) -> Result<(oneshot::Receiver<Answer>, Echo), ExceptionCode> {
+/// Queues `op` (of function code `function`) with the console.
+fn submit(
+    console: &SyncSender<ConsoleRequest>,
+    function: u8,
+    op: Op,
+) -> Result<(oneshot::Receiver<Answer>, Echo), ExceptionCode> {
     let (tx, rx) = oneshot::channel();
+    // By the function code, not the number of words: an FC 16 of one register echoes 1.
     let echo = match &op {
         Op::Read { .. } => None,
-        Op::Write { address, values } if values.len() == 1 => Some((*address, values[0])),
+        Op::Write { address, values } if function == 0x06 => Some((*address, values[0])),
         Op::Write { address, values } => Some((*address, values.len() as u16)),
     };
     // A full queue means the console thread is far behind: the client is told the device is busy.
@@ -173,8 +178,9 @@ fn answered(answer: Result<Answer, oneshot::error::RecvError>, echo: Echo) -> Re
 /// the same register logic and exceptions as Modbus TCP, outside an async runtime).
 pub fn answer_pdu(console: &SyncSender<ConsoleRequest>, pdu: &[u8]) -> Vec<u8> {
     let Some(&function) = pdu.first() else { return Vec::new() };
-    let response =
-        decode(pdu).and_then(|op| submit(console, op)).and_then(|(reply, echo)| answered(reply.blocking_recv(), echo));
+    let response = decode(pdu)
+        .and_then(|op| submit(console, function, op))
+        .and_then(|(reply, echo)| answered(reply.blocking_recv(), echo));
     response_pdu(function, response)
 }
 
@@ -281,5 +287,27 @@ mod tests {
         assert_eq!(encode(&header, 0xC1, Err(ExceptionCode::IllegalFunction))[7], 0xC1);
         let frame = encode(&header, 0x03, Ok(Answered::Read(vec![0x0102, 0x0304])));
         assert_eq!(frame, [0x12, 0x34, 0, 0, 0, 7, 0xFF, 0x03, 4, 1, 2, 3, 4]);
+    }
+
+    /// A write is echoed by its function code: FC 06 its value, FC 16 its count, also of
+    /// one register (a client checks the count it sent).
+    #[test]
+    fn writes_echo_value_or_count_by_function_code() {
+        let (console, requests) = std::sync::mpsc::sync_channel::<ConsoleRequest>(4);
+        let server = std::thread::spawn(move || {
+            for (_, reply) in requests {
+                let _ = reply.send(Ok(Vec::new()));
+            }
+        });
+        let rows: [(&[u8], &[u8]); 3] = [
+            (&[0x06, 0x01, 0x00, 0x00, 0x07], &[0x06, 0x01, 0x00, 0x00, 0x07]),
+            (&[0x10, 0x01, 0x00, 0x00, 0x01, 0x02, 0x00, 0x07], &[0x10, 0x01, 0x00, 0x00, 0x01]),
+            (&[0x10, 0x01, 0x00, 0x00, 0x02, 0x04, 0x00, 0x07, 0x00, 0x08], &[0x10, 0x01, 0x00, 0x00, 0x02]),
+        ];
+        for (request, response) in rows {
+            assert_eq!(answer_pdu(&console, request), response, "{request:02X?}");
+        }
+        drop(console);
+        server.join().unwrap();
     }
 }

@@ -187,8 +187,18 @@ impl CoreEndpoint {
         }
     }
 
-    /// Wakes every task whose reply was sent this cycle or whose wait cycle has come.
-    pub fn wake(&mut self, cycle: u64) {
+    /// Connects new readers of the state (a starting task's) and hands them the last
+    /// snapshot: what a publish does, for a core that waits between two cycles.
+    pub fn update_connections(&self) {
+        use iceoryx2::port::update_connections::UpdateConnections;
+        // A failure is retried at the next call, as a publish would.
+        let _ = self.state.update_connections();
+    }
+
+    /// Wakes every task whose reply was sent this cycle or whose wait cycle has come;
+    /// returns them, bit t for task t.
+    pub fn wake(&mut self, cycle: u64) -> u64 {
+        let mut woken = 0;
         for task in &mut self.tasks {
             let slot = &self.table.slots[task.id as usize];
             let mut due = std::mem::take(&mut task.replied);
@@ -202,7 +212,9 @@ impl CoreEndpoint {
             if due {
                 slot.wake(monotonic_ns());
                 self.stats.wakes += 1;
+                woken |= 1 << task.id;
             }
         }
+        woken
     }
 }

@@ -19,6 +19,9 @@ use crate::{IpcError, Namespace};
 
 /// How often a blocked script checks that its controller is still alive.
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
+/// On the simulation clock, a task's share of a cycle: after this many API calls in one
+/// cycle it waits for the next (docs/decisions.md, "A task's share of a simulated cycle").
+pub const CALLS_PER_CYCLE: u32 = 200;
 
 /// When the legs of the last call happened (CLOCK_MONOTONIC, ns), for the soak test.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -60,6 +63,11 @@ pub struct TaskEndpoint {
     counters: ReplyCounters,
     last_call: CallTiming,
     wait_seq: u16,
+    /// On the simulation clock: runs Lua only in the turns the core grants.
+    lockstep: bool,
+    /// API calls in the cycle `share_cycle`.
+    calls_in_cycle: u32,
+    share_cycle: u64,
     latest: Option<Sample<Ipc, Snapshot, ()>>,
     state: StateSubscriber,
     requests: RequestPublisher,
@@ -86,6 +94,7 @@ impl TaskEndpoint {
             .map_err(|e| failed(&format!("task {task} replies"), e))?;
         let table = Region::<TaskTable>::open(ns, "tasks")?;
         let wait_seq = table.slots[task as usize].wait_request().seq;
+        let lockstep = table.slots[task as usize].lockstep();
         let mut endpoint = TaskEndpoint {
             task,
             controller_pid,
@@ -98,6 +107,9 @@ impl TaskEndpoint {
             counters: ReplyCounters::default(),
             last_call: CallTiming::default(),
             wait_seq,
+            lockstep,
+            calls_in_cycle: 0,
+            share_cycle: 0,
             latest: None,
             state,
             requests,
@@ -160,7 +172,7 @@ impl TaskEndpoint {
         request.seq = self.seq;
         request.sent_ns = monotonic_ns();
         self.slot().set_state(RunState::InCall);
-        let result = self.exchange(request);
+        let result = if self.lockstep { self.exchange_in_lockstep(request) } else { self.exchange(request) };
         self.slot().set_state(RunState::Running);
         let (reply, reply_seen_ns) = result?;
         self.answered = reply.seq;
@@ -200,18 +212,12 @@ impl TaskEndpoint {
     }
 
     fn exchange(&mut self, request: &Request) -> Result<(Reply, u64), IpcError> {
-        let delivered = self.requests.send_copy(*request).map_err(|e| failed("send request", e))?;
-        if delivered == 0 {
-            return Err(IpcError::ControllerGone);
-        }
+        self.send(request)?;
         let deadline = self.reply_timeout.map(|t| request.sent_ns + t.as_nanos() as u64);
         loop {
             let seen = self.slot().wake_count();
-            match self.replies.receive() {
-                Ok(Some(reply)) if reply.payload().seq == request.seq => return Ok((*reply.payload(), monotonic_ns())),
-                Ok(Some(reply)) => self.unexpected(reply.payload().seq),
-                Ok(None) => {}
-                Err(e) => return Err(IpcError::Service(format!("receive reply: {e:?}"))),
+            if let Some(reply) = self.take_reply(request.seq)? {
+                return Ok((reply, monotonic_ns()));
             }
             if deadline.is_some_and(|d| monotonic_ns() > d) {
                 self.counters.lost += 1;
@@ -219,6 +225,40 @@ impl TaskEndpoint {
                 return Err(IpcError::ReplyLost(request.seq));
             }
             self.sleep(seen)?;
+        }
+    }
+
+    /// `exchange` on the simulation clock: the task parks once the request is sent and
+    /// takes its next turn in the cycle the core answers (no reply timeout: the core
+    /// answers every call it takes, and a lost controller ends the wait).
+    fn exchange_in_lockstep(&mut self, request: &Request) -> Result<(Reply, u64), IpcError> {
+        self.send(request)?;
+        self.park();
+        let mut reply = Ok(None);
+        self.next_turn(|endpoint| {
+            reply = endpoint.take_reply(request.seq);
+            !matches!(reply, Ok(None))
+        })?;
+        Ok((reply?.expect("a turn is taken with the reply"), monotonic_ns()))
+    }
+
+    fn send(&mut self, request: &Request) -> Result<(), IpcError> {
+        let delivered = self.requests.send_copy(*request).map_err(|e| failed("send request", e))?;
+        if delivered == 0 {
+            return Err(IpcError::ControllerGone);
+        }
+        Ok(())
+    }
+
+    /// The reply to call `seq`, if it has come; replies to other calls are counted and dropped.
+    fn take_reply(&mut self, seq: u64) -> Result<Option<Reply>, IpcError> {
+        loop {
+            match self.replies.receive() {
+                Ok(Some(reply)) if reply.payload().seq == seq => return Ok(Some(*reply.payload())),
+                Ok(Some(reply)) => self.unexpected(reply.payload().seq),
+                Ok(None) => return Ok(None),
+                Err(e) => return Err(IpcError::Service(format!("receive reply: {e:?}"))),
+            }
         }
     }
 
@@ -238,6 +278,9 @@ impl TaskEndpoint {
 
     /// Blocks until core cycle `cycle` has been published.
     pub fn wait_until_cycle(&mut self, cycle: u64) -> Result<(), IpcError> {
+        if self.lockstep {
+            return self.wait_in_lockstep(cycle);
+        }
         loop {
             let seen = self.slot().wake_count();
             if self.snapshot().cycle >= cycle {
@@ -249,6 +292,88 @@ impl TaskEndpoint {
             let woken = self.sleep(seen);
             self.slot().set_state(RunState::Running);
             woken?;
+        }
+    }
+
+    /// `wait_until_cycle` on the simulation clock: the wait request is published, the
+    /// turn given back, and the next turn comes in cycle `cycle`.
+    fn wait_in_lockstep(&mut self, cycle: u64) -> Result<(), IpcError> {
+        if self.snapshot().cycle >= cycle {
+            return Ok(());
+        }
+        self.wait_seq = self.wait_seq.wrapping_add(1);
+        self.slot().begin_wait(WaitRequest { seq: self.wait_seq, cycle });
+        self.park();
+        let woken = self.next_turn(|endpoint| endpoint.snapshot().cycle >= cycle);
+        self.slot().set_state(RunState::Running);
+        woken
+    }
+
+    /// Whether this task runs in lockstep with the simulation clock.
+    pub fn lockstep(&self) -> bool {
+        self.lockstep
+    }
+
+    /// Counts one API call; on the simulation clock, a task that has used its share of the
+    /// cycle waits for the next one (so a loop polling `GetGPI` lets time advance).
+    pub fn count_call(&mut self) -> Result<(), IpcError> {
+        if !self.lockstep {
+            return Ok(());
+        }
+        let cycle = self.snapshot().cycle;
+        if cycle != self.share_cycle {
+            (self.share_cycle, self.calls_in_cycle) = (cycle, 0);
+        }
+        self.calls_in_cycle += 1;
+        if self.calls_in_cycle < CALLS_PER_CYCLE {
+            return Ok(());
+        }
+        self.wait_in_lockstep(cycle + 1)
+    }
+
+    /// On the simulation clock: the first turn, before the program's first line (a
+    /// starting task holds the clock until then).
+    pub fn first_turn(&mut self) -> Result<(), IpcError> {
+        if !self.lockstep {
+            return Ok(());
+        }
+        self.yield_turn()
+    }
+
+    /// On the simulation clock: lets the other tasks whose wait has come take their turns
+    /// in this cycle first (`RunScheduler`).
+    pub fn yield_turn(&mut self) -> Result<(), IpcError> {
+        self.park();
+        self.next_turn(|_| true)
+    }
+
+    /// On the simulation clock: blocks on mutex `id`; the core grants the next turn once
+    /// it is free.
+    pub fn wait_for_mutex_turn(&mut self, id: usize) -> Result<(), IpcError> {
+        self.slot().set_blocked_on(id);
+        self.slot().set_state(RunState::Blocked);
+        self.park();
+        let woken = self.next_turn(|_| true);
+        self.slot().set_state(RunState::Running);
+        woken
+    }
+
+    /// Gives the turn back (the core goes on with the other tasks or the next cycle).
+    fn park(&mut self) {
+        self.table.park(self.task);
+    }
+
+    /// Sleeps until a turn in which `ready` holds; a turn in which it does not is given back.
+    fn next_turn(&mut self, mut ready: impl FnMut(&mut Self) -> bool) -> Result<(), IpcError> {
+        loop {
+            let seen = self.slot().wake_count();
+            if self.slot().take_turn() {
+                if ready(self) {
+                    return Ok(());
+                }
+                self.park();
+            }
+            self.sleep(seen)?;
         }
     }
 

@@ -80,9 +80,30 @@ pub struct TaskSlot {
     notified_ns: AtomicU64,
     /// The futex word the task sleeps on; the core bumps it to wake the task.
     wake: AtomicU32,
+    /// On the simulation clock: nonzero when this task runs in lockstep with the core
+    /// (written by the core before any start, never reset).
+    lockstep: AtomicU32,
+    /// On the simulation clock: whose turn it is (`Baton`).
+    baton: AtomicU32,
+    /// The mutex a `Blocked` task waits for, plus one (0: none).
+    blocked_on: AtomicU32,
     program: [AtomicU64; PROGRAM_BYTES / 8],
     /// The debugger's words (DRL program control).
     pub debug: DebugBlock,
+}
+
+/// The simulation clock's turn word of a task in lockstep (docs/decisions.md, "Simulation
+/// clock"): one task runs Lua at a time, and only with the turn the core granted it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
+#[repr(u32)]
+pub enum Baton {
+    /// The task holds the turn, or its process is starting: the core waits for it.
+    #[num_enum(default)]
+    Held = 0,
+    /// The task gave its turn back and waits for the next one.
+    Parked = 1,
+    /// The core granted the task a turn it has not taken yet.
+    Granted = 2,
 }
 
 /// Why a program ended, beyond HMPL's own codes. Written only: the end-code word also
@@ -202,6 +223,49 @@ impl TaskSlot {
         futex::wait(&self.wake, seen, timeout);
     }
 
+    /// Whether this task runs in lockstep with the simulation clock.
+    pub fn lockstep(&self) -> bool {
+        self.lockstep.load(Ordering::Acquire) != 0
+    }
+
+    /// Puts the task in lockstep with the simulation clock (the core, before any start).
+    pub fn set_lockstep(&self, on: bool) {
+        self.lockstep.store(on as u32, Ordering::Release);
+    }
+
+    /// Who has the turn.
+    pub fn baton(&self) -> Baton {
+        Baton::from(self.baton.load(Ordering::Acquire))
+    }
+
+    /// The task gives its turn back (its caller wakes the core through the table's gate).
+    pub fn park(&self) {
+        self.baton.store(Baton::Parked.into(), Ordering::Release);
+    }
+
+    /// The core grants a parked task a turn and wakes it.
+    pub fn grant(&self, now_ns: u64) {
+        self.baton.store(Baton::Granted.into(), Ordering::Release);
+        self.wake(now_ns);
+    }
+
+    /// The task takes a granted turn; false when none was granted.
+    pub fn take_turn(&self) -> bool {
+        self.baton
+            .compare_exchange(Baton::Granted.into(), Baton::Held.into(), Ordering::AcqRel, Ordering::Acquire)
+            .is_ok()
+    }
+
+    /// The mutex a `Blocked` task waits for.
+    pub fn blocked_on(&self) -> Option<usize> {
+        (self.blocked_on.load(Ordering::Acquire) as usize).checked_sub(1)
+    }
+
+    /// Records the mutex the task is about to block on.
+    pub fn set_blocked_on(&self, mutex: usize) {
+        self.blocked_on.store(mutex as u32 + 1, Ordering::Release);
+    }
+
     /// The program path, as the controller wrote it (truncated to `PROGRAM_BYTES`).
     pub fn program(&self) -> String {
         let bytes: Vec<u8> = self.program.iter().flat_map(|w| w.load(Ordering::Relaxed).to_le_bytes()).collect();
@@ -232,6 +296,7 @@ impl TaskSlot {
         self.started.store(0, Ordering::Relaxed);
         self.end_code.store(0, Ordering::Relaxed);
         self.cpu_ms.store(0, Ordering::Relaxed);
+        self.baton.store(Baton::Held.into(), Ordering::Release);
         self.state.store(RunState::Idle.into(), Ordering::Release);
     }
 }
@@ -241,6 +306,27 @@ impl TaskSlot {
 pub struct TaskTable {
     /// One slot per HMPL task.
     pub slots: [TaskSlot; MAX_TASKS],
+    /// On the simulation clock: bumped by a task that parks; the core sleeps on it.
+    gate: AtomicU32,
+}
+
+impl TaskTable {
+    /// Task `task` gives its turn back and wakes the core.
+    pub fn park(&self, task: u8) {
+        self.slots[task as usize].park();
+        self.gate.fetch_add(1, Ordering::Release);
+        futex::wake(&self.gate);
+    }
+
+    /// The gate's count before the core looks at the slots...
+    pub fn gate_count(&self) -> u32 {
+        self.gate.load(Ordering::Acquire)
+    }
+
+    /// ...then its sleep until a task parks, at most `timeout`.
+    pub fn gate_sleep(&self, seen: u32, timeout: std::time::Duration) {
+        futex::wait(&self.gate, seen, timeout);
+    }
 }
 
 // SAFETY: repr(C), only atomics, valid when zeroed (Idle, no heartbeat).
@@ -280,6 +366,24 @@ mod tests {
         let long = "é".repeat(200);
         slot.set_program(&long);
         assert_eq!(slot.program(), "é".repeat(127), "254 bytes: whole characters only");
+    }
+
+    /// A turn is taken once: granted, taken, parked, and nothing to take until the next grant.
+    #[test]
+    fn a_turn_goes_round_once() {
+        let table: Box<TaskTable> = crate::shm::zeroed();
+        let slot = &table.slots[5];
+        assert_eq!(slot.baton(), Baton::Held, "a starting task holds the clock");
+        assert!(!slot.take_turn());
+        table.park(5);
+        assert_eq!((slot.baton(), table.gate_count()), (Baton::Parked, 1));
+        slot.grant(0);
+        assert_eq!(slot.wake_count(), 1, "a grant wakes the task");
+        assert!(slot.take_turn());
+        assert!(!slot.take_turn(), "taken once");
+        assert_eq!(slot.baton(), Baton::Held);
+        slot.set_blocked_on(7);
+        assert_eq!(slot.blocked_on(), Some(7));
     }
 
     #[test]

@@ -16,6 +16,7 @@ use crate::machine::Machine;
 use crate::motion::Kernel;
 use crate::realtime;
 use crate::scope::ScopeSampler;
+use crate::sim_clock::{Clock, Lockstep};
 use crate::supervisor::{ScriptLauncher, Supervisor, TaskReport};
 use crate::tasks::{self, Tasks};
 use crate::trace;
@@ -55,6 +56,8 @@ pub struct RunOptions {
     pub stop: Option<Arc<AtomicBool>>,
     /// The RT thread's end of a console (`console::channel`): the Modbus server's orders.
     pub console: Option<ConsoleInbox>,
+    /// Real time, or the simulation clock (`run --clock sim`).
+    pub clock: Clock,
 }
 
 pub struct RunReport {
@@ -103,6 +106,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         let console = options.console;
         let identity = config.identity.clone();
         let (period_ns, scope_codes) = (config.period_ns(), options.scope);
+        let (clock, task_configs) = (options.clock, config.tasks.clone());
         std::thread::Builder::new()
             .name("rt-cycle".into())
             .spawn(move || {
@@ -126,8 +130,12 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                 };
                 // Before any task can start: what GetModelNum and GetSerialNum report.
                 endpoint.shared().set_identity(&identity.model, &identity.serial);
+                let lockstep = match clock {
+                    Clock::RealTime => None,
+                    Clock::Sim { speed } => Some(Lockstep::new(&task_configs, speed, &endpoint)),
+                };
                 let _ = ready_tx.send(Ok(granted));
-                Some(cycle::run(machine, endpoint, control, granted, trace, Some(scope), console))
+                Some(cycle::run(machine, endpoint, control, granted, trace, Some(scope), console, lockstep))
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };

@@ -26,7 +26,8 @@ use crate::machine::Machine;
 use crate::master;
 use crate::realtime::{self, Granted};
 use crate::scope::ScopeSampler;
-use crate::trace::{TraceRow, TraceSender};
+use crate::sim_clock::Lockstep;
+use crate::trace::{Digest, TraceRow, TraceSender};
 
 /// Requests one task may have applied per cycle; the rest wait for the next cycle.
 const MAX_COMMANDS_PER_TASK_AND_CYCLE: usize = 4;
@@ -81,6 +82,11 @@ pub struct CycleStats {
     /// Of the RT thread's time, the frame exchange with the simulated drives (their
     /// servo loops and plants), ns: on a real machine, the drives' own hardware.
     pub simulation_ns: u64,
+    /// On the simulation clock, the time the RT thread waited between cycles for the tasks'
+    /// turns, ns.
+    pub lockstep_ns: u64,
+    /// The digest of the recorded cycles' trace rows.
+    pub digest: Digest,
 }
 
 impl CycleStats {
@@ -96,6 +102,8 @@ impl CycleStats {
             cpu_ns: 0,
             wall_ns: 0,
             simulation_ns: 0,
+            lockstep_ns: 0,
+            digest: Digest::default(),
         }
     }
 }
@@ -116,6 +124,13 @@ pub struct CycleWork {
     trace: Option<TraceSender>,
     scope: Option<ScopeSampler>,
     console: Option<ConsoleInbox>,
+    /// On the simulation clock: no wall time in the rows, no row dropped.
+    sim: bool,
+    /// Rows go to the trace and the digest (on the simulation clock, until every program ended).
+    recording: bool,
+    digest: Digest,
+    /// The tasks this cycle answered or whose wake cycle came.
+    woken: u64,
 }
 
 impl CycleWork {
@@ -141,6 +156,10 @@ impl CycleWork {
             trace: None,
             scope: None,
             console: None,
+            sim: false,
+            recording: true,
+            digest: Digest::default(),
+            woken: 0,
         }
     }
 
@@ -233,21 +252,33 @@ impl CycleWork {
         self.machine.analog.fill(&mut self.snapshot);
         self.machine.tasks.fill(&mut self.snapshot.tasks, &self.machine.run_speed);
         self.endpoint.publish(&self.snapshot);
-        self.endpoint.wake(cycle);
+        self.woken = self.endpoint.wake(cycle);
         if let Some(scope) = &mut self.scope {
             scope.sample(&self.snapshot, self.endpoint.shared());
         }
-        if let Some(trace) = &self.trace {
-            let row = TraceRow::of(&self.snapshot, self.lateness_ns, self.previous_execution_ns);
-            trace.push(
-                row.with_loads(&self.machine.kernel, &self.machine.network)
-                    .with_position_triggers(&self.machine.triggers),
-            );
+        if self.recording {
+            self.record();
+        }
+    }
+
+    /// The cycle's trace row, into the digest and the trace file.
+    fn record(&mut self) {
+        let (lateness, execution) = if self.sim { (0, 0) } else { (self.lateness_ns, self.previous_execution_ns) };
+        let row = TraceRow::of(&self.snapshot, lateness, execution)
+            .with_loads(&self.machine.kernel, &self.machine.network)
+            .with_position_triggers(&self.machine.triggers);
+        self.digest.add(&row);
+        match &self.trace {
+            Some(trace) if self.sim => trace.push_all(row),
+            Some(trace) => trace.push(row),
+            None => {}
         }
     }
 }
 
-/// Runs cycles until a shutdown is requested and the axes are disabled.
+/// Runs cycles until a shutdown is requested and the axes are disabled; with `lockstep`,
+/// on the simulation clock (`sim_clock`).
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     machine: Machine,
     endpoint: CoreEndpoint,
@@ -256,17 +287,27 @@ pub fn run(
     trace: Option<TraceSender>,
     scope: Option<ScopeSampler>,
     console: Option<ConsoleInbox>,
+    mut lockstep: Option<Lockstep>,
 ) -> CycleStats {
-    let period = machine.period_ns;
     let mut work = CycleWork::new(machine, endpoint).with_trace(trace).with_scope(scope).with_console(console);
+    work.sim = lockstep.is_some();
+    // The wall time between two deadlines; none: no sleep (`--speed max`).
+    let period = work.machine.period_ns;
+    let pace = match &lockstep {
+        None => Some(period),
+        Some(lockstep) => lockstep.speed().pace_ns(period),
+    };
     let mut stats = CycleStats::new(granted);
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();
-    let mut deadline = started_ns + period;
+    let mut deadline = started_ns + pace.unwrap_or(0);
     let mut shutdown_since = None;
+    let stopping = || control.shutdown.load(Ordering::Acquire) || control.stop_tasks.load(Ordering::Acquire);
 
     loop {
-        realtime::sleep_until(deadline);
+        if pace.is_some() {
+            realtime::sleep_until(deadline);
+        }
         let woke = monotonic_ns();
         work.lateness_ns = woke.saturating_sub(deadline);
         let _ = stats.lateness.record(work.lateness_ns.max(1));
@@ -278,6 +319,11 @@ pub fn run(
             shutdown_since = Some(work.cycle);
             work.machine.kernel.disable_all();
         }
+        if let Some(lockstep) = &lockstep {
+            // The run's record ends with its programs: what follows depends on when the
+            // supervisor notices, which is wall time.
+            work.recording &= work.cycle == 0 || !lockstep.all_ended(&work.machine.tasks, &work.endpoint);
+        }
         work.run_cycle();
         control.cycle.store(work.cycle, Ordering::Release);
         control.active_tasks.store(work.machine.tasks.active() as u64, Ordering::Release);
@@ -286,12 +332,24 @@ pub fn run(
         work.previous_execution_ns = done.saturating_sub(woke);
         let _ = stats.execution.record(work.previous_execution_ns.max(1));
         stats.cycles = work.cycle;
-        deadline += period;
-        if done > deadline {
-            // Missed the next deadline: count it and resume on the period grid.
-            stats.overruns += 1;
-            work.overruns = stats.overruns;
-            deadline += (done - deadline).div_ceil(period) * period;
+        if let Some(lockstep) = &mut lockstep {
+            lockstep.settle(work.cycle, work.woken, &work.machine.tasks, &work.endpoint, &stopping);
+            stats.lockstep_ns += monotonic_ns() - done;
+        }
+        match pace {
+            // Never ahead of `speed` times real time; a late cycle is not made up for.
+            Some(pace) if lockstep.is_some() => deadline = (deadline + pace).max(monotonic_ns()),
+            Some(pace) => {
+                deadline += pace;
+                if done > deadline {
+                    // Missed the next deadline: count it and resume on the period grid.
+                    stats.overruns += 1;
+                    work.overruns = stats.overruns;
+                    deadline += (done - deadline).div_ceil(pace) * pace;
+                }
+            }
+            // No deadline: the lateness recorded is the wait for the tasks.
+            None => deadline = done,
         }
 
         if let Some(since) = shutdown_since {
@@ -304,6 +362,7 @@ pub fn run(
     stats.ipc = work.endpoint.stats();
     stats.cpu_ns = realtime::thread_cpu_ns() - started_cpu_ns;
     stats.simulation_ns = work.simulation_ns;
+    stats.digest = work.digest;
     stats.wall_ns = monotonic_ns() - started_ns;
     stats
 }

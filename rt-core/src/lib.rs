@@ -25,6 +25,7 @@ pub mod realtime;
 pub mod rt_alloc;
 pub mod scope;
 pub mod signals;
+pub mod sim_clock;
 pub mod supervisor;
 pub mod tasks;
 pub mod terminal;

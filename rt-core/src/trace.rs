@@ -106,6 +106,67 @@ impl TraceRow {
     }
 }
 
+/// The run's digest (docs/decisions.md, "Simulation clock"): FNV-1a, 64 bits, over each
+/// recorded cycle's row in a fixed little-endian encoding (floats by their bits, the
+/// wall-time columns left out), so the same run gives the same digest on any machine,
+/// with or without a trace file.
+#[derive(Clone, Copy, Debug)]
+pub struct Digest {
+    hash: u64,
+    rows: u64,
+}
+
+impl Default for Digest {
+    fn default() -> Self {
+        Digest { hash: 0xcbf2_9ce4_8422_2325, rows: 0 }
+    }
+}
+
+impl Digest {
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.hash = (self.hash ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+
+    fn float(&mut self, x: f64) {
+        self.bytes(&x.to_bits().to_le_bytes());
+    }
+
+    /// Adds one cycle's row.
+    pub fn add(&mut self, row: &TraceRow) {
+        self.rows += 1;
+        self.bytes(&row.cycle.to_le_bytes());
+        self.bytes(&row.overruns.to_le_bytes());
+        for axis in &row.axes {
+            self.float(axis.ref_pos);
+            self.float(axis.pos_fb);
+            self.bytes(&axis.motion_status.to_le_bytes());
+            self.bytes(&axis.fault_status.to_le_bytes());
+            self.float(axis.load_pos.unwrap_or(f64::NAN));
+        }
+        for count in &row.pt_counts {
+            self.bytes(&count.to_le_bytes());
+        }
+        for (axis, pulse) in &row.pulses[..row.pulse_count] {
+            self.bytes(&[*axis]);
+            self.float(pulse.pos);
+            self.float(pulse.time_ms);
+        }
+        self.bytes(&row.gpo.to_le_bytes());
+    }
+
+    /// The digest so far.
+    pub fn value(&self) -> u64 {
+        self.hash
+    }
+
+    /// Rows added.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+}
+
 /// The RT thread's end.
 pub struct TraceSender {
     queue: Arc<ArrayQueue<TraceRow>>,
@@ -116,6 +177,15 @@ impl TraceSender {
     pub fn push(&self, row: TraceRow) {
         if self.queue.push(row).is_err() {
             self.dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// On the simulation clock, where the cycle may wait: a full queue waits for the writer
+    /// instead of dropping the row, so the file holds every row.
+    pub fn push_all(&self, mut row: TraceRow) {
+        while let Err(back) = self.queue.push(row) {
+            row = back;
+            std::thread::sleep(Duration::from_millis(1));
         }
     }
 }
@@ -212,5 +282,33 @@ fn write(
             return Ok(rows);
         }
         std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn digest_of(rows: &[TraceRow]) -> u64 {
+        let mut digest = Digest::default();
+        rows.iter().for_each(|row| digest.add(row));
+        digest.value()
+    }
+
+    /// The digest is FNV-1a over a fixed encoding: the empty digest is FNV's offset basis,
+    /// the wall-time columns do not count, and one bit of a position does.
+    #[test]
+    fn the_digest_sees_the_machine_not_the_wall() {
+        assert_eq!(Digest::default().value(), 0xcbf2_9ce4_8422_2325);
+        let mut row = TraceRow { cycle: 7, gpo: 3, ..TraceRow::default() };
+        row.axes[0].pos_fb = 100.0;
+        let base = digest_of(&[row, row]);
+        assert_eq!(base, digest_of(&[row, row]));
+        let timed = TraceRow { lateness_ns: 12_345, previous_execution_ns: 678, ..row };
+        assert_eq!(digest_of(&[row, timed]), base, "wall time is left out");
+        let mut moved = row;
+        moved.axes[0].pos_fb = f64::from_bits(100f64.to_bits() + 1);
+        assert_ne!(digest_of(&[row, moved]), base, "the last bit of a position counts");
+        assert_ne!(digest_of(&[row]), base, "so does every row");
     }
 }

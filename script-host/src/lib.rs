@@ -101,7 +101,7 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     debugger.install(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
     let slot = &table.slots[task];
     // HMPL 22.2.1: an agent the program started outlives it, until the task is stopped.
-    let result = start(&lua, &source, &name, args.entry.as_deref(), slot)
+    let result = start(&lua, &source, &name, args.entry.as_deref(), slot, &host)
         .and_then(|()| bindings::serve_agent_forever(&lua, &host))
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
     // Closing the VM runs the finalizers (`__gc`) left: user code, so still under the
@@ -116,6 +116,8 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     }
     // The end code first: the core reacts to a failed end as soon as it sees Finished.
     slot.set_state(RunState::Finished);
+    // On the simulation clock the core may be waiting for this turn to end.
+    table.park(args.task);
     result
 }
 
@@ -135,16 +137,28 @@ fn chunk_name(name: &str) -> String {
 /// HMPL 16.2/16.3: a program runs from its top level; with an entry, its top level runs
 /// first (declarations) and then the named function. The controller hears the task has
 /// started once the entry is known to exist.
-fn start(lua: &mlua::Lua, source: &str, name: &str, entry: Option<&str>, slot: &TaskSlot) -> mlua::Result<()> {
+fn start(
+    lua: &mlua::Lua,
+    source: &str,
+    name: &str,
+    entry: Option<&str>,
+    slot: &TaskSlot,
+    host: &Host,
+) -> mlua::Result<()> {
     let chunk = lua.load(source).set_name(chunk_name(name)).into_function()?;
-    let Some(entry) = entry else {
+    // On the simulation clock a started program waits for its first turn.
+    let started = || {
         slot.mark_started();
+        host.endpoint.borrow_mut().first_turn().map_err(mlua::Error::external)
+    };
+    let Some(entry) = entry else {
+        started()?;
         return sandbox::call_program(lua, &chunk);
     };
     sandbox::call_program(lua, &chunk)?;
     match lua.globals().raw_get::<mlua::Value>(entry)? {
         mlua::Value::Function(function) => {
-            slot.mark_started();
+            started()?;
             sandbox::call_program(lua, &function)
         }
         _ => {

@@ -207,6 +207,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<(Merged,
         scope: Vec::new(),
         stop: None,
         console: None,
+        clock: rt_core::sim_clock::Clock::RealTime,
     };
     let controller = rt_core::controller::Background::start(config, options)?;
     let namespace = Namespace::new(ns)?;

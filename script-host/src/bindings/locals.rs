@@ -273,8 +273,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         }),
         Local::RunScheduler => lua.create_function(move |_, ()| {
             host.beat();
-            std::thread::yield_now();
-            Ok(())
+            let mut endpoint = host.endpoint.borrow_mut();
+            if endpoint.lockstep() {
+                // On the simulation clock the other tasks' turns come first.
+                endpoint.yield_turn().map_err(mlua::Error::external)
+            } else {
+                std::thread::yield_now();
+                Ok(())
+            }
         }),
         Local::MutexLock => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
@@ -287,6 +293,10 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                         SystemError::HmplMutexLockTwice,
                         &format!("MutexLock({id}): this task holds the mutex already"),
                     ),
+                    // On the simulation clock the core grants the next turn once it is free.
+                    Some(Lock::HeldBy(_)) if host.endpoint.borrow().lockstep() => {
+                        host.endpoint.borrow_mut().wait_for_mutex_turn(id).map_err(mlua::Error::external)?;
+                    }
                     Some(Lock::HeldBy(owner)) => {
                         let endpoint = host.endpoint.borrow();
                         endpoint.slot().set_state(RunState::Blocked);

@@ -85,9 +85,16 @@ impl Host {
     }
 
     /// Every API call advances the heartbeat: a task that calls nothing while it runs Lua
-    /// is what the watchdog looks for.
+    /// is what the watchdog looks for. On the simulation clock it also counts toward the
+    /// task's share of the cycle.
     fn beat(&self) {
-        self.endpoint.borrow().slot().beat();
+        let Ok(mut endpoint) = self.endpoint.try_borrow_mut() else {
+            // A call made while the endpoint is looked at (inside a wait) is only a beat.
+            return self.endpoint.borrow().slot().beat();
+        };
+        endpoint.slot().beat();
+        // A share's wait ends early when the controller is gone; the next call says so.
+        let _ = endpoint.count_call();
     }
 }
 

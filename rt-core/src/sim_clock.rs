@@ -1,0 +1,247 @@
+//! The simulation clock (`luamotion run --clock sim [--speed N|max]`, docs/decisions.md,
+//! "Simulation clock"): the core runs cycle k+1 only once every task in lockstep is
+//! quiescent, and the tasks run Lua one at a time, in task order, in turns the core
+//! grants between two cycles. So a run is a function of the machine file, the programs
+//! and the inputs, and its trace is the same run after run.
+//!
+//! A task is quiescent when it has given its turn back (`Baton::Parked`) and what it
+//! waits for has not come: its wake cycle (Sleep, Till, DELAY, TON/TOF polling, its
+//! share of the cycle used), the reply to its call, a mutex another task holds; or when
+//! it is paused by its debugger, has ended, or its process is gone. A task that holds
+//! the turn without an API call for its watchdog time (wall time) is let go: the clock
+//! goes on without it, and the watchdog, which counts cycles, catches it.
+//!
+//! Between two cycles the RT thread waits for the tasks on the task table's gate word
+//! (a futex the parking task bumps), not in a spin: two cores are shared by the core,
+//! the tasks and whatever else runs, and a spinning core would take the CPU the task it
+//! waits for needs. Real-time mode never comes here.
+
+use std::str::FromStr;
+
+use config::TaskConfig;
+use ipc::CoreEndpoint;
+use ipc::clock::monotonic_ns;
+use ipc::messages::TaskState;
+use ipc::task_table::{Baton, RunState, TaskSlot};
+
+use crate::tasks::Tasks;
+
+/// How long the core waits for a starting process to reach its first line before it
+/// lets the clock go on (the start timeout, counted in cycles, then applies).
+const START_PATIENCE_NS: u64 = 5_000_000_000;
+/// How long an ended program's process may take to be gone.
+const EXIT_PATIENCE_NS: u64 = 1_000_000_000;
+/// How long the gate sleeps before it looks again at tasks that cannot wake it (a
+/// process that died, a program paused by its debugger).
+const GATE_SLICE: std::time::Duration = std::time::Duration::from_millis(2);
+
+/// How the cycles are paced.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Clock {
+    /// One cycle per period on the wall clock (the default).
+    #[default]
+    RealTime,
+    /// Cycles in lockstep with the programs, at most `speed` times real time.
+    Sim { speed: Speed },
+}
+
+/// How fast the simulation clock may go.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Speed {
+    /// At most this many times real time.
+    Times(f64),
+    /// As fast as the programs allow: no sleep between cycles.
+    Max,
+}
+
+#[derive(Debug, thiserror::Error)]
+#[error("speed must be a number > 0 or `max`, not `{0}`")]
+pub struct SpeedError(String);
+
+impl FromStr for Speed {
+    type Err = SpeedError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "max" {
+            return Ok(Speed::Max);
+        }
+        match s.parse::<f64>() {
+            Ok(n) if n > 0.0 && n.is_finite() => Ok(Speed::Times(n)),
+            _ => Err(SpeedError(s.to_string())),
+        }
+    }
+}
+
+impl Speed {
+    /// The wall time between two cycles' deadlines, ns; `None` for no sleep.
+    pub fn pace_ns(self, period_ns: u64) -> Option<u64> {
+        match self {
+            Speed::Times(n) => Some(((period_ns as f64 / n) as u64).max(1)),
+            Speed::Max => None,
+        }
+    }
+}
+
+/// One task in lockstep.
+struct Member {
+    id: u8,
+    /// Wall time the task may hold the turn without an API call, ns.
+    patience_ns: u64,
+    /// Let go after holding the turn too long; back in lockstep once it parks.
+    released: bool,
+}
+
+/// The tasks in lockstep with the simulation clock, and the gate between two cycles.
+pub struct Lockstep {
+    members: Vec<Member>,
+    speed: Speed,
+}
+
+impl Lockstep {
+    /// Puts the machine file's programs in lockstep (the external slots, which the
+    /// controller's own threads hold, are not). Before any task starts.
+    pub fn new(configs: &[TaskConfig], speed: Speed, endpoint: &CoreEndpoint) -> Self {
+        let mut members = Vec::new();
+        for config in configs {
+            endpoint.table().slots[config.id as usize].set_lockstep(!config.external);
+            if !config.external {
+                let patience_ns = config.watchdog_ms as u64 * 1_000_000;
+                members.push(Member { id: config.id, patience_ns, released: false });
+            }
+        }
+        members.sort_by_key(|m| m.id);
+        Lockstep { members, speed }
+    }
+
+    pub fn speed(&self) -> Speed {
+        self.speed
+    }
+
+    /// Every program has ended (or was never started): the run's record is complete.
+    pub fn all_ended(&self, tasks: &Tasks, endpoint: &CoreEndpoint) -> bool {
+        self.members.iter().all(|m| {
+            let slot = &endpoint.table().slots[m.id as usize];
+            !active(tasks.state(m.id)) || slot.state() == RunState::Finished
+        })
+    }
+
+    /// Between cycle `cycle` and the next: grants turns, in task order and pass after
+    /// pass, to every task whose wait has come (`woken`: the tasks the cycle answered),
+    /// until none is left. `stop`: the controller is shutting down, wait for nobody.
+    pub fn settle(
+        &mut self,
+        cycle: u64,
+        mut woken: u64,
+        tasks: &Tasks,
+        endpoint: &CoreEndpoint,
+        stop: &dyn Fn() -> bool,
+    ) {
+        loop {
+            let mut granted = false;
+            for member in &mut self.members {
+                let slot = &endpoint.table().slots[member.id as usize];
+                if !wait_parked(member, slot, tasks, endpoint, stop)
+                    || !runnable(slot, member.id, cycle, woken, endpoint)
+                {
+                    continue;
+                }
+                woken &= !(1 << member.id);
+                slot.grant(monotonic_ns());
+                granted = true;
+                wait_parked(member, slot, tasks, endpoint, stop);
+            }
+            if !granted {
+                return;
+            }
+        }
+    }
+}
+
+fn active(state: TaskState) -> bool {
+    matches!(state, TaskState::Starting | TaskState::Running)
+}
+
+/// Whether a parked task's wait has come.
+fn runnable(slot: &TaskSlot, id: u8, cycle: u64, woken: u64, endpoint: &CoreEndpoint) -> bool {
+    match slot.state() {
+        RunState::Waiting => slot.wait_request().cycle <= cycle,
+        RunState::InCall => woken & (1 << id) != 0,
+        RunState::Blocked => slot.blocked_on().is_none_or(|m| endpoint.shared().mutex_owner(m).is_none()),
+        // Parked before its first line.
+        RunState::Running => true,
+        RunState::Idle | RunState::Finished | RunState::Paused => false,
+    }
+}
+
+/// Waits until the task has parked; false when it is quiescent otherwise (paused, its
+/// process gone, not starting or running) or let go.
+fn wait_parked(
+    member: &mut Member,
+    slot: &TaskSlot,
+    tasks: &Tasks,
+    endpoint: &CoreEndpoint,
+    stop: &dyn Fn() -> bool,
+) -> bool {
+    let table = endpoint.table();
+    let mut beat = slot.heartbeat();
+    let mut since = monotonic_ns();
+    loop {
+        let seen = table.gate_count();
+        let state = tasks.state(member.id);
+        if !active(state) || slot.state() == RunState::Paused {
+            return false;
+        }
+        // An ended program's process is waited for until it is gone: its end would
+        // otherwise reach the core after a number of cycles that depends on wall time.
+        if slot.state() == RunState::Finished {
+            if !process_alive(slot.pid()) {
+                return false;
+            }
+        } else if slot.baton() == Baton::Parked {
+            member.released = false;
+            return true;
+        }
+        if member.released || stop() || !process_alive(slot.pid()) {
+            return false;
+        }
+        let now = monotonic_ns();
+        let patience = match (state, slot.state()) {
+            (TaskState::Starting, _) => member.patience_ns.max(START_PATIENCE_NS),
+            // As the watchdog gives an ended process (docs/decisions.md, "Watchdog").
+            (_, RunState::Finished) => member.patience_ns.max(EXIT_PATIENCE_NS),
+            _ => member.patience_ns,
+        };
+        if slot.heartbeat() != beat {
+            (beat, since) = (slot.heartbeat(), now);
+        } else if now - since > patience {
+            member.released = true;
+            return false;
+        }
+        // A starting process' first snapshot comes with the connection.
+        endpoint.update_connections();
+        table.gate_sleep(seen, GATE_SLICE);
+    }
+}
+
+/// A process that has not registered yet (pid 0) counts as alive: it is starting.
+fn process_alive(pid: u32) -> bool {
+    // SAFETY: signal 0 only checks that the process exists.
+    pid == 0 || unsafe { libc::kill(pid as libc::pid_t, 0) } == 0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn speeds_parse() {
+        assert_eq!("max".parse::<Speed>().unwrap(), Speed::Max);
+        assert_eq!("10".parse::<Speed>().unwrap(), Speed::Times(10.0));
+        assert_eq!("0.5".parse::<Speed>().unwrap(), Speed::Times(0.5));
+        for bad in ["0", "-1", "inf", "NaN", "fast"] {
+            assert!(bad.parse::<Speed>().is_err(), "{bad}");
+        }
+        assert_eq!(Speed::Times(10.0).pace_ns(1_000_000), Some(100_000));
+        assert_eq!(Speed::Max.pace_ns(1_000_000), None);
+    }
+}
