@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use common::{BIN, Finished, data_dir, eventually, finish, process_alive, program, unique_ns};
+use common::{BIN, Finished, data_dir, eventually, finish, process_alive, program, unique_ns, waiting_children_of};
 
 /// A machine file with `[rt] script_pool = pool` and task i running `tasks[i]`, the ones
 /// marked with the controller.
@@ -44,17 +44,6 @@ fn starts(out: &Finished, task: u8) -> (usize, usize) {
         out.stderr.lines().filter(|l| l.contains(" started") && l.contains(&wanted) && l.contains(&flag)).count()
     };
     (of_task(true), of_task(false))
-}
-
-/// The waiting script processes of the controller `pid`.
-fn waiting(pid: u32) -> Vec<u32> {
-    common::children_of(pid)
-        .into_iter()
-        .filter(|child| {
-            std::fs::read(format!("/proc/{child}/cmdline"))
-                .is_ok_and(|c| c.split(|&b| b == 0).any(|arg| arg == b"--pool"))
-        })
-        .collect()
 }
 
 /// A task restarted from the pool runs its own program in a fresh VM: the global the
@@ -121,15 +110,15 @@ fn a_waiting_process_that_dies_is_replaced_and_all_die_with_the_controller() {
     let ns = unique_ns("pool-death");
     let mut child = start(&ns, &machine(dir.path(), 2, &[(main.as_path(), true), (&short, false)]));
     let pid = child.id();
-    assert!(eventually(Duration::from_secs(20), || waiting(pid).len() == 2), "two waiting processes");
-    let victim = waiting(pid)[0];
+    assert!(eventually(Duration::from_secs(20), || waiting_children_of(pid).len() == 2), "two waiting processes");
+    let victim = waiting_children_of(pid)[0];
     // SAFETY: killing one waiting script process of this test's controller.
     unsafe { libc::kill(victim as i32, libc::SIGKILL) };
     let replaced = eventually(Duration::from_secs(20), || {
-        let now = waiting(pid);
+        let now = waiting_children_of(pid);
         now.len() == 2 && !now.contains(&victim)
     });
-    let survivors = waiting(pid);
+    let survivors = waiting_children_of(pid);
     // Now the starts, from the replaced pool.
     let namespace = ipc::Namespace::new(&ns).unwrap();
     let shared = ipc::shm::Region::<ipc::shared::SharedData>::open(&namespace, "shared").unwrap();

@@ -116,6 +116,7 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
 /// node, the state subscriber) is done while it waits for the supervisor's assignment on
 /// stdin; then it runs that one task as `run` does, in a VM made for it, and ends.
 pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
+    set_process_name(WAITING_NAME);
     let prepared = PreparedEndpoint::new(&pool.ns, POOL_NODE_NAME, pool.controller_pid)?;
     let events = prepared.event_sender(&pool.ns)?;
     let shared = Region::<SharedData>::open(&pool.ns, "shared")?;
@@ -127,11 +128,22 @@ pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
         Ok(_) => {}
     }
     let assignment = Assignment::decode(&line).ok_or(ScriptError::Assignment(line))?;
+    set_process_name(RUNNING_NAME);
     let args = pool.assign(assignment);
     let source = read_program(&args)?;
     let endpoint = prepared.attach(&args.ns, args.task)?;
     let host = Host::from_parts(endpoint, events, shared, &args.ns, args.data_dir.clone());
     run_attached(args, &source, host)
+}
+
+/// What `ps` shows of a waiting process, and of one that runs its task (the executable's
+/// own name, as a process started for the task shows).
+const WAITING_NAME: &std::ffi::CStr = c"luamotion-pool";
+const RUNNING_NAME: &std::ffi::CStr = c"luamotion";
+
+fn set_process_name(name: &std::ffi::CStr) {
+    // SAFETY: PR_SET_NAME reads a NUL-terminated string of at most 16 bytes.
+    unsafe { libc::prctl(libc::PR_SET_NAME, name.as_ptr()) };
 }
 
 fn read_program(args: &ScriptArgs) -> Result<String, ScriptError> {
