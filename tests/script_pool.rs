@@ -54,7 +54,7 @@ fn a_pooled_start_runs_its_program_in_a_fresh_vm() {
     let main = program(
         dir.path(),
         "main.lua",
-        "for i = 1, 5 do\n  StartTask(1)\n  Till(function() return IsTaskStop(1) end)\n  Sleep(50)\nend\n\
+        "Sleep(1500)\nfor i = 1, 5 do\n  StartTask(1)\n  Till(function() return IsTaskStop(1) end)\n  Sleep(50)\nend\n\
          StartTaskFunc(2, 'probe')\nTill(function() return IsTaskStop(2) end)\n",
     );
     let counter = program(dir.path(), "counter.lua", "Print('before %s', tostring(left))\nleft = 1\n");

@@ -14,6 +14,9 @@ use ipc::pool::Assignment;
 /// How long after a waiting process died before the next is started: a start that keeps
 /// failing (a broken install) does not fork a process every poll.
 const RETRY_AFTER_DEATH: Duration = Duration::from_secs(1);
+/// How long after the controller's start the first waiting process is started: the
+/// autorun tasks' processes start first, alone (the pool would be empty for them anyway).
+const FIRST_FILL_AFTER: Duration = Duration::from_secs(1);
 
 struct Waiting {
     child: Child,
@@ -28,7 +31,7 @@ pub struct Pool {
 
 impl Pool {
     pub fn new(size: usize) -> Self {
-        Pool { size, waiting: VecDeque::with_capacity(size), next_start: Instant::now() }
+        Pool { size, waiting: VecDeque::with_capacity(size), next_start: Instant::now() + FIRST_FILL_AFTER }
     }
 
     /// A waiting process, told to run `assignment`; `None` when none is left (the caller
