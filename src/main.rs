@@ -152,8 +152,8 @@ enum Cmd {
         #[arg(long)]
         ns: String,
         /// The task id (slot) this process runs.
-        #[arg(long)]
-        task: u8,
+        #[arg(long, required_unless_present = "pool")]
+        task: Option<u8>,
         /// The controller's process: the script ends when it is gone.
         #[arg(long)]
         controller_pid: u32,
@@ -172,8 +172,13 @@ enum Cmd {
         /// Where START_ASCII_AGENT listens, HOST:PORT.
         #[arg(long, default_value = script_host::bindings::DEFAULT_USER_ASCII)]
         ascii_user: String,
+        /// Wait for the task on stdin (`<task> <memory MiB> <entry or -> <program>`), ready
+        /// to run it at once: the controller's pool of started script processes.
+        #[arg(long, conflicts_with_all = ["task", "program", "entry"])]
+        pool: bool,
         /// The Lua program.
-        program: PathBuf,
+        #[arg(required_unless_present = "pool")]
+        program: Option<PathBuf>,
     },
 }
 
@@ -316,26 +321,33 @@ fn main() -> ExitCode {
             entry,
             freeport_bind,
             ascii_user,
+            pool: _,
             program,
         } => {
+            let ns = match Namespace::new(&ns) {
+                Ok(ns) => ns,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let pooled = script_host::PoolArgs { ns, controller_pid, data_dir, user_ascii: ascii_user, freeport_bind };
+            // clap requires both unless `--pool` is given, which excludes them.
+            let (Some(task), Some(program)) = (task, program) else {
+                return script(script_host::run_pooled(pooled));
+            };
             let args = script_host::ScriptArgs {
-                ns: match Namespace::new(&ns) {
-                    Ok(ns) => ns,
-                    Err(e) => {
-                        eprintln!("error: {e}");
-                        return ExitCode::FAILURE;
-                    }
-                },
+                ns: pooled.ns,
                 task,
                 controller_pid,
                 memory_limit_mib,
-                data_dir,
+                data_dir: pooled.data_dir,
                 entry,
                 program,
-                user_ascii: ascii_user,
+                user_ascii: pooled.user_ascii,
                 freeport_bind,
             };
-            Ok(script(args))
+            Ok(script(script_host::run(args)))
         }
     };
     result.unwrap_or_else(|e| {
@@ -495,8 +507,8 @@ fn exit_code_of_signal(signal: i32) -> ExitCode {
     ExitCode::from(128u8.saturating_add(signal as u8))
 }
 
-fn script(args: script_host::ScriptArgs) -> ExitCode {
-    match script_host::run(args) {
+fn script(result: Result<(), script_host::ScriptError>) -> ExitCode {
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(script_host::ScriptError::ControllerGone) => ExitCode::from(3),
         // The controller reports the last line a failed program writes to stderr.

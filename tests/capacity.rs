@@ -223,7 +223,7 @@ fn a_run_refused_another_user_s_files_names_them_and_the_fix() {
     let out = finish(child, Duration::from_secs(20));
     assert!(!out.status.success(), "{}", out.stderr);
     // iceoryx2 0.10 makes its folders rwxr-xr-x: root's keep every other user out.
-    let root_path = "/tmp/iceoryx2";
+    let root_path = "/dev/shm/iceoryx2";
     assert!(out.stderr.contains("InsufficientPermissions"), "{}", out.stderr);
     let named = [root_path.to_string(), format!("{root_path}/nodes")]
         .iter()

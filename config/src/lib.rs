@@ -298,6 +298,9 @@ pub struct RtConfig {
     pub cpu: Option<usize>,
     /// mlockall(MCL_CURRENT | MCL_FUTURE) so that the cycle never page-faults.
     pub lock_memory: bool,
+    /// Script processes kept started and waiting, so that a `StartTask` runs its program
+    /// without a process start; 0 starts a process per task start.
+    pub script_pool: usize,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
@@ -564,7 +567,7 @@ impl Default for MachineConfig {
 impl Default for RtConfig {
     fn default() -> Self {
         let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-        RtConfig { priority: 80, cpu: (cpus > 1).then(|| cpus - 1), lock_memory: true }
+        RtConfig { priority: 80, cpu: (cpus > 1).then(|| cpus - 1), lock_memory: true, script_pool: 2 }
     }
 }
 
@@ -684,6 +687,11 @@ impl MachineConfig {
         }
         if self.rt.priority > 99 {
             return Err(invalid("rt.priority", "SCHED_FIFO priorities are 1..99 (0: plain thread)"));
+        }
+        // Each waiting process is a node of the namespace's services, sized for this many.
+        if self.rt.script_pool > ipc::services::MAX_POOL {
+            let max = ipc::services::MAX_POOL;
+            return Err(invalid("rt.script_pool", format!("at most {max} waiting script processes (0: none)")));
         }
         // The snapshot has a fixed room for slaves: drives and terminals share it.
         if self.axes.len() + self.slaves.len() > ipc::messages::MAX_SLAVES {
@@ -972,6 +980,18 @@ mod tests {
         {
             assert!(matches!(parse(text).validate(), Err(ConfigError::Invalid { key: k, .. }) if k == key), "{text}");
         }
+    }
+
+    /// `[rt] script_pool`: 2 waiting processes by default, 0 allowed, more than the
+    /// services are sized for refused.
+    #[test]
+    fn the_script_pool_is_bounded_by_the_services() {
+        assert_eq!(MachineConfig::default().rt.script_pool, 2);
+        assert!(parse("[rt]\nscript_pool = 0\n").validate().is_ok());
+        let too_many = format!("[rt]\nscript_pool = {}\n", ipc::services::MAX_POOL + 1);
+        assert!(
+            matches!(parse(&too_many).validate(), Err(ConfigError::Invalid { key, .. }) if key == "rt.script_pool")
+        );
     }
 
     /// `[axes.plant]`'s flexible load: rigid by default; a frequency, damping or mass ratio

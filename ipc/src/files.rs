@@ -4,9 +4,8 @@
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
-use iceoryx2::config::Config;
-
 use crate::Namespace;
+use crate::namespace::base_config;
 
 /// Where POSIX shared memory is (every `lm.<ns>.` region and iceoryx2 data segment).
 const SHM_DIR: &str = "/dev/shm";
@@ -15,7 +14,7 @@ const PREFIX: &str = "lm.";
 
 /// iceoryx2's root folder and the node and service folders under it.
 fn iceoryx2_dirs() -> [PathBuf; 3] {
-    let global = Config::default().global;
+    let global = base_config().global;
     // Without the trailing slash iceoryx2 keeps, so that paths read as users type them.
     let path = |p: iceoryx2_bb_system_types::path::Path| PathBuf::from(p.to_string()).components().collect();
     [path(*global.root_path()), path(global.node_dir()), path(global.service_dir())]
@@ -172,7 +171,7 @@ mod tests {
         let found = [Foreign::Files { dir: SHM_DIR.into(), ns: "cell1".into(), count: 12, uid: 0 }];
         let advice = permission_advice(&found);
         assert!(advice.contains("/dev/shm/lm.cell1.* (12 files of uid 0)"), "{advice}");
-        assert!(advice.contains("sudo rm -rf /dev/shm/lm.cell1.* /tmp/iceoryx2/*/lm.cell1.*"), "{advice}");
+        assert!(advice.contains("sudo rm -rf /dev/shm/lm.cell1.* /dev/shm/iceoryx2/*/lm.cell1.*"), "{advice}");
         assert!(advice.contains("another --ns"), "a namespace's own files block only it: {advice}");
     }
 

@@ -23,6 +23,7 @@ mod monitor;
 mod namespace;
 pub mod output;
 pub mod plc_image;
+pub mod pool;
 pub mod scope;
 pub mod services;
 pub mod shared;
@@ -37,7 +38,7 @@ pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats, Disposition};
 pub use files::remove_namespace_files;
 pub use monitor::Monitor;
 pub use namespace::Namespace;
-pub use task_side::{CallTiming, ReplyCounters, TaskEndpoint};
+pub use task_side::{CallTiming, PreparedEndpoint, ReplyCounters, TaskEndpoint};
 
 #[derive(Debug, thiserror::Error)]
 /// Why an IPC operation failed.

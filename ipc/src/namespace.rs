@@ -5,10 +5,24 @@ use iceoryx2::config::Config;
 use iceoryx2::prelude::*;
 use iceoryx2_bb_container::semantic_string::SemanticString;
 use iceoryx2_bb_system_types::file_name::FileName;
+use iceoryx2_bb_system_types::path::Path;
 
 use crate::IpcError;
 
 const MAX_LEN: usize = 40;
+
+/// iceoryx2's root folder (its `nodes` and `services` folders), in memory rather than
+/// iceoryx2's default `/tmp/iceoryx2`: every node and every service a process opens writes
+/// a file there and fsyncs it, and on a disk each fsync waits for the disk (5-20 ms while
+/// builds write), which was most of a task's start (`rt-core/src/pool.rs`).
+const ICEORYX2_ROOT: &str = "/dev/shm/iceoryx2/";
+
+/// iceoryx2's defaults with luamotion's root folder.
+pub(crate) fn base_config() -> Config {
+    let mut config = Config::default();
+    config.global.set_root_path(&Path::new(ICEORYX2_ROOT.as_bytes()).expect("a valid absolute path"));
+    config
+}
 
 #[derive(Clone, Debug, PartialEq, Eq)]
 /// A controller's namespace (`--ns`): every service and file of one controller carries it.
@@ -36,7 +50,7 @@ impl Namespace {
     /// The iceoryx2 configuration of this namespace: its own file prefix, no config file
     /// read from disk, and dead nodes cleaned when services are opened.
     pub fn config(&self) -> Config {
-        let mut config = Config::default();
+        let mut config = base_config();
         config.global.prefix =
             FileName::new(self.prefix().as_bytes()).expect("a validated namespace is a valid file name");
         config.global.node.cleanup_dead_nodes_on_creation = true;

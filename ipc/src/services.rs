@@ -48,14 +48,18 @@ const PROCESSES_PER_TASK: usize = 2;
 /// Tools attached to a controller at once, each a node of its own: `luamotion tasks`,
 /// `luamotion events`, the soak's monitor, the DRL console, the start-up probe, and at
 /// least 4 more monitors, with room to spare.
-pub const MAX_TOOLS: usize = 16;
+pub const MAX_TOOLS: usize = 12;
+/// Idle script processes the supervisor keeps ready (`[rt] script_pool`), each a node
+/// subscribed to the state. Taken from the tools' former 16, so the shared memory stays
+/// what it was.
+pub const MAX_POOL: usize = 4;
 /// Of those, the ones that follow the event stream at once (`luamotion events`, monitors).
 pub const MAX_EVENT_READERS: usize = 8;
 /// Nodes of the controller process itself: the core's, the supervisor's.
 const CONTROLLER_NODES: usize = 2;
 /// Nodes of the services every process opens (`state`, `events`). A dead process' node
 /// is cleaned when the next one opens the service, so each task counts once.
-pub const MAX_NODES: usize = CONTROLLER_NODES + MAX_TASKS + MAX_TOOLS;
+pub const MAX_NODES: usize = CONTROLLER_NODES + MAX_TASKS + MAX_POOL + MAX_TOOLS;
 /// Requests one task may have in flight; scripts send one at a time.
 pub const MAX_REQUESTS_IN_FLIGHT: usize = 4;
 /// Records a reader may fall behind one writer by before the oldest are dropped: more

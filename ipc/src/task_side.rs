@@ -51,39 +51,37 @@ pub struct ReplyCounters {
     pub out_of_order: u64,
 }
 
-/// A script's end of the IPC: sends its requests, waits on its wake word for the replies, reads the snapshot.
-pub struct TaskEndpoint {
-    task: u8,
+/// What a script process opens before it knows its task (a pooled process waits with it,
+/// `rt-core/src/pool.rs`): its node, the state subscriber, the task table. The subscriber
+/// is connected by the time a task is handed over, so `attach` does not wait a cycle for
+/// the first snapshot.
+pub struct PreparedEndpoint {
     controller_pid: u32,
-    seq: u64,
-    /// The last call that got its reply, and the calls given up on (the newest few).
-    answered: u64,
-    given_up: [u64; 8],
-    reply_timeout: Option<Duration>,
-    counters: ReplyCounters,
-    last_call: CallTiming,
-    wait_seq: u16,
-    /// On the simulation clock: runs Lua only in the turns the core grants.
-    lockstep: bool,
-    /// API calls in the cycle `share_cycle`.
-    calls_in_cycle: u32,
-    share_cycle: u64,
-    latest: Option<Sample<Ipc, Snapshot, ()>>,
     state: StateSubscriber,
-    requests: RequestPublisher,
-    replies: ReplySubscriber,
     table: Region<TaskTable>,
-    _node: Node<Ipc>,
+    node: Node<Ipc>,
 }
 
-impl TaskEndpoint {
-    /// Opens task `task`'s channels in namespace `ns`; `controller_pid` is watched while blocked.
-    pub fn open(ns: &Namespace, task: u8, controller_pid: u32) -> Result<Self, IpcError> {
-        let node = services::node(ns, &format!("luamotion-task-{task}"))?;
+impl PreparedEndpoint {
+    /// A node named `name` in namespace `ns`, subscribed to the state.
+    pub fn new(ns: &Namespace, name: &str, controller_pid: u32) -> Result<Self, IpcError> {
+        let node = services::node(ns, name)?;
         let state = services::state(&node, ns, Open::Existing)?
             .subscriber_builder()
             .create()
             .map_err(|e| failed("state subscriber", e))?;
+        let table = Region::<TaskTable>::open(ns, "tasks")?;
+        Ok(PreparedEndpoint { controller_pid, state, table, node })
+    }
+
+    /// A writer of the event stream, on this process' node.
+    pub fn event_sender(&self, ns: &Namespace) -> Result<EventSender, IpcError> {
+        EventSender::new(&self.node, ns, Open::Existing)
+    }
+
+    /// Opens task `task`'s channels and takes over its slot.
+    pub fn attach(self, ns: &Namespace, task: u8) -> Result<TaskEndpoint, IpcError> {
+        let PreparedEndpoint { controller_pid, state, table, node } = self;
         let requests = services::requests(&node, ns, task, Open::Existing)?
             .publisher_builder()
             .create()
@@ -92,7 +90,6 @@ impl TaskEndpoint {
             .subscriber_builder()
             .create()
             .map_err(|e| failed(&format!("task {task} replies"), e))?;
-        let table = Region::<TaskTable>::open(ns, "tasks")?;
         let wait_seq = table.slots[task as usize].wait_request().seq;
         let lockstep = table.slots[task as usize].lockstep();
         let mut endpoint = TaskEndpoint {
@@ -121,6 +118,38 @@ impl TaskEndpoint {
         endpoint.slot().set_state(RunState::Running);
         endpoint.first_snapshot()?;
         Ok(endpoint)
+    }
+}
+
+/// A script's end of the IPC: sends its requests, waits on its wake word for the replies, reads the snapshot.
+pub struct TaskEndpoint {
+    task: u8,
+    controller_pid: u32,
+    seq: u64,
+    /// The last call that got its reply, and the calls given up on (the newest few).
+    answered: u64,
+    given_up: [u64; 8],
+    reply_timeout: Option<Duration>,
+    counters: ReplyCounters,
+    last_call: CallTiming,
+    wait_seq: u16,
+    /// On the simulation clock: runs Lua only in the turns the core grants.
+    lockstep: bool,
+    /// API calls in the cycle `share_cycle`.
+    calls_in_cycle: u32,
+    share_cycle: u64,
+    latest: Option<Sample<Ipc, Snapshot, ()>>,
+    state: StateSubscriber,
+    requests: RequestPublisher,
+    replies: ReplySubscriber,
+    table: Region<TaskTable>,
+    _node: Node<Ipc>,
+}
+
+impl TaskEndpoint {
+    /// Opens task `task`'s channels in namespace `ns`; `controller_pid` is watched while blocked.
+    pub fn open(ns: &Namespace, task: u8, controller_pid: u32) -> Result<Self, IpcError> {
+        PreparedEndpoint::new(ns, &format!("luamotion-task-{task}"), controller_pid)?.attach(ns, task)
     }
 
     /// The task id.

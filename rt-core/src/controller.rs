@@ -148,6 +148,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         options.data_dir.clone(),
         &config.tasks,
         supervisor_end,
+        config.rt.script_pool,
     )?;
     let mut interrupted = None;
     let mut failure = None;

@@ -14,12 +14,14 @@ use api::alarms::{Alarm, Event};
 use ipc::Namespace;
 use ipc::events::EventSender;
 use ipc::messages::{EventKind, EventRecord, MAX_TASKS};
+use ipc::pool::Assignment;
 use ipc::services::{self, IpcNode, Open};
 use ipc::shm::Region;
 use ipc::task_table::TaskTable;
 
 use crate::config::TaskConfig;
 use crate::output::{Throttle, spawn_forward};
+use crate::pool::Pool;
 use crate::tasks::{AlarmReport, Entry, Exit, Order, Report, SupervisorEnd};
 
 /// How a script process is started: the luamotion binary and its hidden subcommand.
@@ -69,6 +71,7 @@ pub struct Supervisor {
     table: Region<TaskTable>,
     events: EventSender,
     running: Vec<Running>,
+    pool: Pool,
     ended: Vec<TaskReport>,
     last_cpu_read: Instant,
     shutting_down: bool,
@@ -77,13 +80,14 @@ pub struct Supervisor {
 
 impl Supervisor {
     /// Writes each configured task's program into the task table and creates the event
-    /// stream the scripts write to.
+    /// stream the scripts write to; keeps `pool` script processes started and waiting.
     pub fn new(
         ns: Namespace,
         launcher: ScriptLauncher,
         data_dir: PathBuf,
         tasks: &[TaskConfig],
         link: SupervisorEnd,
+        pool: usize,
     ) -> Result<Self, ipc::IpcError> {
         let table = Region::<TaskTable>::open(&ns, "tasks")?;
         let mut configs = vec![None; MAX_TASKS];
@@ -104,6 +108,7 @@ impl Supervisor {
             table,
             events,
             running: Vec::new(),
+            pool: Pool::new(pool),
             ended: Vec::new(),
             last_cpu_read: Instant::now(),
             shutting_down: false,
@@ -129,6 +134,17 @@ impl Supervisor {
                 }
                 _ => i += 1,
             }
+        }
+        if self.pool.reap() {
+            ipc::clean_dead_nodes(&self.ns);
+        }
+        if !self.shutting_down {
+            let (launcher, ns, data_dir) = (&self.launcher, &self.ns, &self.data_dir);
+            self.pool.refill(|| {
+                let mut command = script_command(launcher, ns, data_dir);
+                command.arg("--pool");
+                command
+            });
         }
         if self.last_cpu_read.elapsed() >= CPU_PERIOD {
             self.last_cpu_read = Instant::now();
@@ -163,37 +179,29 @@ impl Supervisor {
         }
     }
 
+    /// A script process for `task`: a waiting one from the pool, else a new one.
     fn spawn(&mut self, task: &TaskConfig, entry: Entry) -> std::io::Result<u32> {
         self.table.slots[task.id as usize].reset();
-        let mut command = Command::new(&self.launcher.executable);
-        command
-            .args(&self.launcher.subcommand)
-            .args(["--ns", self.ns.as_str()])
-            .args(["--task", &task.id.to_string()])
-            .args(["--controller-pid", &std::process::id().to_string()])
-            .args(["--memory-limit-mib", &task.memory_limit_mib.to_string()])
-            .arg("--data-dir")
-            .arg(&self.data_dir);
-        if let Some(function) = entry.function_name() {
-            command.args(["--entry", &function]);
-        }
-        command.arg(&task.program).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
-        let parent = std::process::id();
-        // SAFETY: only async-signal-safe calls between fork and exec.
-        unsafe {
-            command.pre_exec(move || {
-                // Own process group: a Ctrl-C at the terminal reaches the controller, which
-                // then stops its scripts in order.
-                libc::setpgid(0, 0);
-                // Die with the controller, even on its kill -9.
-                libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
-                if libc::getppid() as u32 != parent {
-                    libc::_exit(1);
+        let assignment = Assignment {
+            task: task.id,
+            memory_limit_mib: task.memory_limit_mib,
+            entry: entry.function_name(),
+            program: task.program.clone(),
+        };
+        let (mut child, pooled) = match self.pool.hand_out(&assignment) {
+            Some(child) => (child, true),
+            None => {
+                let mut command = script_command(&self.launcher, &self.ns, &self.data_dir);
+                command
+                    .args(["--task", &task.id.to_string()])
+                    .args(["--memory-limit-mib", &task.memory_limit_mib.to_string()]);
+                if let Some(function) = &assignment.entry {
+                    command.args(["--entry", function]);
                 }
-                Ok(())
-            });
-        }
-        let mut child = command.spawn()?;
+                command.arg(&task.program).stdin(Stdio::null());
+                (command.spawn()?, false)
+            }
+        };
         let pid = child.id();
         let last_error_line = Arc::new(Mutex::new(None));
         let stdout = child.stdout.take().expect("piped");
@@ -203,7 +211,7 @@ impl Supervisor {
             spawn_forward(stdout, std::io::stdout(), task.id, throttle.clone(), None),
             spawn_forward(stderr, std::io::stderr(), task.id, throttle, Some(last_error_line.clone())),
         ];
-        tracing::info!(task = task.id, pid, program = %task.program.display(), "started");
+        tracing::info!(task = task.id, pid, pooled, program = %task.program.display(), "started");
         self.running.push(Running {
             id: task.id,
             program: task.program.clone(),
@@ -273,9 +281,11 @@ impl Supervisor {
         self.running.len()
     }
 
-    /// From now on, starts no script process (the controller is shutting down).
+    /// From now on, starts no script process (the controller is shutting down); the
+    /// waiting ones end.
     pub fn refuse_starts(&mut self) {
         self.shutting_down = true;
+        self.pool.close();
     }
 
     /// Ends every script process (shutdown) and reaps them; starts no new ones.
@@ -298,6 +308,36 @@ impl Supervisor {
     pub fn into_reports(self) -> Vec<TaskReport> {
         self.ended
     }
+}
+
+/// `luamotion script` with what every script process is told, its output piped, in
+/// its own process group and dying with the controller.
+fn script_command(launcher: &ScriptLauncher, ns: &Namespace, data_dir: &Path) -> Command {
+    let mut command = Command::new(&launcher.executable);
+    command
+        .args(&launcher.subcommand)
+        .args(["--ns", ns.as_str()])
+        .args(["--controller-pid", &std::process::id().to_string()])
+        .arg("--data-dir")
+        .arg(data_dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let parent = std::process::id();
+    // SAFETY: only async-signal-safe calls between fork and exec.
+    unsafe {
+        command.pre_exec(move || {
+            // Own process group: a Ctrl-C at the terminal reaches the controller, which
+            // then stops its scripts in order.
+            libc::setpgid(0, 0);
+            // Die with the controller, even on its kill -9.
+            libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
+            if libc::getppid() as u32 != parent {
+                libc::_exit(1);
+            }
+            Ok(())
+        });
+    }
+    command
 }
 
 /// An alarm as the log and the event stream say it.

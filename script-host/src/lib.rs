@@ -12,13 +12,16 @@ pub mod require;
 pub mod sandbox;
 pub mod user_table;
 
+use std::io::BufRead;
 use std::path::PathBuf;
 use std::rc::Rc;
 
 use api::SystemError;
+use ipc::pool::{Assignment, POOL_NODE_NAME};
+use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::task_table::{EndCode, RunState, TaskSlot, TaskTable};
-use ipc::{IpcError, Namespace, TaskEndpoint};
+use ipc::{IpcError, Namespace, PreparedEndpoint, TaskEndpoint};
 
 use bindings::Host;
 use debugger::{Debugger, SharedTable};
@@ -39,6 +42,31 @@ pub struct ScriptArgs {
     pub freeport_bind: std::net::IpAddr,
 }
 
+/// A pooled process (`script --pool`): what it knows before the supervisor hands it a task.
+pub struct PoolArgs {
+    pub ns: Namespace,
+    pub controller_pid: u32,
+    pub data_dir: PathBuf,
+    pub user_ascii: String,
+    pub freeport_bind: std::net::IpAddr,
+}
+
+impl PoolArgs {
+    fn assign(self, assignment: Assignment) -> ScriptArgs {
+        ScriptArgs {
+            ns: self.ns,
+            task: assignment.task,
+            controller_pid: self.controller_pid,
+            memory_limit_mib: assignment.memory_limit_mib,
+            data_dir: self.data_dir,
+            entry: assignment.entry,
+            program: assignment.program,
+            user_ascii: self.user_ascii,
+            freeport_bind: self.freeport_bind,
+        }
+    }
+}
+
 /// Why a program did not end normally.
 #[derive(Debug, thiserror::Error)]
 pub enum ScriptError {
@@ -51,6 +79,8 @@ pub enum ScriptError {
     Ipc(#[from] IpcError),
     #[error("the controller is gone")]
     ControllerGone,
+    #[error("no task from the controller: {0:?}")]
+    Assignment(String),
     #[error("{message}")]
     OutOfMemory { message: String },
 }
@@ -75,20 +105,58 @@ impl ScriptError {
 
 /// Runs the program to its end.
 pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
-    let source = std::fs::read_to_string(&args.program)
-        .map_err(|source| ScriptError::Read { path: args.program.clone(), source })?;
+    let source = read_program(&args)?;
     let endpoint = TaskEndpoint::open(&args.ns, args.task, args.controller_pid)?;
     ipc::restore_default_signals();
+    let host = Host::new(endpoint, &args.ns, args.data_dir.clone())?;
+    run_attached(args, &source, host)
+}
+
+/// A pooled process: everything a start does before it knows its task (the exec, the
+/// node, the state subscriber) is done while it waits for the supervisor's assignment on
+/// stdin; then it runs that one task as `run` does, in a VM made for it, and ends.
+pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
+    set_process_name(WAITING_NAME);
+    let prepared = PreparedEndpoint::new(&pool.ns, POOL_NODE_NAME, pool.controller_pid)?;
+    let events = prepared.event_sender(&pool.ns)?;
+    let shared = Region::<SharedData>::open(&pool.ns, "shared")?;
+    ipc::restore_default_signals();
+    let mut line = String::new();
+    match std::io::stdin().lock().read_line(&mut line) {
+        // The supervisor closed the pipe: the controller is ending or gone.
+        Ok(0) | Err(_) => return Err(ScriptError::ControllerGone),
+        Ok(_) => {}
+    }
+    let assignment = Assignment::decode(&line).ok_or(ScriptError::Assignment(line))?;
+    set_process_name(RUNNING_NAME);
+    let args = pool.assign(assignment);
+    let source = read_program(&args)?;
+    let endpoint = prepared.attach(&args.ns, args.task)?;
+    let host = Host::from_parts(endpoint, events, shared, &args.ns, args.data_dir.clone());
+    run_attached(args, &source, host)
+}
+
+/// What `ps` shows of a waiting process, and of one that runs its task (the executable's
+/// own name, as a process started for the task shows).
+const WAITING_NAME: &std::ffi::CStr = c"luamotion-pool";
+const RUNNING_NAME: &std::ffi::CStr = c"luamotion";
+
+fn set_process_name(name: &std::ffi::CStr) {
+    // SAFETY: PR_SET_NAME reads a NUL-terminated string of at most 16 bytes.
+    unsafe { libc::prctl(libc::PR_SET_NAME, name.as_ptr()) };
+}
+
+fn read_program(args: &ScriptArgs) -> Result<String, ScriptError> {
+    std::fs::read_to_string(&args.program).map_err(|source| ScriptError::Read { path: args.program.clone(), source })
+}
+
+fn run_attached(args: ScriptArgs, source: &str, host: Host) -> Result<(), ScriptError> {
     let table = Rc::new(Region::<TaskTable>::open(&args.ns, "tasks")?);
     let task = args.task as usize;
 
     let memory_limit = args.memory_limit_mib as usize * 1024 * 1024;
     let lua = sandbox::new_vm(memory_limit).map_err(|e| ScriptError::lua(e.to_string()))?;
-    let host = Rc::new(
-        Host::new(endpoint, &args.ns, args.data_dir.clone())?
-            .with_user_ascii(args.user_ascii.clone())
-            .with_freeport_bind(args.freeport_bind),
-    );
+    let host = Rc::new(host.with_user_ascii(args.user_ascii.clone()).with_freeport_bind(args.freeport_bind));
     bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_system_variables(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_print(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
@@ -101,7 +169,7 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     debugger.install(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
     let slot = &table.slots[task];
     // HMPL 22.2.1: an agent the program started outlives it, until the task is stopped.
-    let result = start(&lua, &source, &name, args.entry.as_deref(), slot, &host)
+    let result = start(&lua, source, &name, args.entry.as_deref(), slot, &host)
         .and_then(|()| bindings::serve_agent_forever(&lua, &host))
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
     // Closing the VM runs the finalizers (`__gc`) left: user code, so still under the

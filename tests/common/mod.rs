@@ -90,8 +90,23 @@ pub fn run(ns: &str, args: &[&str]) -> Finished {
     finish(start_run(ns, args), Duration::from_secs(60))
 }
 
-/// Child processes of `pid`, from /proc.
+/// Child processes of `pid`, from /proc: a controller's script processes that run a
+/// task (its waiting ones, `[rt] script_pool`, left out).
 pub fn children_of(pid: u32) -> Vec<u32> {
+    all_children_of(pid).into_iter().filter(|&child| !waiting(child)).collect()
+}
+
+/// A controller's waiting script processes (`[rt] script_pool`).
+pub fn waiting_children_of(pid: u32) -> Vec<u32> {
+    all_children_of(pid).into_iter().filter(|&child| waiting(child)).collect()
+}
+
+/// A waiting script process names itself so (`script_host::run_pooled`).
+fn waiting(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/comm")).is_ok_and(|name| name.trim_end() == "luamotion-pool")
+}
+
+fn all_children_of(pid: u32) -> Vec<u32> {
     let mut children = Vec::new();
     for entry in std::fs::read_dir("/proc").expect("proc").flatten() {
         let Ok(child) = entry.file_name().to_string_lossy().parse::<u32>() else { continue };

@@ -58,8 +58,20 @@ impl Host {
     pub fn new(endpoint: TaskEndpoint, ns: &Namespace, data_dir: PathBuf) -> Result<Self, IpcError> {
         let events = endpoint.event_sender(ns)?;
         let shared = Region::<SharedData>::open(ns, "shared")?;
+        Ok(Self::from_parts(endpoint, events, shared, ns, data_dir))
+    }
+
+    /// As `new`, with the event writer and the shared data opened before (a pooled
+    /// process opens them while it waits for its task).
+    pub fn from_parts(
+        endpoint: TaskEndpoint,
+        events: EventSender,
+        shared: Region<SharedData>,
+        ns: &Namespace,
+        data_dir: PathBuf,
+    ) -> Self {
         let task = endpoint.task();
-        Ok(Host {
+        Host {
             endpoint: RefCell::new(endpoint),
             shared,
             task,
@@ -69,7 +81,7 @@ impl Host {
             freeport_bind: std::net::IpAddr::from([127, 0, 0, 1]),
             events,
             throttle: Cell::new(Throttle::default()),
-        })
+        }
     }
 
     /// The User ASCII agent listens on `address` (`host:port`).

@@ -1,0 +1,138 @@
+//! End to end: the supervisor's pool of started script processes (`[rt] script_pool`).
+//! A pooled process runs one task start, in a VM made for it; a waiting one that dies is
+//! replaced; they die with their controller; a start with the pool empty starts a
+//! process as before.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use common::{BIN, Finished, data_dir, eventually, finish, process_alive, program, unique_ns, waiting_children_of};
+
+/// A machine file with `[rt] script_pool = pool` and task i running `tasks[i]`, the ones
+/// marked with the controller.
+fn machine(dir: &Path, pool: usize, tasks: &[(&Path, bool)]) -> PathBuf {
+    let mut toml = format!("[rt]\nscript_pool = {pool}\n[[axes]]\n");
+    for (id, (program, autorun)) in tasks.iter().enumerate() {
+        toml += &format!("[[tasks]]\nid = {id}\nprogram = {:?}\nautorun = {autorun}\n", program.display().to_string());
+    }
+    let path = dir.join("machine.toml");
+    std::fs::write(&path, toml).unwrap();
+    path
+}
+
+/// `luamotion run`, logging each process start (`pooled = true` when from the pool).
+fn start(ns: &str, config: &Path) -> Child {
+    Command::new(BIN)
+        .args(["run", "--ns", ns, "--config", config.to_str().unwrap()])
+        .arg("--data-dir")
+        .arg(data_dir(ns))
+        .env("RUST_LOG", "warn,rt_core::supervisor=info")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start luamotion")
+}
+
+/// How many of task `task`'s process starts were from the pool, and how many not.
+fn starts(out: &Finished, task: u8) -> (usize, usize) {
+    let of_task = |pooled: bool| {
+        let wanted = format!("task={task} ");
+        let flag = format!("pooled={pooled} ");
+        out.stderr.lines().filter(|l| l.contains(" started") && l.contains(&wanted) && l.contains(&flag)).count()
+    };
+    (of_task(true), of_task(false))
+}
+
+/// A task restarted from the pool runs its own program in a fresh VM: the global the
+/// previous run set is not there, and `StartTaskFunc` runs its function after the top level.
+#[test]
+fn a_pooled_start_runs_its_program_in_a_fresh_vm() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = program(
+        dir.path(),
+        "main.lua",
+        "Sleep(1500)\nfor i = 1, 5 do\n  StartTask(1)\n  Till(function() return IsTaskStop(1) end)\n  Sleep(50)\nend\n\
+         StartTaskFunc(2, 'probe')\nTill(function() return IsTaskStop(2) end)\n",
+    );
+    let counter = program(dir.path(), "counter.lua", "Print('before %s', tostring(left))\nleft = 1\n");
+    let probe = program(
+        dir.path(),
+        "probe.lua",
+        "Print('top %s', tostring(left))\nleft = 2\nfunction probe() Print('probe %s', tostring(left)) end\n",
+    );
+    let ns = unique_ns("pool-fresh");
+    let out = finish(
+        start(&ns, &machine(dir.path(), 2, &[(main.as_path(), true), (&counter, false), (&probe, false)])),
+        Duration::from_secs(60),
+    );
+    let context = format!("{}\n{}", out.stdout, out.stderr);
+    assert!(out.status.success(), "{context}");
+    assert_eq!(out.lines_of_task(1), vec!["before nil"; 5], "no run sees the last one's global: {context}");
+    assert_eq!(out.lines_of_task(2), vec!["top nil", "probe 2"], "{context}");
+    let (pooled, spawned) = starts(&out, 1);
+    assert_eq!(pooled + spawned, 5, "{context}");
+    assert!(pooled >= 4, "the restarts came from the pool ({pooled} of 5): {context}");
+    assert_eq!(starts(&out, 2), (1, 0), "StartTaskFunc from the pool: {context}");
+}
+
+/// Four tasks that start with the controller find the pool empty (it is filled after the
+/// first orders): each gets a process started for it, as without a pool.
+#[test]
+fn a_start_with_the_pool_empty_starts_a_process() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = program(dir.path(), "main.lua", "Print('main')\n");
+    let config = machine(dir.path(), 1, &[(main.as_path(), true); 4]);
+    let out = finish(start(&unique_ns("pool-empty"), &config), Duration::from_secs(60));
+    let context = format!("{}\n{}", out.stdout, out.stderr);
+    assert!(out.status.success(), "{context}");
+    for task in 0..4 {
+        assert_eq!(out.lines_of_task(task), vec!["main"], "{context}");
+    }
+    let spawned: usize = (0..4).map(|t| starts(&out, t).1).sum();
+    assert!(spawned >= 3, "at most one from the pool of 1: {context}");
+}
+
+/// A waiting process that dies is replaced (and said so in the log); starts go on. The
+/// waiting processes die with their controller, even on its `kill -9`.
+#[test]
+fn a_waiting_process_that_dies_is_replaced_and_all_die_with_the_controller() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = program(
+        dir.path(),
+        "main.lua",
+        "Till(function() return system_user_table[0] == 1 end)\n\
+         while true do\n  StartTask(1)\n  Till(function() return IsTaskStop(1) end)\n  Sleep(100)\nend\n",
+    );
+    let short = program(dir.path(), "short.lua", "system_user_table[1] = system_user_table[1] + 1\n");
+    let ns = unique_ns("pool-death");
+    let mut child = start(&ns, &machine(dir.path(), 2, &[(main.as_path(), true), (&short, false)]));
+    let pid = child.id();
+    assert!(eventually(Duration::from_secs(20), || waiting_children_of(pid).len() == 2), "two waiting processes");
+    let victim = waiting_children_of(pid)[0];
+    // SAFETY: killing one waiting script process of this test's controller.
+    unsafe { libc::kill(victim as i32, libc::SIGKILL) };
+    let replaced = eventually(Duration::from_secs(20), || {
+        let now = waiting_children_of(pid);
+        now.len() == 2 && !now.contains(&victim)
+    });
+    let survivors = waiting_children_of(pid);
+    // Now the starts, from the replaced pool.
+    let namespace = ipc::Namespace::new(&ns).unwrap();
+    let shared = ipc::shm::Region::<ipc::shared::SharedData>::open(&namespace, "shared").unwrap();
+    shared.set_user_table(0, 1.0);
+    let ran = eventually(Duration::from_secs(20), || shared.user_table(1).is_some_and(|runs| runs >= 2.0));
+    // SAFETY: killing this test's controller as a crash would.
+    unsafe { libc::kill(pid as i32, libc::SIGKILL) };
+    let gone = eventually(Duration::from_secs(10), || survivors.iter().all(|&p| !process_alive(p)));
+    let _ = child.wait();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut stderr).unwrap();
+    ipc::remove_namespace_files(&namespace);
+    assert!(replaced, "a new waiting process for the killed one: {survivors:?}\n{stderr}");
+    assert!(stderr.contains("a waiting script process ended"), "{stderr}");
+    assert!(ran, "starts went on: {stderr}");
+    assert!(gone, "the waiting processes died with the controller: {survivors:?}");
+}
