@@ -129,7 +129,7 @@ fn in_task(luamotion: &str, dir: &Path, body: &str) -> (f64, String) {
         .arg("--data-dir")
         .arg(dir)
         .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
+        .stderr(Stdio::null())
         .spawn()
         .expect("start luamotion");
     let (tx, lines) = channel();
