@@ -1,7 +1,9 @@
 //! What the debugger's hook costs a CPU-bound program (DXMC manual A.3 program control):
-//! the same Lua run with no hook, with the line hook the script host had before the
-//! debugger, with the debugger in Debug Run without breakpoints (the count hook), and with
-//! one breakpoint on a line never reached (the line hook). Best of 5 runs each.
+//! the same Lua run with no hook, with the count hook the script host had before the hook
+//! was armed only when needed, with the debugger in Debug Run without breakpoints (no hook
+//! after the first line; a script process adds a sample every 10 ms, see
+//! benches/lua_speed.rs), and with one breakpoint on a line never reached (the line hook).
+//! Best of 5 runs each.
 //!
 //! `cargo bench -p script-host --bench debugger`
 
@@ -51,7 +53,7 @@ impl Setup {
     fn name(self) -> &'static str {
         match self {
             Setup::NoHook => "(a) no hook",
-            Setup::CountHookOnly => "(ref) count hook recording the line (before the debugger)",
+            Setup::CountHookOnly => "(ref) count hook recording the line (before issue 19)",
             Setup::Debugger { breakpoint: false } => "(b) debugger, Debug Run, no breakpoint",
             Setup::Debugger { breakpoint: true } => "(c) debugger, Debug Run, breakpoint never reached",
         }

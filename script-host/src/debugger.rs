@@ -4,31 +4,31 @@
 //! StepInto, StepOver and StepOut; the debugger reports why the program stopped and the
 //! main chunk's line.
 //!
-//! It lives in the VM's hook, which runs at two speeds. While nothing needs single lines
-//! it is a count hook every `LINE_INSTRUCTIONS` instructions: it records the line for the
-//! watchdog's report and looks for work (a breakpoint in Debug Run, a command). Its cost is
-//! the one the watchdog's line always had: once a count or line hook is set, Lua 5.4 runs
-//! `luaG_traceexec` before every instruction, whatever the count (see benches/debugger.rs).
-//! A line hook also calls into Rust on every line, so breakpoints, a step, a Pause or Block
-//! Run's first stop switch to it only until they are gone.
+//! It lives in the VM's hook, which is off while nothing needs it: any count or line hook
+//! makes Lua 5.4 run `luaG_traceexec` before every instruction (see `arming`). The hook
+//! is armed by `arming::Watcher`'s signal while the program runs Lua, once every
+//! `arming::SAMPLE_PERIOD`: it records the line for the watchdog's report, follows the
+//! main line for 0x6B02, looks for work (new breakpoints, a command) and bounds the depth,
+//! then disarms itself. Breakpoints in Debug or Block Run, a step, a Pause and Block Run's
+//! first stop need single lines: the hook then stays a line hook until they are gone, so
+//! the debugger costs only while debugging.
 //!
-//! Why `Lua::set_global_hook` rather than `Lua::set_hook`: Lua copies the running thread's
-//! hook into each coroutine it creates (`lua_newthread`), but mlua's per-thread hook looks
+//! Why `Lua::set_global_hook` rather than `Lua::set_hook`: mlua's per-thread hook looks
 //! its callback up by thread in the registry, finds none for a coroutine and removes the
-//! hook there (`hook_proc` in mlua 0.12's `state/raw.rs`). A program looping in a
-//! coroutine could then be neither paused nor reported by the watchdog. The global hook's
-//! callback serves every thread. The hook's speed is still set per thread: a switch arms
-//! the running thread, and a coroutine armed at the old speed catches up at its next count
-//! event, within `LINE_INSTRUCTIONS` instructions.
+//! hook there (`hook_proc` in mlua 0.12's `state/raw.rs`); the global hook's callback
+//! serves every thread. It is registered once; arming a thread is a `lua_sethook` with its
+//! procedure, on the running thread (`arming` hands a resumer's hook to the coroutine it
+//! resumes).
 //!
 //! The hook is no progress for the watchdog: it never advances the heartbeat. A stop marks
 //! the task Paused, which the watchdog does not count as hung. It takes line events until
 //! the program's first line, so that the watchdog never reports line 0 for a program that
-//! hangs before its first count event (in a C function such as `string.find`).
+//! hangs before it is first sampled (in a C function such as `string.find`).
 //!
-//! It also bounds the depth of nested calls (`MAX_DEPTH`): Lua's own limit (about 200 000
-//! calls) takes longer to reach than a watchdog period, and a runaway recursion would read
-//! as a hang instead of a stack overflow at its line.
+//! It also bounds the depth of nested calls (`MAX_DEPTH`) when it runs: Lua's own limit
+//! (about 500 000 calls) takes longer to reach than a sample period and more memory than a
+//! task's default limit, and a runaway recursion would read as a hang or a memory error
+//! instead of a stack overflow at its line.
 
 use std::cell::{Cell, RefCell};
 use std::ops::Deref;
@@ -39,17 +39,16 @@ use ipc::IpcError;
 use ipc::debug::{DebugBlock, DebugCommand, Halt, RunMode};
 use ipc::task_table::{RunState, TaskSlot, TaskTable};
 use mlua::debug::{Debug, DebugEvent};
+use mlua::ffi;
 use mlua::thread::ThreadStatus;
 use mlua::{HookTriggers, Lua, Thread, VmState};
 
-/// VM instructions between two looks at the line being run: a few microseconds of Lua.
+/// VM instructions between two count events of the line hook (the depth check while
+/// debugging): a few microseconds of Lua.
 pub const LINE_INSTRUCTIONS: u32 = 1000;
 
 /// Nested calls a program may make; one more is a stack overflow.
 pub const MAX_DEPTH: usize = 50_000;
-
-/// Count events between two looks at the depth: looking costs up to one step per level.
-const DEPTH_EVERY: u32 = 16;
 
 /// How often a stopped program checks that its controller is still alive.
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
@@ -69,8 +68,8 @@ pub struct Debugger {
     /// program is raised again at every event, so that a `pcall` or a coroutine cannot
     /// swallow it and run on.
     controller_gone: Cell<bool>,
-    /// The speed last armed: line events (true) or count events only.
-    lines: Cell<bool>,
+    /// The hook procedure `set_global_hook` installed, to arm threads with.
+    hook: Cell<Option<ffi::lua_Hook>>,
     /// The breakpoints' generation last seen.
     generation: Cell<u32>,
     /// Debug or Block Run with at least one breakpoint.
@@ -79,8 +78,6 @@ pub struct Debugger {
     block_start: Cell<bool>,
     /// No line has been run yet.
     first_line: Cell<bool>,
-    /// Count events, for the depth check.
-    counts: Cell<u32>,
     step: RefCell<Option<Step>>,
 }
 
@@ -133,24 +130,27 @@ impl Debugger {
             main_chunk: main_chunk.into(),
             controller_alive: Box::new(controller_alive),
             controller_gone: Cell::new(false),
-            lines: Cell::new(false),
+            hook: Cell::new(None),
             generation: Cell::new(0),
             breakpoints_armed: Cell::new(false),
             block_start: Cell::new(false),
             first_line: Cell::new(true),
-            counts: Cell::new(0),
             step: RefCell::new(None),
         })
     }
 
     /// Sets the VM's hook, before the program starts: the console has prepared the run
-    /// mode and the breakpoints.
+    /// mode and the breakpoints. The hook takes line events until the first line.
     pub fn install(self: &Rc<Self>, lua: &Lua) -> mlua::Result<()> {
         let debug = self.debug();
         debug.set_halt(Halt::None);
         self.block_start.set(debug.mode() == RunMode::Block);
         self.reread_breakpoints();
-        self.arm(lua, self.wants_lines())
+        let this = Rc::clone(self);
+        lua.set_global_hook(line_triggers(), move |lua, event| this.on_event(lua, event))?;
+        // SAFETY: the running (main) thread, alive while `lua` is.
+        self.hook.set(unsafe { ffi::lua_gethook(lua.current_thread().state()) });
+        Ok(())
     }
 
     /// The program has ended. A command still pending (a step that never reached its line,
@@ -172,18 +172,20 @@ impl Debugger {
         &self.slot().debug
     }
 
-    /// Sets the hook of the running thread (and of the threads mlua creates from now on).
-    fn arm(self: &Rc<Self>, lua: &Lua, lines: bool) -> mlua::Result<()> {
-        let count = HookTriggers::new().every_nth_instruction(LINE_INSTRUCTIONS);
-        let triggers = if lines { count.every_line() } else { count };
-        let this = Rc::clone(self);
-        // Replacing the callback from inside it is sound: mlua calls a clone of its Rc.
-        lua.set_global_hook(triggers, move |lua, event| this.on_event(lua, event))?;
-        self.lines.set(lines);
-        Ok(())
+    /// Arms the running thread with line events, or takes its hook off.
+    fn arm(&self, lua: &Lua, lines: bool) {
+        let state = lua.current_thread().state();
+        let mask = ffi::LUA_MASKLINE | ffi::LUA_MASKCOUNT;
+        // SAFETY: the running thread, on the thread that runs it.
+        unsafe {
+            match self.hook.get() {
+                Some(hook) if lines => ffi::lua_sethook(state, Some(hook), mask, LINE_INSTRUCTIONS as i32),
+                _ => ffi::lua_sethook(state, None, 0, 0),
+            }
+        }
     }
 
-    fn on_event(self: &Rc<Self>, lua: &Lua, event: &Debug) -> mlua::Result<VmState> {
+    fn on_event(&self, lua: &Lua, event: &Debug) -> mlua::Result<VmState> {
         if self.controller_gone.get() {
             return Err(controller_gone());
         }
@@ -202,30 +204,25 @@ impl Debugger {
             if self.may_stop_at(line) && self.is_main_chunk(event) {
                 self.on_main_line(lua, line)?;
             }
-            // This thread runs at line speed: back to counting once nothing needs lines.
+            // This thread runs at line speed: off once nothing needs lines.
             if !self.wants_lines() {
-                self.arm(lua, false)?;
+                self.arm(lua, false);
             }
         } else {
-            // 0x6B02 follows a running program too, at the count hook's pace.
+            // 0x6B02 follows a running program too, at the sampling's pace.
             if self.is_main_chunk(event) {
                 self.debug().set_main_line(line);
             }
-            let lines = self.wants_lines();
-            // At line speed every count event re-arms its thread: a coroutine armed while
-            // the hook counted gets its line events from here on.
-            if lines || self.lines.get() {
-                self.arm(lua, lines)?;
-            }
+            // A sample (or the line hook's count event): lines from here on, or no hook.
+            self.arm(lua, self.wants_lines());
         }
         Ok(VmState::Continue)
     }
 
     /// A stack overflow, at the line being run, once the calls nest deeper than `MAX_DEPTH`.
+    /// Looking costs one step per level, up to `MAX_DEPTH`.
     fn check_depth(&self, lua: &Lua, event: &Debug, line: u32) -> mlua::Result<()> {
-        let counts = self.counts.get().wrapping_add(1);
-        self.counts.set(counts);
-        if !counts.is_multiple_of(DEPTH_EVERY) || lua.inspect_stack(MAX_DEPTH, |_| ()).is_none() {
+        if lua.inspect_stack(MAX_DEPTH, |_| ()).is_none() {
             return Ok(());
         }
         let file = event.source().short_src.map(|s| s.to_string()).unwrap_or_default();
@@ -369,6 +366,12 @@ impl Step {
     }
 }
 
+/// The line hook's triggers (as `arm` sets them); its count events bound the depth while
+/// debugging.
+fn line_triggers() -> HookTriggers {
+    HookTriggers::new().every_nth_instruction(LINE_INSTRUCTIONS).every_line()
+}
+
 fn controller_gone() -> mlua::Error {
     mlua::Error::external(IpcError::ControllerGone)
 }
@@ -403,6 +406,7 @@ mod tests {
     use std::time::Instant;
 
     use super::*;
+    use crate::arming::{self, Watcher};
     use crate::{ScriptError, describe, sandbox};
 
     const TASK: usize = 3;
@@ -516,10 +520,18 @@ mod tests {
             alive.load(Ordering::Relaxed)
         });
         debugger.install(&lua).unwrap();
+        let watched = table.clone();
+        let watcher = Watcher::start(&lua, move || move || watched.slots[TASK].state() == RunState::Running).unwrap();
         let slot = &table.slots[TASK];
         slot.set_state(RunState::Running);
+        let probe = table.clone();
+        let line_now = lua.create_function(move |_, ()| Ok(probe.slots[TASK].line())).unwrap();
+        lua.globals().set("line_now", line_now).unwrap();
+        let hook_mask = lua.create_function(|_, ()| Ok(arming::running_hook_mask())).unwrap();
+        lua.globals().set("hook_mask", hook_mask).unwrap();
         let source = std::fs::read_to_string(program).unwrap();
         let result = lua.load(source).set_name(chunk_name).exec();
+        drop(watcher);
         debugger.finish();
         slot.set_state(RunState::Finished);
         match result.map_err(|e| describe(e, "main.lua", 0, 0)) {
@@ -772,5 +784,42 @@ return M
         assert_eq!(console.stopped(), (Halt::BreakPoint, 2));
         assert_eq!(console.command(DebugCommand::StepOver), (Halt::None, 2));
         assert_eq!(console.end(), Ended::Normally);
+    }
+
+    /// No hook while nothing needs one: the first line's hook and a sample each take
+    /// themselves off (with the old count hook the mask was never 0).
+    #[test]
+    fn the_hook_is_off_after_a_sample() {
+        let main = "\
+local spins = 0
+while line_now() ~= 2 do spins = spins + 1 end -- @spin
+assert(hook_mask() == 0, 'a hook after the sample')
+";
+        assert_eq!(line_of(main, "@spin"), 2);
+        let mut console = Console::start(main, &[], RunMode::Release, &[]);
+        assert_eq!(console.end(), Ended::Normally);
+        assert_eq!(console.slot().line(), 2, "sampled in the loop, not since");
+        assert_eq!(console.table.slots[TASK].debug.main_line(), 2, "0x6B02 follows the sample");
+    }
+
+    /// A program that never calls the API is sampled: the watchdog's report names the line
+    /// it hangs on, in the main chunk, in a coroutine, and in a loop of C string calls.
+    #[test]
+    fn a_hung_loop_is_sampled_at_its_line() {
+        let programs = [
+            "local n = 0\nn = n + 1\nwhile true do n = n + 1 end -- @hang\n",
+            "local co = coroutine.wrap(function()\n  local n = 0\n  while true do n = n + 1 end -- @hang\nend)\nco()\n",
+            "local s = string.rep('ab', 50)\n\nwhile true do local t = s:rep(3) .. s; local a = t:find('ba', 1, true) end -- @hang\n",
+        ];
+        for main in programs {
+            let hang = line_of(main, "@hang");
+            let mut console = Console::start(main, &[], RunMode::Release, &[]);
+            eventually(&format!("line {hang} of {main}"), || console.slot().line() == hang);
+            // Pause reaches it too, and ends it with the controller gone.
+            let (halt, line) = console.command(DebugCommand::Pause);
+            assert_eq!((halt, line), (Halt::Pause, hang), "{main}");
+            console.kill_controller();
+            assert_eq!(console.end(), Ended::ControllerGone, "{main}");
+        }
     }
 }

@@ -1,10 +1,11 @@
 //! A script process: one user program in one sandboxed Lua VM, talking to its controller.
 //!
 //! Every API call advances the task's heartbeat (see `bindings`), so that the controller's
-//! watchdog can tell a program stuck in Lua from a waiting one; the VM's hook (`debugger`)
-//! records the line being run, for the watchdog's report, and carries out the console's
-//! program control (DXMC manual A.3).
+//! watchdog can tell a program stuck in Lua from a waiting one; the VM's hook (`debugger`),
+//! armed by a signal while the program runs Lua (`arming`), records the line being run, for
+//! the watchdog's report, and carries out the console's program control (DXMC manual A.3).
 
+pub mod arming;
 pub mod bindings;
 pub mod debugger;
 pub mod printf;
@@ -167,13 +168,22 @@ fn run_attached(args: ScriptArgs, source: &str, host: Host) -> Result<(), Script
     let debugger =
         Debugger::new(table.clone() as SharedTable, task, chunk_name(&name), move || controller_alive(controller_pid));
     debugger.install(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
+    // The watcher maps the task table for itself: a mapping belongs to one thread.
+    let ns = args.ns.clone();
+    let watcher = arming::Watcher::start(&lua, move || {
+        let watched = Region::<TaskTable>::open(&ns, "tasks").ok();
+        move || watched.as_ref().is_some_and(|t| t.slots[task].state() == RunState::Running)
+    })
+    .map_err(|e| ScriptError::lua(e.to_string()))?;
     let slot = &table.slots[task];
     // HMPL 22.2.1: an agent the program started outlives it, until the task is stopped.
     let result = start(&lua, source, &name, args.entry.as_deref(), slot, &host)
         .and_then(|()| bindings::serve_agent_forever(&lua, &host))
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
     // Closing the VM runs the finalizers (`__gc`) left: user code, so still under the
-    // watchdog as a running task, before the controller hears the program has ended.
+    // watchdog as a running task, before the controller hears the program has ended. The
+    // watcher goes first: it keeps the VM alive.
+    drop(watcher);
     drop(lua);
     // Before Finished: a console waiting for a step sees it carried out when the program ends.
     debugger.finish();

@@ -44,6 +44,7 @@ pub fn new_vm(memory_limit_bytes: usize) -> mlua::Result<Lua> {
         .set_name(INTERNAL)
         .call(lua.create_function(move |lua, error| on_uncaught_error(lua, &tostring, error))?)?;
     lua.set_named_registry_value(RUNNER, runner)?;
+    crate::arming::track_coroutines(&lua)?;
     plain_caught_errors(&lua)?;
     Ok(lua)
 }
