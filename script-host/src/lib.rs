@@ -102,6 +102,7 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     let slot = &table.slots[task];
     // HMPL 22.2.1: an agent the program started outlives it, until the task is stopped.
     let result = start(&lua, &source, &name, args.entry.as_deref(), slot)
+        .and_then(|()| bindings::expectations_verdict(&host, &name))
         .and_then(|()| bindings::serve_agent_forever(&lua, &host))
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
     // Closing the VM runs the finalizers (`__gc`) left: user code, so still under the
