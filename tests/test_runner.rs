@@ -212,3 +212,24 @@ fn paths_it_cannot_use_are_refused_before_anything_runs() {
     let out = luamotion_test::<&str>(&[]);
     assert_eq!(out.status.code(), Some(2), "{}", out.stderr);
 }
+
+/// The example a user starts from (`scripts/tests/`) passes.
+#[test]
+fn the_example_tests_pass() {
+    let out = luamotion_test(&[repo_path("scripts/tests")]);
+    assert!(out.status.success(), "{}\n{}", out.stdout, out.stderr);
+    assert!(out.stdout.contains("PASS  ") && out.stdout.contains("hello_axis.lua"), "{}", out.stdout);
+}
+
+/// Outside `luamotion test` too, a program whose expectation failed fails its task, after
+/// running to its end.
+#[test]
+fn under_luamotion_run_a_failed_expectation_fails_the_task() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = program(dir.path(), "run.lua", "expect_eq(1, 2, \"one is two\")\nexpect_eq(2, 2)\nPrint(\"end\")\n");
+    let out = run(&unique_ns("expect-run"), &[file.to_str().unwrap()]);
+    assert!(!out.status.success(), "{}\n{}", out.stdout, out.stderr);
+    assert_eq!(out.lines_of_task(0).last().map(String::as_str), Some("end"), "{}", out.stdout);
+    assert!(out.stdout.contains("run.lua:1: expect_eq failed: got 1, expected 2 (one is two)"), "{}", out.stdout);
+    assert!(out.stderr.contains("run.lua: 1 of 2 expectations failed"), "{}", out.stderr);
+}
