@@ -27,7 +27,8 @@ const SHUTDOWN_GRACE: Duration = Duration::from_secs(10);
 pub struct TestArgs {
     /// Lua test programs, or folders: every `*.lua` directly in a folder, in name order.
     /// Beside a program, `NAME.toml` is its machine file and `NAME.expected` the lines its
-    /// task 0 must print.
+    /// task 0 must print, in order (`#` starts a comment, `~ text` matches a part of a
+    /// line, `{version}` is luamotion's version).
     #[arg(required = true)]
     paths: Vec<PathBuf>,
     /// How many files run at the same time [default: the number of cores].
