@@ -260,10 +260,7 @@ fn judge(file: &Path, run: &Run) -> Vec<Failure> {
     let expectations = failures.len();
     // `run` says how each task ended; a Lua error's reason is `file:line: message`.
     for line in run.stderr.lines() {
-        let Some((_, reason)) = line.split_once("): failed: ") else { continue };
-        if !line.starts_with("task ") {
-            continue;
-        }
+        let Some((_, reason)) = line.strip_prefix("task ").and_then(|l| l.split_once("): failed: ")) else { continue };
         // The end of a program whose expectations failed: they are listed already.
         if expectations > 0 && reason.ends_with(" failed") && reason.contains(" expectation") {
             continue;
