@@ -233,3 +233,33 @@ fn under_luamotion_run_a_failed_expectation_fails_the_task() {
     assert!(out.stdout.contains("run.lua:1: expect_eq failed: got 1, expected 2 (one is two)"), "{}", out.stdout);
     assert!(out.stderr.contains("run.lua: 1 of 2 expectations failed"), "{}", out.stderr);
 }
+
+/// The expectations take bad input as any function does: NaN, infinities, a negative
+/// tolerance and two tables never hold; a wrong type is a Lua error and no expectation;
+/// a huge message is cut as program output is.
+#[test]
+fn expectations_take_hostile_arguments_without_harm() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = program(
+        dir.path(),
+        "hostile.lua",
+        r#"expect_near(0/0, 1, 1)
+expect_near(1, 1, 0/0)
+expect_near(1, 1, -1)
+expect_near(math.huge, math.huge, 1)
+expect_eq({}, {})
+expect_eq(nil, nil)
+expect_true(string.rep('y', 100000))
+expect_eq(1, 2, string.rep('m', 100000))
+Print("type errors %s %s", tostring(pcall(expect_near, 'x', 1, 1)), tostring(pcall(expect_eq, 1, 1, {})))
+Print("survived")
+"#,
+    );
+    let out = run(&unique_ns("expect-hostile"), &[file.to_str().unwrap()]);
+    assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
+    assert!(out.stderr.contains("hostile.lua: 6 of 8 expectations failed"), "{}\n{}", out.stdout, out.stderr);
+    let lines = out.lines_of_task(0);
+    assert_eq!(lines.iter().filter(|l| l.contains(" failed: ")).count(), 6, "{}", out.stdout);
+    assert!(lines.iter().all(|l| l.len() <= 4200), "a line is cut: {}", out.stdout.len());
+    assert_eq!(lines[lines.len() - 2..], ["type errors false false", "survived"], "{}", out.stdout);
+}
