@@ -2687,6 +2687,30 @@ function Modbus_ClientWrite_HoldReg(socket_id, start_addr, num_regs, write_data)
 ---@return integer
 function Modbus_ClientWrite_Coils(socket_id, start_addr, num_coils, write_data) end
 
+--- Expects `actual == expected` as Lua compares them (3 equals 3.0; a table only itself).
+---luamotion test (script process)
+---@param actual any
+---@param expected any
+---@param message string
+---@return boolean
+function expect_eq(actual, expected, message) end
+
+--- Expects `|actual - expected| <= tolerance` (a NaN never is): `expect_near(GetPosFb(0), 100, 1e-3)`.
+---luamotion test (script process)
+---@param actual number
+---@param expected number
+---@param tolerance number
+---@param message string
+---@return boolean
+function expect_near(actual, expected, tolerance, message) end
+
+--- Expects a true value (not false, nil or 0, as `Till` reads a condition).
+---luamotion test (script process)
+---@param value any
+---@param message string
+---@return boolean
+function expect_true(value, message) end
+
 PI = 3.141592653589793 -- HMPL 23.1
 SQRT2 = 1.4142135623730951 -- HMPL 23.1
 SQRT1_2 = 0.7071067811865476 -- HMPL 23.1

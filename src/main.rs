@@ -16,6 +16,7 @@ use rt_core::supervisor::{Outcome, ScriptLauncher};
 mod drl_cli;
 mod scope;
 mod soak;
+mod test_runner;
 mod tools;
 mod web;
 
@@ -84,6 +85,9 @@ enum Cmd {
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
     },
+    /// Run Lua test programs, each on a fresh controller, several at a time: a summary,
+    /// JUnit XML, and exit code 1 when any fails.
+    Test(test_runner::TestArgs),
     /// Record variables of a running controller (`run` or `serve`) every cycle into CSV,
     /// SVG or PNG: decimation, a trigger, pre- and post-trigger samples.
     Scope(scope::ScopeArgs),
@@ -292,6 +296,7 @@ fn main() -> ExitCode {
             run(&controller, trace, http, (scope, scope_options), clock.clock(), scripts)
         }
         Cmd::Scope(args) => scope::scope(args),
+        Cmd::Test(args) => test_runner::test(args),
         Cmd::Tasks { ns } => tools::tasks(&ns),
         Cmd::Serve(args) => drl_cli::serve(args),
         Cmd::Drl(args) => drl_cli::drl(args),

@@ -1007,4 +1007,14 @@ declare_functions! {
     /// FC 15, 1..1968 coils: coil i is bit i % 16 of `write_data[i / 16 + 1]` (`{15}` sets
     /// four), otherwise as `Modbus_ClientWrite_HoldReg`.
     ["HMPL 22.3.8"] fn Modbus_ClientWrite_Coils(socket_id: Int, start_addr: Int, num_coils: Int, write_data: Doubles) -> (Int, Bytes, Int);
+
+    // luamotion test: the expectations of a test program (`luamotion test`). A failed one
+    // prints `file:line: expect_... failed: ...` and the program goes on; a program with a
+    // failed expectation fails when it ends (docs/decisions.md). Each returns whether it held.
+    /// Expects `actual == expected` as Lua compares them (3 equals 3.0; a table only itself).
+    ["luamotion test"] fn expect_eq(actual: Any, expected: Any, message: Str) -> Bool;
+    /// Expects `|actual - expected| <= tolerance` (a NaN never is): `expect_near(GetPosFb(0), 100, 1e-3)`.
+    ["luamotion test"] fn expect_near(actual: Double, expected: Double, tolerance: Double, message: Str) -> Bool;
+    /// Expects a true value (not false, nil or 0, as `Till` reads a condition).
+    ["luamotion test"] fn expect_true(value: Any, message: Str) -> Bool;
 }

@@ -178,6 +178,7 @@ fn run_attached(args: ScriptArgs, source: &str, host: Host) -> Result<(), Script
     let slot = &table.slots[task];
     // HMPL 22.2.1: an agent the program started outlives it, until the task is stopped.
     let result = start(&lua, source, &name, args.entry.as_deref(), slot, &host)
+        .and_then(|()| bindings::expectations_verdict(&host, &name))
         .and_then(|()| bindings::serve_agent_forever(&lua, &host))
         .map_err(|e| describe(e, &name, slot.line(), memory_limit));
     // Closing the VM runs the finalizers (`__gc`) left: user code, so still under the

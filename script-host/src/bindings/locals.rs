@@ -153,6 +153,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         | Local::Modbus_ClientWrite_HoldReg
         | Local::Modbus_ClientWrite_Coils => super::clients::local(lua, host, local),
         Local::START_ASCII_AGENT | Local::ASCII_ServerBroadcast => super::agent::local(lua, host, local),
+        Local::expect_eq | Local::expect_near | Local::expect_true => super::expect::local(lua, host, local),
         Local::GetFirmwareVer
         | Local::GetFirmwareDate
         | Local::GetFirmwareHash
@@ -456,7 +457,7 @@ pub(super) fn format(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua:
 }
 
 /// `Till` keeps waiting while its condition returns false, nil or 0.
-fn is_true(v: &Value) -> bool {
+pub(super) fn is_true(v: &Value) -> bool {
     match v {
         Value::Nil | Value::Boolean(false) => false,
         Value::Integer(0) => false,

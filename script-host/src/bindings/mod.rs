@@ -6,6 +6,7 @@
 
 mod agent;
 mod clients;
+mod expect;
 mod freeport;
 mod library;
 mod locals;
@@ -34,6 +35,7 @@ use ipc::{IpcError, Namespace, TaskEndpoint};
 use mlua::{BorrowedBytes, Function, Lua, MultiValue, Value};
 
 pub use agent::{DEFAULT_ADDRESS as DEFAULT_USER_ASCII, serve as serve_agent, serve_forever as serve_agent_forever};
+pub use expect::verdict as expectations_verdict;
 use locals::Throttle;
 pub use system_vars::install_system_variables;
 
@@ -52,6 +54,8 @@ pub struct Host {
     pub freeport_bind: std::net::IpAddr,
     events: EventSender,
     throttle: Cell<Throttle>,
+    /// The program's expectations so far (`luamotion test`).
+    tally: Cell<expect::Tally>,
 }
 
 impl Host {
@@ -81,6 +85,7 @@ impl Host {
             freeport_bind: std::net::IpAddr::from([127, 0, 0, 1]),
             events,
             throttle: Cell::new(Throttle::default()),
+            tally: Cell::new(expect::Tally::default()),
         }
     }
 
