@@ -48,7 +48,9 @@ struct ClockArgs {
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum ClockKind {
+    /// One cycle per period of the wall clock.
     Realtime,
+    /// The cycles in lockstep with the programs, at most `--speed` times real time.
     Sim,
 }
 

@@ -14,6 +14,22 @@ pub fn wait(word: &AtomicU32, expected: u32, timeout: Duration) {
     }
 }
 
+/// As `wait`, after watching `word` for up to `spin` first: on the simulation clock the
+/// core and a task hand the turn to each other thousands of times a second, and a change
+/// seen while spinning on the other core saves the wake-up of a sleeping one (tens of
+/// microseconds each on a virtual machine).
+pub fn wait_spinning(word: &AtomicU32, expected: u32, spin: Duration, timeout: Duration) {
+    let until = crate::clock::monotonic_ns() + spin.as_nanos() as u64;
+    while word.load(std::sync::atomic::Ordering::Acquire) == expected {
+        if crate::clock::monotonic_ns() >= until {
+            return wait(word, expected, timeout);
+        }
+        for _ in 0..64 {
+            std::hint::spin_loop();
+        }
+    }
+}
+
 /// Wakes whoever sleeps on `word`. Never blocks.
 pub fn wake(word: &AtomicU32) {
     // SAFETY: FUTEX_WAKE on a live, aligned u32.

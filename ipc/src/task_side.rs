@@ -253,7 +253,8 @@ impl TaskEndpoint {
                 self.given_up[(self.counters.lost % 8) as usize] = request.seq;
                 return Err(IpcError::ReplyLost(request.seq));
             }
-            self.sleep(seen)?;
+            self.slot().sleep_for_turn(seen, LIVENESS_PERIOD);
+            self.check_controller()?;
         }
     }
 

@@ -44,6 +44,10 @@ pub struct WaitRequest {
     pub cycle: u64,
 }
 
+/// How long the core and a task watch for the turn before they sleep on the simulation
+/// clock: a few times the handover itself, short beside the wake-up it saves.
+const TURN_SPIN: std::time::Duration = std::time::Duration::from_micros(30);
+
 const CYCLE_BITS: u32 = 48;
 const CYCLE_MASK: u64 = (1 << CYCLE_BITS) - 1;
 
@@ -223,6 +227,12 @@ impl TaskSlot {
         futex::wait(&self.wake, seen, timeout);
     }
 
+    /// `sleep` for the next turn on the simulation clock, watching the word for
+    /// `TURN_SPIN` first.
+    pub fn sleep_for_turn(&self, seen: u32, timeout: std::time::Duration) {
+        futex::wait_spinning(&self.wake, seen, TURN_SPIN, timeout);
+    }
+
     /// Whether this task runs in lockstep with the simulation clock.
     pub fn lockstep(&self) -> bool {
         self.lockstep.load(Ordering::Acquire) != 0
@@ -323,9 +333,10 @@ impl TaskTable {
         self.gate.load(Ordering::Acquire)
     }
 
-    /// ...then its sleep until a task parks, at most `timeout`.
+    /// ...then its sleep until a task parks, at most `timeout`, watching the gate for
+    /// `TURN_SPIN` first.
     pub fn gate_sleep(&self, seen: u32, timeout: std::time::Duration) {
-        futex::wait(&self.gate, seen, timeout);
+        futex::wait_spinning(&self.gate, seen, TURN_SPIN, timeout);
     }
 }
 

@@ -12,9 +12,10 @@
 //! goes on without it, and the watchdog, which counts cycles, catches it.
 //!
 //! Between two cycles the RT thread waits for the tasks on the task table's gate word
-//! (a futex the parking task bumps), not in a spin: two cores are shared by the core,
-//! the tasks and whatever else runs, and a spinning core would take the CPU the task it
-//! waits for needs. Real-time mode never comes here.
+//! (a futex the parking task bumps). It watches the word for a few tens of microseconds
+//! first, which catches a quick handover without a wake-up, and then sleeps: two cores
+//! are shared by the core, the tasks and whatever else runs, and a longer spin would take
+//! the CPU the task it waits for needs. Real-time mode never comes here.
 
 use std::str::FromStr;
 
@@ -218,7 +219,9 @@ fn wait_parked(
             return false;
         }
         // A starting process' first snapshot comes with the connection.
-        endpoint.update_connections();
+        if state == TaskState::Starting {
+            endpoint.update_connections();
+        }
         table.gate_sleep(seen, GATE_SLICE);
     }
 }
