@@ -22,25 +22,8 @@ use std::time::Duration;
 
 const RUNS: usize = 3;
 
-const COMPUTE: &str = "\
-local t = {}
-local x = 0
-for i = 1, 20000000 do
-  x = (x + i * 3) % 1000003
-  t[i % 1024 + 1] = x
-  if x < 0 then
-    x = 0
-  end
-end
-local function f(a, b)
-  return a * b + 1
-end
-local s = 0
-for i = 1, 5000000 do
-  s = f(s % 1000, i) % 1000003
-end
-return x + s
-";
+/// The debugger bench's program too (`script-host/benches/debugger.rs`).
+const COMPUTE: &str = include_str!("lua/compute.lua");
 
 const STRINGS: &str = "\
 local kept, found = {}, 0

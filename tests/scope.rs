@@ -308,16 +308,11 @@ fn measure_sixteen_variables_every_cycle() {
         common::serve::serve(&ns, &dir.path().join("data"), &["--http", "0", "--config", machine.to_str().unwrap()]);
     let state = format!("{}api/state", serving.web.clone().expect("the web view's address"));
     let overruns = || get_json(&state)["overruns"].as_u64().unwrap();
-    let rt_cost = |span: &mut dyn FnMut()| {
-        let (cpu, overrun, start) = (thread_cpu_ns(serving.pid(), "rt-cycle"), overruns(), std::time::Instant::now());
-        span();
-        let busy = (thread_cpu_ns(serving.pid(), "rt-cycle") - cpu) as f64 / start.elapsed().as_nanos() as f64;
-        (100.0 * busy, overruns() - overrun)
-    };
-    let quiet = rt_cost(&mut || std::thread::sleep(Duration::from_secs(SECONDS)));
+    let cost = |span: &mut dyn FnMut()| rt_cost(serving.pid(), &overruns, span);
+    let quiet = cost(&mut || std::thread::sleep(Duration::from_secs(SECONDS)));
     let csv_path = dir.path().join("sixteen.csv");
     let mut out = None;
-    let recording = rt_cost(&mut || {
+    let recording = cost(&mut || {
         let child = Command::new(BIN)
             .args(["scope", "--ns", &ns, "--scope-vars", SIXTEEN, "--out", csv_path.to_str().unwrap()])
             .args(["--duration-ms", &(SECONDS * 1000).to_string()])

@@ -368,17 +368,11 @@ fn measure_updates_with_five_clients_at_96_axes() {
     let dir = tempfile::tempdir().unwrap();
     let (serving, web) = serve_web(&ns, dir.path(), &"[[axes]]\n".repeat(96));
     let overruns = || get_json(&format!("{web}api/state"))["overruns"].as_u64().unwrap();
-    // The RT thread's share of a core and the overruns over a span.
-    let rt_cost = |span: &mut dyn FnMut()| {
-        let (cpu, overrun, start) = (thread_cpu_ns(serving.pid(), "rt-cycle"), overruns(), std::time::Instant::now());
-        span();
-        let busy = (thread_cpu_ns(serving.pid(), "rt-cycle") - cpu) as f64 / start.elapsed().as_nanos() as f64;
-        (100.0 * busy, overruns() - overrun)
-    };
-    let quiet = rt_cost(&mut || std::thread::sleep(Duration::from_secs(SECONDS)));
+    let cost = |span: &mut dyn FnMut()| rt_cost(serving.pid(), &overruns, span);
+    let quiet = cost(&mut || std::thread::sleep(Duration::from_secs(SECONDS)));
     // A control: the same seconds with 5 threads of this test busy on their own memory, as
     // the clients and the server keep the other core busy.
-    let busy = rt_cost(&mut || {
+    let busy = cost(&mut || {
         let until = std::time::Instant::now() + Duration::from_secs(SECONDS);
         let workers: Vec<_> = (0..5)
             .map(|_| {
@@ -399,7 +393,7 @@ fn measure_updates_with_five_clients_at_96_axes() {
         });
     });
     let mut rates = Vec::new();
-    let loaded = rt_cost(&mut || {
+    let loaded = cost(&mut || {
         let clients: Vec<_> = (0..5)
             .map(|_| {
                 let url = format!("{web}api/stream");

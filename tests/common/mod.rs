@@ -140,6 +140,15 @@ pub fn thread_cpu_ns(pid: u32, name: &str) -> u64 {
     panic!("no thread {name} in process {pid}")
 }
 
+/// The RT thread's share of a core (%) and the overruns (read by `overruns`) while `span`
+/// runs, for controller process `pid`.
+pub fn rt_cost(pid: u32, overruns: &dyn Fn() -> u64, span: &mut dyn FnMut()) -> (f64, u64) {
+    let (cpu, overrun, start) = (thread_cpu_ns(pid, "rt-cycle"), overruns(), Instant::now());
+    span();
+    let busy = (thread_cpu_ns(pid, "rt-cycle") - cpu) as f64 / start.elapsed().as_nanos() as f64;
+    (100.0 * busy, overruns() - overrun)
+}
+
 /// GETs a JSON document (the web view's `/api/state`).
 pub fn get_json(url: &str) -> serde_json::Value {
     ureq::get(url).call().unwrap_or_else(|e| panic!("GET {url}: {e}")).body_mut().read_json().expect("JSON")
