@@ -256,18 +256,22 @@ impl CycleWork {
         if let Some(scope) = &mut self.scope {
             scope.sample(&self.snapshot, self.endpoint.shared());
         }
-        if self.recording {
+        // On the real-time clock a row is only made for a trace file: a digest of wall-time
+        // runs would say nothing.
+        if self.recording && (self.sim || self.trace.is_some()) {
             self.record();
         }
     }
 
-    /// The cycle's trace row, into the digest and the trace file.
+    /// The cycle's trace row, into the trace file and, on the simulation clock, the digest.
     fn record(&mut self) {
         let (lateness, execution) = if self.sim { (0, 0) } else { (self.lateness_ns, self.previous_execution_ns) };
         let row = TraceRow::of(&self.snapshot, lateness, execution)
             .with_loads(&self.machine.kernel, &self.machine.network)
             .with_position_triggers(&self.machine.triggers);
-        self.digest.add(&row);
+        if self.sim {
+            self.digest.add(&row);
+        }
         match &self.trace {
             Some(trace) if self.sim => trace.push_all(row),
             Some(trace) => trace.push(row),
