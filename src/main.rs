@@ -480,7 +480,7 @@ fn run(
     let stats = &report.stats;
     if let Clock::Sim { .. } = clock {
         let simulated_s = stats.digest.rows() as f64 * config_period_s;
-        let wall_s = stats.wall_ns as f64 * 1e-9;
+        let wall_s = stats.recorded_wall_ns as f64 * 1e-9;
         eprintln!(
             "simulated {simulated_s:.3} s in {wall_s:.3} s ({:.1}x); trace digest fnv1a64:{:016x} over {} cycles",
             simulated_s / wall_s.max(1e-9),

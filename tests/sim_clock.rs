@@ -134,6 +134,42 @@ fn eight_tasks_and_a_busy_poller_give_the_same_trace() {
     assert!(polled.len() == 1 && polled[0].starts_with("polled "), "{polled:?}");
 }
 
+/// A `Till` condition that makes only status queries is evaluated again only in a cycle in
+/// which one of their answers changed (calls::watch): the run is the same as with a
+/// condition that also reads the time and is evaluated every cycle, and a 2 s move, four
+/// times the watchdog time, is no hang.
+#[test]
+fn a_watched_till_condition_gives_the_same_run_with_fewer_evaluations() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut runs = Vec::new();
+    for (name, also) in [("watched", ""), ("every_cycle", "local _ = system_fclk; ")] {
+        let source = format!(
+            "Enable(0)\n\
+             Till(function() return IsEnabled(0) end)\n\
+             SetVel(0, 50)\n\
+             MoveAbs(0, 100)\n\
+             local n = 0\n\
+             Till(function() n = n + 1; {also}return IsInPos(0) end)\n\
+             Print('%d evaluations, in position at cycle %d', n, system_fclk)\n"
+        );
+        let program = program(dir.path(), &format!("{name}.lua"), &source);
+        let out = run_sim(dir.path(), 1, &[program], &format!("{name}.csv"), Duration::from_secs(60));
+        assert!(out.status.success(), "{}", out.stderr);
+        let line = out.lines_of_task(0).pop().unwrap_or_else(|| panic!("{}", out.stderr));
+        let evaluations: u64 = line.split_whitespace().next().unwrap().parse().unwrap();
+        let at = line.rsplit(' ').next().unwrap().to_string();
+        runs.push((digest(&out), std::fs::read(dir.path().join(format!("{name}.csv"))).unwrap(), evaluations, at));
+    }
+    let (watched, every) = (&runs[0], &runs[1]);
+    assert_eq!(watched.0, every.0, "the same digest");
+    assert!(watched.1 == every.1, "the same trace file");
+    assert_eq!(watched.3, every.3, "in position at the same cycle");
+    assert!(every.2 >= 2000, "evaluated every cycle of the 2 s move: {}", every.2);
+    // Once at the move's start, once in the cycle the axis came in position; the bit's
+    // flicker as it settles may add a few.
+    assert!(watched.2 <= 6, "evaluated only when IsInPos changed: {}", watched.2);
+}
+
 #[test]
 fn a_hung_task_is_still_caught_and_the_others_go_on() {
     let dir = tempfile::tempdir().unwrap();

@@ -10,4 +10,5 @@ pub mod plc;
 pub mod query;
 pub mod scope;
 pub mod user_area;
+pub mod watch;
 pub mod wire;

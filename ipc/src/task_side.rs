@@ -14,7 +14,7 @@ use crate::messages::{Reply, Request, Snapshot};
 use crate::services::failed;
 use crate::services::{self, Ipc, Open, ReplySubscriber, RequestPublisher, StateSubscriber};
 use crate::shm::Region;
-use crate::task_table::{RunState, TaskSlot, TaskTable, WaitRequest};
+use crate::task_table::{RunState, TaskSlot, TaskTable, WaitRequest, WatchEntry};
 use crate::{IpcError, Namespace};
 
 /// How often a blocked script checks that its controller is still alive.
@@ -253,8 +253,7 @@ impl TaskEndpoint {
                 self.given_up[(self.counters.lost % 8) as usize] = request.seq;
                 return Err(IpcError::ReplyLost(request.seq));
             }
-            self.slot().sleep_for_turn(seen, LIVENESS_PERIOD);
-            self.check_controller()?;
+            self.sleep(seen)?;
         }
     }
 
@@ -309,7 +308,7 @@ impl TaskEndpoint {
     /// Blocks until core cycle `cycle` has been published.
     pub fn wait_until_cycle(&mut self, cycle: u64) -> Result<(), IpcError> {
         if self.lockstep {
-            return self.wait_in_lockstep(cycle);
+            return self.wait_in_lockstep(cycle, &[]);
         }
         loop {
             let seen = self.slot().wake_count();
@@ -327,16 +326,28 @@ impl TaskEndpoint {
 
     /// `wait_until_cycle` on the simulation clock: the wait request is published, the
     /// turn given back, and the next turn comes in cycle `cycle`.
-    fn wait_in_lockstep(&mut self, cycle: u64) -> Result<(), IpcError> {
+    fn wait_in_lockstep(&mut self, cycle: u64, watch: &[WatchEntry]) -> Result<(), IpcError> {
         if self.snapshot().cycle >= cycle {
             return Ok(());
         }
         self.wait_seq = self.wait_seq.wrapping_add(1);
+        self.slot().set_watch(watch);
         self.slot().begin_wait(WaitRequest { seq: self.wait_seq, cycle });
         self.park();
         let woken = self.next_turn(|endpoint| endpoint.snapshot().cycle >= cycle);
+        self.slot().clear_watch();
         self.slot().set_state(RunState::Running);
         woken
+    }
+
+    /// `wait_until_cycle` for a `Till` condition that read `watch` and nothing else: on
+    /// the simulation clock the core grants the next turn only in a cycle in which one of
+    /// its answers changed. In real time, the same as `wait_until_cycle`.
+    pub fn wait_watching(&mut self, cycle: u64, watch: &[WatchEntry]) -> Result<(), IpcError> {
+        if self.lockstep {
+            return self.wait_in_lockstep(cycle, watch);
+        }
+        self.wait_until_cycle(cycle)
     }
 
     /// Whether this task runs in lockstep with the simulation clock.
@@ -358,7 +369,7 @@ impl TaskEndpoint {
         if self.calls_in_cycle < CALLS_PER_CYCLE {
             return Ok(());
         }
-        self.wait_in_lockstep(cycle + 1)
+        self.wait_in_lockstep(cycle + 1, &[])
     }
 
     /// On the simulation clock: the first turn, before the program's first line (a
@@ -403,7 +414,8 @@ impl TaskEndpoint {
                 }
                 self.park();
             }
-            self.sleep(seen)?;
+            self.slot().sleep_for_turn(seen, LIVENESS_PERIOD);
+            self.check_controller()?;
         }
     }
 

@@ -64,6 +64,47 @@ impl WaitRequest {
 /// Bytes of a program path the tools can show.
 pub const PROGRAM_BYTES: usize = 256;
 
+/// Queries a `Till` condition may read and still be watched by the core.
+pub const WATCH_ENTRIES: usize = 8;
+/// Argument words of a watched query.
+pub const WATCH_ARGS: usize = 4;
+/// Words of a watched query's answer.
+pub const ANSWER_WORDS: usize = 3;
+const ENTRY_WORDS: usize = 1 + WATCH_ARGS + ANSWER_WORDS;
+
+/// On the simulation clock, a status query a waiting `Till` condition made and what it
+/// answered (`calls::watch` encodes both): while every query of the condition still gives
+/// its answer, the condition would give its value again, and the core need not grant the
+/// task a turn to find out (docs/decisions.md, "Simulation clock").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WatchEntry {
+    /// `api::Query::id()`.
+    pub query: u16,
+    /// Argument words used.
+    pub argc: u8,
+    /// The argument words, as `calls::wire` lays out a command's.
+    pub args: [u64; WATCH_ARGS],
+    /// The answer's words.
+    pub answer: [u64; ANSWER_WORDS],
+}
+
+impl WatchEntry {
+    fn words(&self) -> [u64; ENTRY_WORDS] {
+        let mut w = [0; ENTRY_WORDS];
+        w[0] = self.query as u64 | (self.argc as u64) << 16;
+        w[1..1 + WATCH_ARGS].copy_from_slice(&self.args);
+        w[1 + WATCH_ARGS..].copy_from_slice(&self.answer);
+        w
+    }
+
+    fn from_words(w: [u64; ENTRY_WORDS]) -> Self {
+        let mut entry = WatchEntry { query: w[0] as u16, argc: (w[0] >> 16) as u8, ..WatchEntry::default() };
+        entry.args.copy_from_slice(&w[1..1 + WATCH_ARGS]);
+        entry.answer.copy_from_slice(&w[1 + WATCH_ARGS..]);
+        entry
+    }
+}
+
 /// One task's slot.
 #[repr(C)]
 pub struct TaskSlot {
@@ -91,6 +132,9 @@ pub struct TaskSlot {
     baton: AtomicU32,
     /// The mutex a `Blocked` task waits for, plus one (0: none).
     blocked_on: AtomicU32,
+    /// On the simulation clock: how many of `watch` a `Waiting` task's condition made.
+    watch_len: AtomicU32,
+    watch: [[AtomicU64; ENTRY_WORDS]; WATCH_ENTRIES],
     program: [AtomicU64; PROGRAM_BYTES / 8],
     /// The debugger's words (DRL program control).
     pub debug: DebugBlock,
@@ -269,6 +313,36 @@ impl TaskSlot {
     /// The mutex a `Blocked` task waits for.
     pub fn blocked_on(&self) -> Option<usize> {
         (self.blocked_on.load(Ordering::Acquire) as usize).checked_sub(1)
+    }
+
+    /// Publishes what the task's `Till` condition read, before it parks (at most
+    /// `WATCH_ENTRIES`; an empty watch is none).
+    pub fn set_watch(&self, entries: &[WatchEntry]) {
+        let entries = &entries[..entries.len().min(WATCH_ENTRIES)];
+        for (slot, entry) in self.watch.iter().zip(entries) {
+            for (word, value) in slot.iter().zip(entry.words()) {
+                word.store(value, Ordering::Relaxed);
+            }
+        }
+        self.watch_len.store(entries.len() as u32, Ordering::Release);
+    }
+
+    /// The task has taken its turn: its condition is no longer watched.
+    pub fn clear_watch(&self) {
+        self.watch_len.store(0, Ordering::Release);
+    }
+
+    /// What the parked task's condition read; empty when it is not watched.
+    pub fn watch(&self) -> impl Iterator<Item = WatchEntry> + '_ {
+        let len = (self.watch_len.load(Ordering::Acquire) as usize).min(WATCH_ENTRIES);
+        self.watch[..len]
+            .iter()
+            .map(|slot| WatchEntry::from_words(std::array::from_fn(|i| slot[i].load(Ordering::Relaxed))))
+    }
+
+    /// Whether a `Waiting` task's condition is watched.
+    pub fn watching(&self) -> bool {
+        self.watch_len.load(Ordering::Acquire) != 0
     }
 
     /// Records the mutex the task is about to block on.

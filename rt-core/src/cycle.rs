@@ -87,6 +87,9 @@ pub struct CycleStats {
     pub lockstep_ns: u64,
     /// The digest of the recorded cycles' trace rows.
     pub digest: Digest,
+    /// Wall time from the start to the end of the last recorded cycle, ns: on the
+    /// simulation clock, what the recorded cycles took (the run's speed-up).
+    pub recorded_wall_ns: u64,
 }
 
 impl CycleStats {
@@ -104,6 +107,7 @@ impl CycleStats {
             simulation_ns: 0,
             lockstep_ns: 0,
             digest: Digest::default(),
+            recorded_wall_ns: 0,
         }
     }
 }
@@ -333,11 +337,14 @@ pub fn run(
         control.active_tasks.store(work.machine.tasks.active() as u64, Ordering::Release);
 
         let done = monotonic_ns();
+        if work.recording {
+            stats.recorded_wall_ns = done - started_ns;
+        }
         work.previous_execution_ns = done.saturating_sub(woke);
         let _ = stats.execution.record(work.previous_execution_ns.max(1));
         stats.cycles = work.cycle;
         if let Some(lockstep) = &mut lockstep {
-            lockstep.settle(work.cycle, work.woken, &work.machine.tasks, &work.endpoint, &stopping);
+            lockstep.settle(work.cycle, work.woken, &work.snapshot, &work.machine.tasks, &work.endpoint, &stopping);
             stats.lockstep_ns += monotonic_ns() - done;
         }
         match pace {

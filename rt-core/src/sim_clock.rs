@@ -19,10 +19,11 @@
 
 use std::str::FromStr;
 
+use calls::watch;
 use config::TaskConfig;
 use ipc::CoreEndpoint;
 use ipc::clock::monotonic_ns;
-use ipc::messages::TaskState;
+use ipc::messages::{Snapshot, TaskState};
 use ipc::task_table::{Baton, RunState, TaskSlot};
 
 use crate::tasks::Tasks;
@@ -128,11 +129,14 @@ impl Lockstep {
 
     /// Between cycle `cycle` and the next: grants turns, in task order and pass after
     /// pass, to every task whose wait has come (`woken`: the tasks the cycle answered),
-    /// until none is left. `stop`: the controller is shutting down, wait for nobody.
+    /// until none is left. `snapshot`: the cycle's. `stop`: the controller is shutting
+    /// down, wait for nobody.
+    #[allow(clippy::too_many_arguments)]
     pub fn settle(
         &mut self,
         cycle: u64,
         mut woken: u64,
+        snapshot: &Snapshot,
         tasks: &Tasks,
         endpoint: &CoreEndpoint,
         stop: &dyn Fn() -> bool,
@@ -142,7 +146,7 @@ impl Lockstep {
             for member in &mut self.members {
                 let slot = &endpoint.table().slots[member.id as usize];
                 if !wait_parked(member, slot, tasks, endpoint, stop)
-                    || !runnable(slot, member.id, cycle, woken, endpoint)
+                    || !runnable(slot, member.id, cycle, woken, endpoint, snapshot)
                 {
                     continue;
                 }
@@ -162,10 +166,15 @@ fn active(state: TaskState) -> bool {
     matches!(state, TaskState::Starting | TaskState::Running)
 }
 
-/// Whether a parked task's wait has come.
-fn runnable(slot: &TaskSlot, id: u8, cycle: u64, woken: u64, endpoint: &CoreEndpoint) -> bool {
+/// Whether a parked task's wait has come; `snapshot`: the cycle's, as the task reads it.
+fn runnable(slot: &TaskSlot, id: u8, cycle: u64, woken: u64, endpoint: &CoreEndpoint, snapshot: &Snapshot) -> bool {
     match slot.state() {
-        RunState::Waiting => slot.wait_request().cycle <= cycle,
+        // A watched `Till` condition is evaluated again once one of its queries answers
+        // something else (calls::watch).
+        RunState::Waiting => {
+            slot.wait_request().cycle <= cycle
+                && !(slot.watching() && slot.watch().all(|e| watch::unchanged(&e, snapshot)))
+        }
         RunState::InCall => woken & (1 << id) != 0,
         RunState::Blocked => slot.blocked_on().is_none_or(|m| endpoint.shared().mutex_owner(m).is_none()),
         // Parked before its first line.

@@ -160,7 +160,7 @@ fn run_attached(args: ScriptArgs, source: &str, host: Host) -> Result<(), Script
     let host = Rc::new(host.with_user_ascii(args.user_ascii.clone()).with_freeport_bind(args.freeport_bind));
     bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_system_variables(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
-    bindings::install_print(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
+    bindings::install_print(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     require::install(&lua, &args.program).map_err(|e| ScriptError::lua(e.to_string()))?;
 
     let name = args.program.display().to_string();

@@ -36,7 +36,8 @@ impl Watchdog {
         let waiting_on_others = match slot.state() {
             RunState::Running => false,
             // Woken at the end of its wake cycle: from then on it must move.
-            RunState::Waiting => slot.wait_request().cycle >= now,
+            // A watched `Till` condition waits for the controller's state to change.
+            RunState::Waiting => slot.wait_request().cycle >= now || slot.watching(),
             RunState::InCall => deferred,
             RunState::Blocked | RunState::Paused | RunState::Idle => true,
             // The process must now end: one stuck after its program is a hung task too.

@@ -154,6 +154,11 @@ pub fn serve(lua: &Lua, host: &Host) {
     AGENT.set(Some(agent));
 }
 
+/// Whether the program started the agent: it is served between the cycles of a wait.
+pub fn listening() -> bool {
+    STARTED.get()
+}
+
 /// After the program has returned: serves the agent, if it started one, until the task is
 /// stopped (its process is killed) or the controller is gone. It waits on its sockets, so a
 /// line is answered as soon as it comes; broadcasts at least every `SERVE_PERIOD`.

@@ -227,11 +227,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 }
             };
             loop {
-                if is_true(&condition.call::<Value>(())?) {
+                host.start_watch();
+                let value = condition.call::<Value>(());
+                let watch = host.take_watch();
+                if is_true(&value?) {
                     return Ok(());
                 }
                 let next = host.cycle() + 1;
-                host.endpoint.borrow_mut().wait_until_cycle(next).map_err(mlua::Error::external)?;
+                host.endpoint.borrow_mut().wait_watching(next, &watch).map_err(mlua::Error::external)?;
                 super::agent::serve(lua, &host);
             }
         }),

@@ -13,6 +13,7 @@ mod locals;
 mod plc;
 mod serial;
 mod system_vars;
+mod till_watch;
 mod timer;
 
 use std::cell::{Cell, RefCell};
@@ -56,6 +57,8 @@ pub struct Host {
     throttle: Cell<Throttle>,
     /// The program's expectations so far (`luamotion test`).
     tally: Cell<expect::Tally>,
+    /// What the `Till` condition being evaluated reads, on the simulation clock.
+    watch: RefCell<till_watch::Recording>,
 }
 
 impl Host {
@@ -86,6 +89,7 @@ impl Host {
             events,
             throttle: Cell::new(Throttle::default()),
             tally: Cell::new(expect::Tally::default()),
+            watch: RefCell::new(till_watch::Recording::Off),
         }
     }
 
@@ -105,6 +109,12 @@ impl Host {
     /// is what the watchdog looks for. On the simulation clock it also counts toward the
     /// task's share of the cycle.
     fn beat(&self) {
+        self.spoil_watch();
+        self.count_call();
+    }
+
+    /// `beat` for a status query, which a watched `Till` condition may make.
+    fn count_call(&self) {
         let Ok(mut endpoint) = self.endpoint.try_borrow_mut() else {
             // A call made while the endpoint is looked at (inside a wait) is only a beat.
             return self.endpoint.borrow().slot().beat();
@@ -382,9 +392,10 @@ fn explain(rc: u32) -> String {
 fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Function> {
     let spec = query.spec();
     lua.create_function(move |lua, args: MultiValue| {
-        host.beat();
+        host.count_call();
         let call = QueryCall::read(query, &mut LuaArgs::new(&args)).map_err(|e| arg_error(lua, spec, e))?;
         let answer = query::evaluate(&call, host.endpoint.borrow_mut().snapshot());
+        host.watch_query(&call, &answer);
         let query::Answer(first, second) = answer.map_err(|code| error_here(lua, format!("{}: {code}", spec.name)))?;
         let mut results = MultiValue::new();
         for value in std::iter::once(first).chain(second) {
@@ -425,9 +436,10 @@ pub fn write_output(pieces: &[&[u8]]) {
 
 /// Lua's own `print`, through the same output. Values become text with the VM's own
 /// `tostring` (taken before the program runs), in the program's memory.
-pub fn install_print(lua: &Lua) -> mlua::Result<()> {
+pub fn install_print(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
     let tostring: Function = lua.globals().get("tostring")?;
     let print = lua.create_function(move |_, args: MultiValue| {
+        host.spoil_watch();
         let texts: Vec<mlua::LuaString> = args
             .into_iter()
             .map(|v| match v {

@@ -30,6 +30,10 @@ pub fn install_system_variables(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
     meta.set(
         "__index",
         lua.create_function(move |_, (_, name): (Value, Value)| {
+            // A global the program has not set, or a system variable: time and the test
+            // variables change without a query, so a `Till` condition reading one is not
+            // watched.
+            reader.spoil_watch();
             let Value::String(name) = name else { return Ok(Value::Nil) };
             let Some(var) = SystemVar::parse(&name.to_str()?) else { return Ok(Value::Nil) };
             Ok(match var {
