@@ -135,6 +135,9 @@ pub struct CycleWork {
     digest: Digest,
     /// The tasks this cycle answered or whose wake cycle came.
     woken: u64,
+    /// On the simulation clock, the tasks whose watched `Till` condition read something
+    /// else in this cycle's snapshot (`sim_clock::changed_watches`).
+    watches_changed: u64,
 }
 
 impl CycleWork {
@@ -164,6 +167,7 @@ impl CycleWork {
             recording: true,
             digest: Digest::default(),
             woken: 0,
+            watches_changed: 0,
         }
     }
 
@@ -255,6 +259,9 @@ impl CycleWork {
         self.machine.triggers.fill(&mut self.snapshot.position_triggers);
         self.machine.analog.fill(&mut self.snapshot);
         self.machine.tasks.fill(&mut self.snapshot.tasks, &self.machine.run_speed);
+        if self.sim {
+            self.watches_changed = crate::sim_clock::changed_watches(self.endpoint.table(), &self.snapshot);
+        }
         self.endpoint.publish(&self.snapshot);
         self.woken = self.endpoint.wake(cycle);
         if let Some(scope) = &mut self.scope {
@@ -344,7 +351,14 @@ pub fn run(
         let _ = stats.execution.record(work.previous_execution_ns.max(1));
         stats.cycles = work.cycle;
         if let Some(lockstep) = &mut lockstep {
-            lockstep.settle(work.cycle, work.woken, &work.snapshot, &work.machine.tasks, &work.endpoint, &stopping);
+            lockstep.settle(
+                work.cycle,
+                work.woken,
+                work.watches_changed,
+                &work.machine.tasks,
+                &work.endpoint,
+                &stopping,
+            );
             stats.lockstep_ns += monotonic_ns() - done;
         }
         match pace {

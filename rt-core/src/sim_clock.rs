@@ -24,7 +24,7 @@ use config::TaskConfig;
 use ipc::CoreEndpoint;
 use ipc::clock::monotonic_ns;
 use ipc::messages::{Snapshot, TaskState};
-use ipc::task_table::{Baton, RunState, TaskSlot};
+use ipc::task_table::{Baton, RunState, TaskSlot, TaskTable};
 
 use crate::tasks::Tasks;
 
@@ -129,14 +129,14 @@ impl Lockstep {
 
     /// Between cycle `cycle` and the next: grants turns, in task order and pass after
     /// pass, to every task whose wait has come (`woken`: the tasks the cycle answered),
-    /// until none is left. `snapshot`: the cycle's. `stop`: the controller is shutting
-    /// down, wait for nobody.
-    #[allow(clippy::too_many_arguments)]
+    /// until none is left. `watches_changed`: the tasks whose watched condition read
+    /// something else in this cycle. `stop`: the controller is shutting down, wait for
+    /// nobody.
     pub fn settle(
         &mut self,
         cycle: u64,
         mut woken: u64,
-        snapshot: &Snapshot,
+        watches_changed: u64,
         tasks: &Tasks,
         endpoint: &CoreEndpoint,
         stop: &dyn Fn() -> bool,
@@ -146,7 +146,7 @@ impl Lockstep {
             for member in &mut self.members {
                 let slot = &endpoint.table().slots[member.id as usize];
                 if !wait_parked(member, slot, tasks, endpoint, stop)
-                    || !runnable(slot, member.id, cycle, woken, endpoint, snapshot)
+                    || !runnable(slot, member.id, cycle, woken, watches_changed, endpoint)
                 {
                     continue;
                 }
@@ -162,19 +162,30 @@ impl Lockstep {
     }
 }
 
+/// The tasks whose watched `Till` condition (calls::watch) would read something else in
+/// `snapshot`, the cycle's, as the task reads it; bit t for task t. Before the snapshot is
+/// published: a condition parks with a wake cycle after the one it read, so every watch
+/// the settling of this cycle may look at is already set.
+pub fn changed_watches(table: &TaskTable, snapshot: &Snapshot) -> u64 {
+    let mut changed = 0;
+    for (id, slot) in table.slots.iter().enumerate() {
+        if slot.watching() && !slot.watch().all(|e| watch::unchanged(&e, snapshot)) {
+            changed |= 1 << id;
+        }
+    }
+    changed
+}
+
 fn active(state: TaskState) -> bool {
     matches!(state, TaskState::Starting | TaskState::Running)
 }
 
-/// Whether a parked task's wait has come; `snapshot`: the cycle's, as the task reads it.
-fn runnable(slot: &TaskSlot, id: u8, cycle: u64, woken: u64, endpoint: &CoreEndpoint, snapshot: &Snapshot) -> bool {
+/// Whether a parked task's wait has come.
+fn runnable(slot: &TaskSlot, id: u8, cycle: u64, woken: u64, watches_changed: u64, endpoint: &CoreEndpoint) -> bool {
     match slot.state() {
         // A watched `Till` condition is evaluated again once one of its queries answers
         // something else (calls::watch).
-        RunState::Waiting => {
-            slot.wait_request().cycle <= cycle
-                && !(slot.watching() && slot.watch().all(|e| watch::unchanged(&e, snapshot)))
-        }
+        RunState::Waiting => slot.wait_request().cycle <= cycle && (!slot.watching() || watches_changed & 1 << id != 0),
         RunState::InCall => woken & (1 << id) != 0,
         RunState::Blocked => slot.blocked_on().is_none_or(|m| endpoint.shared().mutex_owner(m).is_none()),
         // Parked before its first line.
