@@ -35,29 +35,33 @@ pub enum WakeBy {
 
 /// One side's wake-ups: it is woken on `mine` and wakes the other side on `other`.
 enum Waker {
-    Event { notifier: WakeNotifier, listener: WakeListener },
-    Futex { table: Region<TaskTable>, mine: u8, other: u8 },
+    Event { notifier: Box<WakeNotifier>, listener: Box<WakeListener> },
+    Futex { table: Box<Region<TaskTable>>, mine: u8, other: u8 },
 }
 
 impl Waker {
     fn new(node: &Node<Ipc>, ns: &Namespace, by: WakeBy, mine: u8, other: u8, open: Open) -> Result<Self, IpcError> {
         Ok(match by {
             WakeBy::Iceoryx2Event => Waker::Event {
-                notifier: services::wake(node, ns, other, open)?
-                    .notifier_builder()
-                    .create()
-                    .map_err(|e| failed("floor wake notifier", e))?,
-                listener: services::wake(node, ns, mine, open)?
-                    .listener_builder()
-                    .create()
-                    .map_err(|e| failed("floor wake listener", e))?,
+                notifier: Box::new(
+                    services::wake(node, ns, other, open)?
+                        .notifier_builder()
+                        .create()
+                        .map_err(|e| failed("floor wake notifier", e))?,
+                ),
+                listener: Box::new(
+                    services::wake(node, ns, mine, open)?
+                        .listener_builder()
+                        .create()
+                        .map_err(|e| failed("floor wake listener", e))?,
+                ),
             },
             WakeBy::Futex => {
                 let table = match open {
                     Open::Create => Region::<TaskTable>::create(ns, "tasks")?,
                     Open::Existing => Region::<TaskTable>::open(ns, "tasks")?,
                 };
-                Waker::Futex { table, mine, other }
+                Waker::Futex { table: Box::new(table), mine, other }
             }
         })
     }
