@@ -2,8 +2,10 @@
 //! services, payloads and settings a task's calls use (`task/0/request`, `task/0/reply`),
 //! with nothing else in between. Each side is woken either by an iceoryx2 event (what
 //! iceoryx2 alone costs on this machine) or as the core wakes a task: through its futex
-//! word in a task table, the sleeper watching it for a moment first (`TaskSlot::wake`,
-//! `sleep_for_turn`).
+//! word in a task table (`TaskSlot::wake`), the pong side sleeping as a task does, watching
+//! its word for a moment first (`sleep_for_turn`), and the ping side, in the core's place,
+//! sleeping at once: a waker that spins after its wake-up keeps its CPU from a wakee
+//! placed there, which the core, back to its sleep, does not.
 
 use std::time::Duration;
 
@@ -36,7 +38,7 @@ pub enum WakeBy {
 /// One side's wake-ups: it is woken on `mine` and wakes the other side on `other`.
 enum Waker {
     Event { notifier: Box<WakeNotifier>, listener: Box<WakeListener> },
-    Futex { table: Box<Region<TaskTable>>, mine: u8, other: u8 },
+    Futex { table: Box<Region<TaskTable>>, mine: u8, other: u8, as_task: bool },
 }
 
 impl Waker {
@@ -61,7 +63,8 @@ impl Waker {
                     Open::Create => Region::<TaskTable>::create(ns, "tasks")?,
                     Open::Existing => Region::<TaskTable>::open(ns, "tasks")?,
                 };
-                Waker::Futex { table: Box::new(table), mine, other }
+                // The side that creates the services (the pong side) plays the task.
+                Waker::Futex { table: Box::new(table), mine, other, as_task: matches!(open, Open::Create) }
             }
         })
     }
@@ -87,13 +90,17 @@ impl Waker {
                 listener.timed_wait(|_| {}, PATIENCE).map_err(|e| failed("floor wait", e))?;
                 work()
             }
-            Waker::Futex { table, mine, .. } => {
+            Waker::Futex { table, mine, as_task, .. } => {
                 let slot = &table.slots[*mine as usize];
                 let seen = slot.wake_count();
                 if let Some(found) = work()? {
                     return Ok(Some(found));
                 }
-                slot.sleep_for_turn(seen, PATIENCE);
+                if *as_task {
+                    slot.sleep_for_turn(seen, PATIENCE);
+                } else {
+                    slot.sleep(seen, PATIENCE);
+                }
                 work()
             }
         }
