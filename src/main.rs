@@ -144,6 +144,9 @@ enum Cmd {
         /// Namespace of the soak's floor services.
         #[arg(long)]
         ns: String,
+        /// Sleep on a futex word in a task table, as a task does, instead of an iceoryx2 event.
+        #[arg(long)]
+        futex: bool,
     },
     /// Print the API reference generated from the registry.
     Api {
@@ -307,7 +310,7 @@ fn main() -> ExitCode {
             soak::worker::run(soak::worker::WorkerArgs { ns, task, axis, duration_ms, controller_pid, out })
                 .map(|()| ExitCode::SUCCESS)
         }
-        Cmd::SoakPong { ns } => soak::floor::pong(&ns).map(|()| ExitCode::SUCCESS),
+        Cmd::SoakPong { ns, futex } => soak::floor::pong(&ns, futex).map(|()| ExitCode::SUCCESS),
         Cmd::Events { ns, count } => tools::events(&ns, count),
         Cmd::Api { format } => {
             print!(

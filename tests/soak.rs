@@ -1,6 +1,7 @@
 //! The soak test's smoke versions: 5 seconds with 2 scripts, and a short one with all 64.
 //! No reply lost, duplicated or out of order; a well-formed report on stdout, in JSON and
-//! as a plot. (The long run is `luamotion soak`, see the README.)
+//! as a plot, whose parts agree with each other: the overruns by cause, the wake-ups by
+//! script rank, the memory. (The long run is `luamotion soak`, see the README.)
 
 mod common;
 
@@ -35,7 +36,9 @@ fn soak(args: &[&str], json: &std::path::Path) -> (serde_json::Value, String) {
         "snapshot age",
         "cycle lateness",
         "cycle execution",
+        "cycle CPU time",
         "floor: iceoryx2 one way",
+        "floor: futex wake-up",
         "floor: iceoryx2 round trip",
         "floor: bare loop lateness",
     ] {
@@ -46,7 +49,91 @@ fn soak(args: &[&str], json: &std::path::Path) -> (serde_json::Value, String) {
         assert!(q.windows(2).all(|w| w[0] <= w[1]) && q[0] > 0.0, "{name}: percentiles in order: {q:?}");
         assert!(stdout.contains(name), "{name} in the table");
     }
+    check_cycle(&report, &stdout);
+    check_scripts(&report, &stdout);
+    check_memory(&report, &stdout);
     (report, stdout)
+}
+
+fn metric<'a>(report: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    report["metrics"].as_array().unwrap().iter().find(|m| m["name"] == name).unwrap()
+}
+
+fn u(v: &serde_json::Value) -> u64 {
+    v.as_u64().unwrap_or_else(|| panic!("a count: {v}"))
+}
+
+fn f(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("a number: {v}"))
+}
+
+/// The overruns by cause add up to the overruns; the execution percentiles against the
+/// period are the execution row's.
+fn check_cycle(report: &serde_json::Value, stdout: &str) {
+    let cycle = &report["cycle"];
+    let overruns = u(&cycle["overruns"]);
+    assert_eq!(overruns, u(&report["counters"]["overruns"]), "{cycle}");
+    let (late, long, both) = (u(&cycle["late_wake_up"]), u(&cycle["long_execution"]), u(&cycle["both"]));
+    assert_eq!(late + long + both, overruns, "each overrun has one cause: {cycle}");
+    assert!(u(&cycle["own_work"]) <= long + both, "own work is a long execution: {cycle}");
+    let period = f(&cycle["period_us"]);
+    assert_eq!(period, f(&report["run"]["period_us"]));
+    assert_eq!(f(&cycle["wake_up_allowance_us"]), period / 10.0);
+    for (fractions, row) in [("execution_of_period", "cycle execution"), ("cpu_of_period", "cycle CPU time")] {
+        let row = metric(report, row);
+        for q in ["p50", "p99", "p99_9", "p99_99", "max"] {
+            let of_period = f(&cycle[fractions][q]);
+            assert!((of_period * period - f(&row[q])).abs() < 1e-6, "{fractions}.{q}: {cycle}");
+        }
+    }
+    assert!(stdout.contains(&format!("overruns {overruns}: {late} late wake-up")), "{stdout}");
+    assert!(stdout.contains("cycle execution / period"), "{stdout}");
+}
+
+/// One row per script in rank order; their wake-ups are the `wake-up` metric's.
+fn check_scripts(report: &serde_json::Value, stdout: &str) {
+    let scripts = report["scripts"].as_array().unwrap();
+    assert_eq!(scripts.len() as u64, u(&report["run"]["scripts"]), "one row per script");
+    let mut wake_ups = 0;
+    for (rank, s) in scripts.iter().enumerate() {
+        assert_eq!(u(&s["rank"]), rank as u64);
+        wake_ups += u(&s["wake_ups"]);
+        assert!(f(&s["wake_up_p50_us"]) <= f(&s["wake_up_p99_us"]), "{s}");
+        assert!(f(&s["cpu_us_per_cycle"]) > 0.0 && f(&s["cpu_us_per_wake_up"]) >= 0.0, "{s}");
+    }
+    assert_eq!(wake_ups, u(&metric(report, "wake-up")["count"]), "the ranks hold every wake-up");
+    let fairness = &report["fairness"];
+    let cpu: f64 = scripts.iter().map(|s| f(&s["cpu_us_per_cycle"])).sum();
+    assert!((f(&fairness["scripts_cpu_us_per_cycle"]) - cpu).abs() < 1e-6, "{fairness}");
+    let p50 = |s: &serde_json::Value| f(&s["wake_up_p50_us"]);
+    let spread = scripts.iter().map(p50).fold(0.0, f64::max) - p50(&scripts[0]);
+    assert!((f(&fairness["p50_spread_us"]) - spread).abs() < 1e-6, "{fairness}");
+    let first_vs_floor = p50(&scripts[0]) / f(&metric(report, "floor: iceoryx2 one way")["p50"]);
+    assert!((f(&fairness["first_rank_vs_floor_p50"]) - first_vs_floor).abs() < 1e-9, "{fairness}");
+    assert!(f(&fairness["first_rank_vs_futex_floor_p50"]) > 0.0, "{fairness}");
+    assert!(stdout.contains("wake-up by script rank"), "{stdout}");
+}
+
+/// Every process measured, PSS within RSS, the totals the sums of their parts.
+fn check_memory(report: &serde_json::Value, stdout: &str) {
+    let memory = &report["memory"];
+    let (rss, pss) = (|m: &serde_json::Value| u(&m["rss_kib"]), |m: &serde_json::Value| u(&m["pss_kib"]));
+    let controller = &memory["controller"];
+    assert!(pss(controller) > 0 && pss(controller) <= rss(controller), "{memory}");
+    let scripts: Vec<&serde_json::Value> =
+        report["scripts"].as_array().unwrap().iter().map(|s| &s["memory"]).filter(|m| !m.is_null()).collect();
+    assert_eq!(u(&memory["scripts_measured"]), scripts.len() as u64);
+    for m in &scripts {
+        assert!(pss(m) > 0 && pss(m) <= rss(m), "{m}");
+    }
+    let scripts_pss: u64 = scripts.iter().map(|m| pss(m)).sum();
+    let scripts_rss: u64 = scripts.iter().map(|m| rss(m)).sum();
+    assert_eq!(u(&memory["scripts_pss_kib"]), scripts_pss);
+    assert_eq!(u(&memory["scripts_rss_kib"]), scripts_rss);
+    assert_eq!(u(&memory["total_pss_kib"]), pss(controller) + scripts_pss);
+    assert_eq!(u(&memory["total_rss_kib"]), rss(controller) + scripts_rss);
+    assert!(u(&memory["total_pss_kib"]) < u(&memory["total_rss_kib"]), "shared pages counted once: {memory}");
+    assert!(stdout.contains("memory: controller RSS"), "{stdout}");
 }
 
 #[test]
@@ -60,7 +147,11 @@ fn a_five_second_soak() {
     let metrics = report["metrics"].as_array().unwrap();
     let round_trip = metrics.iter().find(|m| m["name"] == "command round trip").unwrap();
     assert!(round_trip["ratio_p50"].as_f64().unwrap() > 1.0, "beside its floor");
-    assert_eq!(report["targets"].as_array().unwrap().len(), 5);
+    assert_eq!(report["targets"].as_array().unwrap().len(), 10);
+    for script in report["scripts"].as_array().unwrap() {
+        assert!(u(&script["wake_ups"]) > 0, "every script woken: {script}");
+        assert!(!script["memory"].is_null(), "every script measured: {script}");
+    }
 
     let svg = std::fs::read_to_string(&plot).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("command round trip") && svg.contains("polyline"), "a plot");

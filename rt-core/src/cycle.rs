@@ -24,6 +24,7 @@ use crate::console::{ConsoleInbox, ControllerState};
 use crate::dispatch;
 use crate::machine::Machine;
 use crate::master;
+use crate::overrun::OverrunCauses;
 use crate::realtime::{self, Granted};
 use crate::scope::ScopeSampler;
 use crate::sim_clock::Lockstep;
@@ -68,12 +69,17 @@ impl RtControl {
 /// Timing of the cycles run.
 pub struct CycleStats {
     pub cycles: u64,
-    /// Cycles whose work ran past the next deadline.
+    /// Cycles whose work ran past the next deadline...
     pub overruns: u64,
+    /// ...and why (`overrun.rs`).
+    pub overrun_causes: OverrunCauses,
     /// Wake-up lateness after the deadline, ns.
     pub lateness: Histogram<u64>,
     /// Execution time of one cycle's work, ns.
     pub execution: Histogram<u64>,
+    /// The RT thread's CPU time per cycle (from the end of one cycle's work to the end of
+    /// the next: the work and the sleep call), ns.
+    pub cpu: Histogram<u64>,
     pub ipc: CoreIpcStats,
     pub granted: Granted,
     /// CPU time the RT thread used over the run, and the run's length, ns.
@@ -98,8 +104,10 @@ impl CycleStats {
         CycleStats {
             cycles: 0,
             overruns: 0,
+            overrun_causes: OverrunCauses::default(),
             lateness: histogram(),
             execution: histogram(),
+            cpu: histogram(),
             ipc: CoreIpcStats::default(),
             granted,
             cpu_ns: 0,
@@ -315,6 +323,7 @@ pub fn run(
     let mut stats = CycleStats::new(granted);
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();
+    let mut cpu_ns = started_cpu_ns;
     let mut deadline = started_ns + pace.unwrap_or(0);
     let mut shutdown_since = None;
     let stopping = || control.shutdown.load(Ordering::Acquire) || control.stop_tasks.load(Ordering::Acquire);
@@ -349,6 +358,9 @@ pub fn run(
         }
         work.previous_execution_ns = done.saturating_sub(woke);
         let _ = stats.execution.record(work.previous_execution_ns.max(1));
+        let cycle_cpu_ns = realtime::thread_cpu_ns() - cpu_ns;
+        cpu_ns += cycle_cpu_ns;
+        let _ = stats.cpu.record(cycle_cpu_ns.max(1));
         stats.cycles = work.cycle;
         if let Some(lockstep) = &mut lockstep {
             lockstep.settle(
@@ -369,6 +381,7 @@ pub fn run(
                 if done > deadline {
                     // Missed the next deadline: count it and resume on the period grid.
                     stats.overruns += 1;
+                    stats.overrun_causes.count(pace, work.lateness_ns, work.previous_execution_ns, cycle_cpu_ns);
                     work.overruns = stats.overruns;
                     deadline += (done - deadline).div_ceil(pace) * pace;
                 }

@@ -19,6 +19,7 @@ pub mod machine;
 pub mod master;
 pub mod motion;
 pub mod output;
+pub mod overrun;
 pub mod pool;
 pub mod position_trigger;
 pub mod profile;

@@ -54,6 +54,9 @@ impl CallCounts {
 pub struct WorkerResult {
     pub histograms: BTreeMap<String, Vec<(u64, u64)>>,
     pub counts: CallCounts,
+    /// The process' CPU time over the workload, and the workload's wall time, ns.
+    pub cpu_ns: u64,
+    pub wall_ns: u64,
 }
 
 /// The metrics of a whole run, merged from the workers.
@@ -67,15 +70,22 @@ impl WorkerResult {
     pub fn put(&mut self, name: &str, h: &Histogram<u64>) {
         self.histograms.insert(name.to_string(), pairs(h));
     }
+
+    /// The histogram of metric `name` (empty when the worker recorded none).
+    pub fn histogram(&self, name: &str) -> Histogram<u64> {
+        let mut h = histogram();
+        for &(value, count) in self.histograms.get(name).into_iter().flatten() {
+            let _ = h.record_n(value.clamp(1, 60_000_000_000), count);
+        }
+        h
+    }
 }
 
 impl Merged {
     pub fn add(&mut self, worker: &WorkerResult) {
-        for (name, values) in &worker.histograms {
+        for name in worker.histograms.keys() {
             let h = self.histograms.entry(name.clone()).or_insert_with(histogram);
-            for &(value, count) in values {
-                let _ = h.record_n(value.clamp(1, 60_000_000_000), count);
-            }
+            let _ = h.add(worker.histogram(name));
         }
         self.counts.add(&worker.counts);
     }

@@ -1,7 +1,11 @@
 //! The transport floor of the soak test: a ping-pong between two processes over the same
-//! services, payloads and settings a task's calls use (`task/0/request`, `task/0/reply`,
-//! and a wake event each way), with nothing else in between: what iceoryx2 alone costs
-//! on this machine.
+//! services, payloads and settings a task's calls use (`task/0/request`, `task/0/reply`),
+//! with nothing else in between. Each side is woken either by an iceoryx2 event (what
+//! iceoryx2 alone costs on this machine) or as the core wakes a task: through its futex
+//! word in a task table (`TaskSlot::wake`), the pong side sleeping as a task does, watching
+//! its word for a moment first (`sleep_for_turn`), and the ping side, in the core's place,
+//! sleeping at once: a waker that spins after its wake-up keeps its CPU from a wakee
+//! placed there, which the core, back to its sleep, does not.
 
 use std::time::Duration;
 
@@ -13,6 +17,8 @@ use ::ipc::services::{
     self, Ipc, Open, ReplyPublisher, ReplySubscriber, RequestPublisher, RequestSubscriber, WakeListener, WakeNotifier,
     failed,
 };
+use ::ipc::shm::Region;
+use ::ipc::task_table::TaskTable;
 use ::ipc::{IpcError, Namespace};
 
 /// The task id whose services the floor borrows, and the one whose wake event carries pings.
@@ -22,12 +28,90 @@ const PING_WAKE: u8 = 1;
 /// How long a blocked side waits before it looks whether it should stop.
 const PATIENCE: Duration = Duration::from_millis(100);
 
+/// How each side wakes the other.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WakeBy {
+    Iceoryx2Event,
+    Futex,
+}
+
+/// One side's wake-ups: it is woken on `mine` and wakes the other side on `other`.
+enum Waker {
+    Event { notifier: Box<WakeNotifier>, listener: Box<WakeListener> },
+    Futex { table: Box<Region<TaskTable>>, mine: u8, other: u8, as_task: bool },
+}
+
+impl Waker {
+    fn new(node: &Node<Ipc>, ns: &Namespace, by: WakeBy, mine: u8, other: u8, open: Open) -> Result<Self, IpcError> {
+        Ok(match by {
+            WakeBy::Iceoryx2Event => Waker::Event {
+                notifier: Box::new(
+                    services::wake(node, ns, other, open)?
+                        .notifier_builder()
+                        .create()
+                        .map_err(|e| failed("floor wake notifier", e))?,
+                ),
+                listener: Box::new(
+                    services::wake(node, ns, mine, open)?
+                        .listener_builder()
+                        .create()
+                        .map_err(|e| failed("floor wake listener", e))?,
+                ),
+            },
+            WakeBy::Futex => {
+                let table = match open {
+                    Open::Create => Region::<TaskTable>::create(ns, "tasks")?,
+                    Open::Existing => Region::<TaskTable>::open(ns, "tasks")?,
+                };
+                // The side that creates the services (the pong side) plays the task.
+                Waker::Futex { table: Box::new(table), mine, other, as_task: matches!(open, Open::Create) }
+            }
+        })
+    }
+
+    /// Wakes the other side; returns the time just before (CLOCK_MONOTONIC, ns).
+    fn notify(&self) -> Result<u64, IpcError> {
+        let now = monotonic_ns();
+        match self {
+            Waker::Event { notifier, .. } => {
+                notifier.notify().map_err(|e| failed("floor notify", e))?;
+            }
+            Waker::Futex { table, other, .. } => table.slots[*other as usize].wake(now),
+        }
+        Ok(now)
+    }
+
+    /// Runs `work` once woken (at most `PATIENCE` later), as the waiting side does: the
+    /// event is waited for first; the futex word is read before `work` looks, which sleeps
+    /// only when it found nothing. Returns what `work` found.
+    fn wait_then<T>(&self, mut work: impl FnMut() -> Result<Option<T>, IpcError>) -> Result<Option<T>, IpcError> {
+        match self {
+            Waker::Event { listener, .. } => {
+                listener.timed_wait(|_| {}, PATIENCE).map_err(|e| failed("floor wait", e))?;
+                work()
+            }
+            Waker::Futex { table, mine, as_task, .. } => {
+                let slot = &table.slots[*mine as usize];
+                let seen = slot.wake_count();
+                if let Some(found) = work()? {
+                    return Ok(Some(found));
+                }
+                if *as_task {
+                    slot.sleep_for_turn(seen, PATIENCE);
+                } else {
+                    slot.sleep(seen, PATIENCE);
+                }
+                work()
+            }
+        }
+    }
+}
+
 /// The echoing side, in its own process.
 pub struct Pong {
     requests: RequestSubscriber,
     replies: ReplyPublisher,
-    wake_ping: WakeNotifier,
-    woken: WakeListener,
+    waker: Waker,
     _node: Node<Ipc>,
 }
 
@@ -42,11 +126,13 @@ pub struct Echo {
     pub pong_sent_ns: u64,
     /// The ping side had the echo.
     pub received_ns: u64,
+    /// Just before the ping side woke the pong side.
+    pub notified_ns: u64,
 }
 
 impl Pong {
     /// Creates the services; the ping side opens them.
-    pub fn create(ns: &Namespace) -> Result<Self, IpcError> {
+    pub fn create(ns: &Namespace, by: WakeBy) -> Result<Self, IpcError> {
         let node = services::node(ns, "luamotion-floor-pong")?;
         let requests = services::requests(&node, ns, CHANNEL, Open::Create)?
             .subscriber_builder()
@@ -56,39 +142,37 @@ impl Pong {
             .publisher_builder()
             .create()
             .map_err(|e| failed("floor replies", e))?;
-        let wake_ping = services::wake(&node, ns, CHANNEL, Open::Create)?
-            .notifier_builder()
-            .create()
-            .map_err(|e| failed("floor wake ping", e))?;
-        let woken = services::wake(&node, ns, PING_WAKE, Open::Create)?
-            .listener_builder()
-            .create()
-            .map_err(|e| failed("floor wake pong", e))?;
-        Ok(Pong { requests, replies, wake_ping, woken, _node: node })
+        let waker = Waker::new(&node, ns, by, PING_WAKE, CHANNEL, Open::Create)?;
+        Ok(Pong { requests, replies, waker, _node: node })
     }
 
     /// Echoes pings until `stop()` says so.
     pub fn serve(&self, stop: impl Fn() -> bool) -> Result<u64, IpcError> {
         let mut echoed = 0;
         while !stop() {
-            if let Err(e) = self.woken.timed_wait(|_| {}, PATIENCE) {
+            match self.waker.wait_then(|| self.echo()) {
+                Ok(n) => echoed += n.unwrap_or(0),
                 // SIGTERM interrupts the wait: that is the end.
-                if stop() {
-                    break;
-                }
-                return Err(failed("floor pong wait", e));
-            }
-            while let Ok(Some(sample)) = self.requests.receive() {
-                let received_ns = monotonic_ns();
-                let mut reply = Reply::to(sample.payload());
-                reply.received_ns = received_ns;
-                reply.sent_ns = monotonic_ns();
-                self.replies.send_copy(reply).map_err(|e| failed("floor echo", e))?;
-                self.wake_ping.notify().map_err(|e| failed("floor notify ping", e))?;
-                echoed += 1;
+                Err(_) if stop() => break,
+                Err(e) => return Err(e),
             }
         }
         Ok(echoed)
+    }
+
+    /// Echoes the pings waiting; `None` if there were none.
+    fn echo(&self) -> Result<Option<u64>, IpcError> {
+        let mut echoed = 0;
+        while let Ok(Some(sample)) = self.requests.receive() {
+            let received_ns = monotonic_ns();
+            let mut reply = Reply::to(sample.payload());
+            reply.received_ns = received_ns;
+            reply.sent_ns = monotonic_ns();
+            self.replies.send_copy(reply).map_err(|e| failed("floor echo", e))?;
+            self.waker.notify()?;
+            echoed += 1;
+        }
+        Ok((echoed > 0).then_some(echoed))
     }
 }
 
@@ -96,15 +180,14 @@ impl Pong {
 pub struct Ping {
     requests: RequestPublisher,
     replies: ReplySubscriber,
-    wake_pong: WakeNotifier,
-    woken: WakeListener,
+    waker: Waker,
     seq: u64,
     _node: Node<Ipc>,
 }
 
 impl Ping {
     /// Opens the ping-pong services of namespace `ns`.
-    pub fn open(ns: &Namespace) -> Result<Self, IpcError> {
+    pub fn open(ns: &Namespace, by: WakeBy) -> Result<Self, IpcError> {
         let node = services::node(ns, "luamotion-floor-ping")?;
         let requests = services::requests(&node, ns, CHANNEL, Open::Existing)?
             .publisher_builder()
@@ -114,15 +197,8 @@ impl Ping {
             .subscriber_builder()
             .create()
             .map_err(|e| failed("floor replies", e))?;
-        let wake_pong = services::wake(&node, ns, PING_WAKE, Open::Existing)?
-            .notifier_builder()
-            .create()
-            .map_err(|e| failed("floor wake pong", e))?;
-        let woken = services::wake(&node, ns, CHANNEL, Open::Existing)?
-            .listener_builder()
-            .create()
-            .map_err(|e| failed("floor wake ping", e))?;
-        Ok(Ping { requests, replies, wake_pong, woken, seq: 0, _node: node })
+        let waker = Waker::new(&node, ns, by, CHANNEL, PING_WAKE, Open::Existing)?;
+        Ok(Ping { requests, replies, waker, seq: 0, _node: node })
     }
 
     /// One ping: a request-sized payload there, a reply-sized one back.
@@ -132,19 +208,26 @@ impl Ping {
         request.seq = self.seq;
         request.sent_ns = monotonic_ns();
         self.requests.send_copy(request).map_err(|e| failed("floor ping", e))?;
-        self.wake_pong.notify().map_err(|e| failed("floor notify pong", e))?;
-        loop {
-            self.woken.timed_wait(|_| {}, PATIENCE).map_err(|e| failed("floor ping wait", e))?;
-            while let Ok(Some(sample)) = self.replies.receive() {
+        let notified_ns = self.waker.notify()?;
+        let (replies, seq) = (&self.replies, self.seq);
+        let mut echo = || {
+            while let Ok(Some(sample)) = replies.receive() {
                 let reply = sample.payload();
-                if reply.seq == self.seq {
-                    return Ok(Echo {
+                if reply.seq == seq {
+                    return Ok(Some(Echo {
                         sent_ns: request.sent_ns,
                         pong_received_ns: reply.received_ns,
                         pong_sent_ns: reply.sent_ns,
                         received_ns: monotonic_ns(),
-                    });
+                        notified_ns,
+                    }));
                 }
+            }
+            Ok(None)
+        };
+        loop {
+            if let Some(echo) = self.waker.wait_then(&mut echo)? {
+                return Ok(echo);
             }
             if monotonic_ns() > request.sent_ns + 5_000_000_000 {
                 return Err(IpcError::ReplyLost(self.seq));

@@ -7,6 +7,7 @@ use hdrhistogram::Histogram;
 use plotters::prelude::*;
 use serde::Serialize;
 
+use super::memory::Memory;
 use super::metrics::CallCounts;
 
 /// Percentiles of one metric, µs.
@@ -73,6 +74,86 @@ pub struct Counters {
     pub simulation_cpu_percent: f64,
 }
 
+/// The cycle against its period: execution percentiles as fractions of it, and the
+/// overruns by cause (`rt_core::overrun`, docs/decisions.md "Overrun causes").
+#[derive(Debug, Serialize)]
+pub struct CycleReport {
+    pub period_us: f64,
+    /// A wake-up later than this is the OS's; work longer than the period less it, the cycle's.
+    pub wake_up_allowance_us: f64,
+    /// `cycle execution` (wall time) and `cycle CPU time` as fractions of the period.
+    pub execution_of_period: Fractions,
+    pub cpu_of_period: Fractions,
+    pub overruns: u64,
+    pub late_wake_up: u64,
+    pub long_execution: u64,
+    pub both: u64,
+    /// Of `long_execution` and `both`, the cycles whose own CPU time was too long.
+    pub own_work: u64,
+}
+
+/// Percentiles as fractions of a period.
+#[derive(Debug, Serialize)]
+pub struct Fractions {
+    pub p50: f64,
+    pub p99: f64,
+    pub p99_9: f64,
+    pub p99_99: f64,
+    pub max: f64,
+}
+
+impl Fractions {
+    pub fn of(row: &Row, period_us: f64) -> Self {
+        Fractions {
+            p50: row.p50 / period_us,
+            p99: row.p99 / period_us,
+            p99_9: row.p99_9 / period_us,
+            p99_99: row.p99_99 / period_us,
+            max: row.max / period_us,
+        }
+    }
+}
+
+/// One script process: its wake-ups (rank = its task index, the order in which the core
+/// wakes the tasks of a cycle), the CPU time it used, its memory.
+#[derive(Debug, Serialize)]
+pub struct ScriptRow {
+    pub rank: usize,
+    pub wake_ups: u64,
+    pub wake_up_p50_us: f64,
+    pub wake_up_p99_us: f64,
+    /// CPU time per cycle of the run, and per wake-up (per command), µs.
+    pub cpu_us_per_cycle: f64,
+    pub cpu_us_per_wake_up: f64,
+    /// At the sample of largest total PSS; `None` if the process was gone by then.
+    pub memory: Option<Memory>,
+}
+
+/// Wake-up fairness: does a later rank wait longer than the scripts' own work explains?
+#[derive(Debug, Serialize)]
+pub struct Fairness {
+    /// The CPU time all scripts together used per cycle, µs.
+    pub scripts_cpu_us_per_cycle: f64,
+    /// The highest rank's wake-up p50 less the first rank's, µs.
+    pub p50_spread_us: f64,
+    /// The first rank's wake-up p50 over the iceoryx2 one-way floor's p50...
+    pub first_rank_vs_floor_p50: Option<f64>,
+    /// ...and over the futex wake-up floor's (the same wake-up the core gives a task).
+    pub first_rank_vs_futex_floor_p50: Option<f64>,
+}
+
+/// The controller's and the scripts' memory at the sample of largest total PSS.
+#[derive(Debug, Serialize)]
+pub struct MemoryReport {
+    /// The soak's own process, which runs the controller.
+    pub controller: Memory,
+    pub scripts_measured: usize,
+    pub scripts_rss_kib: u64,
+    pub scripts_pss_kib: u64,
+    pub total_rss_kib: u64,
+    pub total_pss_kib: u64,
+}
+
 #[derive(Debug, Serialize)]
 pub struct Target {
     pub target: String,
@@ -101,7 +182,19 @@ pub struct Report {
     pub run: RunInfo,
     pub metrics: Vec<Row>,
     pub counters: Counters,
+    pub cycle: CycleReport,
+    pub scripts: Vec<ScriptRow>,
+    pub fairness: Fairness,
+    pub memory: MemoryReport,
     pub targets: Vec<Target>,
+}
+
+fn mib(kib: u64) -> f64 {
+    kib as f64 / 1024.0
+}
+
+pub fn ratio(r: Option<f64>) -> String {
+    r.map_or("-".to_string(), |r| format!("{r:.2}x"))
 }
 
 impl Report {
@@ -155,6 +248,8 @@ impl Report {
             "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives)",
             c.cycles, c.overruns, c.rt_cpu_percent, c.simulation_cpu_percent
         );
+        self.print_cycle();
+        self.print_scripts();
         println!();
         for t in &self.targets {
             let verdict = match t.met {
@@ -164,6 +259,76 @@ impl Report {
             };
             println!("[{verdict:>6}] {}: {}", t.target, t.measured);
         }
+    }
+
+    fn print_cycle(&self) {
+        let y = &self.cycle;
+        let f = |x: &Fractions| {
+            format!(
+                "p50 {:.3}, p99 {:.3}, p99.9 {:.3}, p99.99 {:.3}, max {:.3}",
+                x.p50, x.p99, x.p99_9, x.p99_99, x.max
+            )
+        };
+        println!("cycle execution / period {:.0} us: {}", y.period_us, f(&y.execution_of_period));
+        println!("cycle CPU time / period:  {}", f(&y.cpu_of_period));
+        println!(
+            "overruns {}: {} late wake-up (woke > {:.0} us late), {} long execution (work > {:.0} us), {} both; \
+             {} of the long ones the cycle's own work (its CPU time > {:.0} us)",
+            y.overruns,
+            y.late_wake_up,
+            y.wake_up_allowance_us,
+            y.long_execution,
+            y.period_us - y.wake_up_allowance_us,
+            y.both,
+            y.own_work,
+            y.period_us - y.wake_up_allowance_us
+        );
+    }
+
+    fn print_scripts(&self) {
+        println!();
+        println!("wake-up by script rank (rank = task index: the core wakes a cycle's tasks in index order)");
+        println!(
+            "{:>5} {:>9} {:>9} {:>9} {:>13} {:>12} {:>9} {:>9}",
+            "rank", "wake-ups", "p50 us", "p99 us", "CPU us/cycle", "CPU us/wake", "RSS MiB", "PSS MiB"
+        );
+        for s in &self.scripts {
+            let (rss, pss) = s.memory.map_or((String::from("-"), String::from("-")), |m| {
+                (format!("{:.1}", mib(m.rss_kib)), format!("{:.1}", mib(m.pss_kib)))
+            });
+            println!(
+                "{:>5} {:>9} {:>9.1} {:>9.1} {:>13.1} {:>12.1} {:>9} {:>9}",
+                s.rank,
+                s.wake_ups,
+                s.wake_up_p50_us,
+                s.wake_up_p99_us,
+                s.cpu_us_per_cycle,
+                s.cpu_us_per_wake_up,
+                rss,
+                pss
+            );
+        }
+        let fair = &self.fairness;
+        println!(
+            "scripts' CPU time per cycle {:.1} us; wake-up p50 spread (highest rank less rank 0) {:.1} us; \
+             rank 0 p50 {} the iceoryx2 one-way floor, {} the futex wake-up floor",
+            fair.scripts_cpu_us_per_cycle,
+            fair.p50_spread_us,
+            ratio(fair.first_rank_vs_floor_p50),
+            ratio(fair.first_rank_vs_futex_floor_p50)
+        );
+        let m = &self.memory;
+        println!(
+            "memory: controller RSS {:.1} MiB, PSS {:.1} MiB; {} scripts RSS {:.1} MiB, PSS {:.1} MiB; \
+             total PSS {:.1} MiB (RSS {:.1} MiB)",
+            mib(m.controller.rss_kib),
+            mib(m.controller.pss_kib),
+            m.scripts_measured,
+            mib(m.scripts_rss_kib),
+            mib(m.scripts_pss_kib),
+            mib(m.total_pss_kib),
+            mib(m.total_rss_kib)
+        );
     }
 
     pub fn write_json(&self, path: &Path) -> Result<()> {

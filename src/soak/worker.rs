@@ -10,7 +10,8 @@
 //! - `wake-up`: the core notifying the task's wake event (after it published the cycle's
 //!   snapshot) to the script having the reply: the transport and the wake-up;
 //!
-//! and per round of queries `snapshot age`: how old the snapshot a query reads is.
+//! and per round of queries `snapshot age`: how old the snapshot a query reads is; and the
+//! CPU time the process used over the workload, for the wake-up's fairness.
 
 use std::cell::RefCell;
 use std::path::PathBuf;
@@ -90,8 +91,10 @@ pub fn run(args: WorkerArgs) -> Result<()> {
     let data_dir = tempfile::tempdir()?;
     let host = Rc::new(Host::new(endpoint, &ns, data_dir.path().to_path_buf())?);
     let recorder = Rc::new(RefCell::new(Recorder::default()));
+    let (cpu_start_ns, wall_start_ns) = (process_cpu_ns(), monotonic_ns());
     // mlua's errors are not Send; say them as text.
     play(&host, &recorder, args.axis, args.duration_ms).map_err(|e| anyhow::anyhow!("soak workload: {e}"))?;
+    let (cpu_ns, wall_ns) = (process_cpu_ns() - cpu_start_ns, monotonic_ns() - wall_start_ns);
 
     let counters = host.endpoint.borrow().reply_counters();
     let mut r = recorder.borrow_mut();
@@ -106,8 +109,17 @@ pub fn run(args: WorkerArgs) -> Result<()> {
     result.counts.lost = counters.lost;
     result.counts.duplicated = counters.duplicated;
     result.counts.out_of_order = counters.out_of_order;
+    (result.cpu_ns, result.wall_ns) = (cpu_ns, wall_ns);
     std::fs::write(&args.out, serde_json::to_vec(result)?).with_context(|| format!("write {}", args.out.display()))?;
     Ok(())
+}
+
+/// CPU time of this process (all its threads), ns.
+fn process_cpu_ns() -> u64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: `ts` is valid for the call.
+    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
 }
 
 /// Runs the workload in a VM with the real bindings and the soak's instruments.
