@@ -3,7 +3,11 @@
 //! Everything here is called from the RT thread once per cycle. Ports are created before
 //! the first cycle; serving, publishing and waking do not allocate.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
+
 use iceoryx2::prelude::*;
+use iceoryx2::sample_mut::SampleMut;
 
 use crate::clock::monotonic_ns;
 use crate::messages::{Reply, Request, Snapshot};
@@ -11,7 +15,7 @@ use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StateP
 use crate::shared::SharedData;
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskTable};
-use crate::{IpcError, Namespace};
+use crate::{IpcError, Namespace, futex};
 
 /// Name of the controller's node; a live node of this name owns the namespace.
 pub const CORE_NODE_NAME: &str = "luamotion-core";
@@ -42,6 +46,36 @@ struct TaskChannel {
     deferred: Option<Deferred>,
 }
 
+/// The state's samples this publisher has written, by payload address, and the layout
+/// each holds: iceoryx2 hands out the same few chunks of its data segment again and
+/// again, and a chunk that already holds the layout needs only the fields that change.
+/// More chunks than this are still correct, each only costs a whole copy.
+const KNOWN_SAMPLES: usize = 32;
+
+/// The loaned state sample a cycle writes its snapshot into, then `CoreEndpoint::send_snapshot`.
+pub type SnapshotSample = SampleMut<Ipc, Snapshot, ()>;
+
+#[derive(Default)]
+struct KnownSamples {
+    /// Payload address and layout generation plus one (0: free).
+    slots: [(usize, u64); KNOWN_SAMPLES],
+    /// The slot taken next for an address not yet known.
+    next: usize,
+}
+
+impl KnownSamples {
+    /// Records that the sample at `address` holds `generation`; whether it did already.
+    fn holds(&mut self, address: usize, generation: u64) -> bool {
+        let tag = generation + 1;
+        if let Some(slot) = self.slots.iter_mut().find(|(a, _)| *a == address) {
+            return std::mem::replace(&mut slot.1, tag) == tag;
+        }
+        self.slots[self.next] = (address, tag);
+        self.next = (self.next + 1) % KNOWN_SAMPLES;
+        false
+    }
+}
+
 /// Counters the soak test and the logs read.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CoreIpcStats {
@@ -55,6 +89,61 @@ pub struct CoreIpcStats {
     pub wakes: u64,
     /// Snapshots that could not be published.
     pub publish_failures: u64,
+    /// Of `wakes`, those whose futex wake the task waker made (`hand_wakes_to_thread`).
+    pub handed_off: u64,
+}
+
+/// The futex wakes the RT thread hands to the task waker thread: each costs the RT
+/// thread a few microseconds in the kernel's `try_to_wake_up`, a quarter of its time
+/// with 16 scripts woken every cycle (docs/decisions.md, "The task waker").
+#[derive(Default)]
+struct WakeHandoff {
+    /// Bit t: task t is to be woken.
+    pending: AtomicU64,
+    /// Bumped with each hand-off; the waker sleeps on it.
+    word: AtomicU32,
+    stop: AtomicBool,
+}
+
+impl WakeHandoff {
+    fn hand(&self, tasks: u64) {
+        self.pending.fetch_or(tasks, Ordering::Release);
+        self.word.fetch_add(1, Ordering::Release);
+        futex::wake(&self.word);
+    }
+
+    fn stop(&self) {
+        self.stop.store(true, Ordering::Release);
+        self.hand(0);
+    }
+
+    /// The waker thread: wakes the tasks handed to it until stopped.
+    fn serve(&self, table: &TaskTable) {
+        while !self.stop.load(Ordering::Acquire) {
+            let seen = self.word.load(Ordering::Acquire);
+            let mut pending = self.pending.swap(0, Ordering::AcqRel);
+            while pending != 0 {
+                table.slots[pending.trailing_zeros() as usize].wake_sleeper();
+                pending &= pending - 1;
+            }
+            futex::wait(&self.word, seen, std::time::Duration::from_millis(100));
+        }
+    }
+}
+
+/// The task waker thread and what it is handed.
+struct TaskWaker {
+    handoff: Arc<WakeHandoff>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Drop for TaskWaker {
+    fn drop(&mut self) {
+        self.handoff.stop();
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
 }
 
 /// The controller's end of the IPC: publishes the snapshot, serves the tasks' requests and wakes them.
@@ -64,6 +153,8 @@ pub struct CoreEndpoint {
     table: Region<TaskTable>,
     shared: Region<SharedData>,
     stats: CoreIpcStats,
+    samples: KnownSamples,
+    waker: Option<TaskWaker>,
     // Dropped last: the ports above belong to it.
     _node: Node<Ipc>,
 }
@@ -90,7 +181,16 @@ impl CoreEndpoint {
         }
         let table = Region::<TaskTable>::create(ns, "tasks")?;
         let shared = Region::<SharedData>::create(ns, "shared")?;
-        Ok(CoreEndpoint { state, tasks, table, shared, stats: CoreIpcStats::default(), _node: node })
+        Ok(CoreEndpoint {
+            state,
+            tasks,
+            table,
+            shared,
+            stats: CoreIpcStats::default(),
+            samples: KnownSamples::default(),
+            waker: None,
+            _node: node,
+        })
     }
 
     /// The task table in shared memory.
@@ -124,6 +224,11 @@ impl CoreEndpoint {
         mut handle: impl FnMut(u8, &Request, &mut Reply) -> Disposition,
     ) {
         for task in &mut self.tasks {
+            // A task sends a request only in a call, which marks its slot first
+            // (`TaskEndpoint::call`): a task that sleeps or runs Lua costs no receive.
+            if self.table.slots[task.id as usize].state() != RunState::InCall {
+                continue;
+            }
             for _ in 0..max_per_task {
                 if task.deferred.is_some() {
                     break;
@@ -173,14 +278,30 @@ impl CoreEndpoint {
         task.replied = true;
     }
 
-    /// Publishes the cycle's snapshot. A failure is counted, not formatted: this runs on
-    /// the RT thread, and the next cycle publishes again.
-    pub fn publish(&mut self, snapshot: &Snapshot) {
-        let Ok(sample) = self.state.loan_uninit() else {
+    /// Loans the sample the cycle's snapshot is written into in place, instead of being
+    /// built aside and copied (at 96 axes the copy of ~70 KB was a tenth of the RT
+    /// thread's time). The sample holds `layout` (what changes only with the bus:
+    /// `generation` numbers each version of it), and the caller writes every other field.
+    /// `None` when no sample can be had (counted): the cycle goes on without publishing.
+    pub fn loan_snapshot(&mut self, layout: &Snapshot, generation: u64) -> Option<SnapshotSample> {
+        let Ok(mut sample) = self.state.loan_uninit() else {
             self.stats.publish_failures += 1;
-            return;
+            return None;
         };
-        let mut sample = sample.write_payload(*snapshot);
+        let payload = sample.payload_mut().as_mut_ptr();
+        if !self.samples.holds(payload as usize, generation) {
+            // SAFETY: the payload is a writable, aligned Snapshot in the loaned chunk.
+            unsafe { std::ptr::copy_nonoverlapping(layout, payload, 1) };
+        }
+        // SAFETY: the chunk holds a whole Snapshot: written just above, or by an earlier
+        // loan at this address with this layout (only this publisher writes its chunks).
+        // Every field is a plain number, so what a cycle leaves is a valid Snapshot.
+        Some(unsafe { sample.assume_init() })
+    }
+
+    /// Publishes the snapshot written into `sample`. A failure is counted, not formatted:
+    /// this runs on the RT thread, and the next cycle publishes again.
+    pub fn send_snapshot(&mut self, mut sample: SnapshotSample) {
         sample.payload_mut().published_ns = monotonic_ns();
         if sample.send().is_err() {
             self.stats.publish_failures += 1;
@@ -195,10 +316,42 @@ impl CoreEndpoint {
         let _ = self.state.update_connections();
     }
 
+    /// From now on, when more than one task is due in a cycle, their futex wakes are
+    /// made by a thread of their own ("task-waker", set up by `setup`, e.g. a real-time
+    /// priority below the RT thread's), and the RT thread makes one wake, the waker's. A
+    /// single task due is still woken directly: its wake-up stays one hop.
+    pub fn hand_wakes_to_thread(
+        &mut self,
+        ns: &Namespace,
+        setup: impl FnOnce() + Send + 'static,
+    ) -> Result<(), IpcError> {
+        let handoff = Arc::new(WakeHandoff::default());
+        let (served, ns) = (handoff.clone(), ns.clone());
+        let (opened_tx, opened) = std::sync::mpsc::channel();
+        let thread = std::thread::Builder::new()
+            .name("task-waker".into())
+            .spawn(move || {
+                // The table's mapping is the thread's own (a region stays in its thread).
+                let table = match Region::<TaskTable>::open(&ns, "tasks") {
+                    Ok(table) => table,
+                    Err(e) => return drop(opened_tx.send(Err(e))),
+                };
+                setup();
+                let _ = opened_tx.send(Ok(()));
+                served.serve(&table);
+            })
+            .map_err(|e| IpcError::Service(format!("start the task waker: {e}")))?;
+        let waker = TaskWaker { handoff, thread: Some(thread) };
+        opened.recv().map_err(|_| IpcError::Service("the task waker ended at its start".into()))??;
+        self.waker = Some(waker);
+        Ok(())
+    }
+
     /// Wakes every task whose reply was sent this cycle or whose wait cycle has come;
     /// returns them, bit t for task t.
     pub fn wake(&mut self, cycle: u64) -> u64 {
-        let mut woken = 0;
+        let mut woken = 0u64;
+        let now = monotonic_ns();
         for task in &mut self.tasks {
             let slot = &self.table.slots[task.id as usize];
             let mut due = std::mem::take(&mut task.replied);
@@ -210,11 +363,46 @@ impl CoreEndpoint {
                 }
             }
             if due {
-                slot.wake(monotonic_ns());
-                self.stats.wakes += 1;
+                slot.notify(now);
                 woken |= 1 << task.id;
             }
         }
+        self.stats.wakes += woken.count_ones() as u64;
+        match &self.waker {
+            Some(waker) if woken.count_ones() > 1 => {
+                waker.handoff.hand(woken);
+                self.stats.handed_off += woken.count_ones() as u64;
+            }
+            _ => {
+                let mut rest = woken;
+                while rest != 0 {
+                    self.table.slots[rest.trailing_zeros() as usize].wake_sleeper();
+                    rest &= rest - 1;
+                }
+            }
+        }
         woken
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chunk gets the layout on its first loan and after a new layout, and again once
+    /// more chunks than the table holds have pushed it out.
+    #[test]
+    fn a_sample_is_known_by_its_address_and_layout() {
+        let mut known = KnownSamples::default();
+        assert!(!known.holds(0x1000, 0), "a new chunk needs the layout");
+        assert!(known.holds(0x1000, 0));
+        assert!(!known.holds(0x1000, 1), "a new layout");
+        assert!(known.holds(0x1000, 1));
+        for chunk in 1..KNOWN_SAMPLES {
+            assert!(!known.holds(0x1000 + chunk * 0x100, 1));
+        }
+        assert!(known.holds(0x1000, 1), "the table holds {KNOWN_SAMPLES} chunks");
+        assert!(!known.holds(0x9000, 1));
+        assert!(!known.holds(0x1000, 1), "pushed out by one chunk too many: copied again");
     }
 }

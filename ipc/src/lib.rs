@@ -34,7 +34,7 @@ pub mod task_table;
 use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;
 
-pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats, Disposition};
+pub use core_side::{CORE_NODE_NAME, CoreEndpoint, CoreIpcStats, Disposition, SnapshotSample};
 pub use files::remove_namespace_files;
 pub use monitor::Monitor;
 pub use namespace::Namespace;

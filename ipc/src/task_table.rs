@@ -256,8 +256,19 @@ impl TaskSlot {
     /// The core wakes the task: "your reply is ready" or "your wake cycle has come".
     /// Never blocks.
     pub fn wake(&self, now_ns: u64) {
+        self.notify(now_ns);
+        self.wake_sleeper();
+    }
+
+    /// The first half of `wake`: a task that looks at its word from now on does not
+    /// sleep; one asleep already needs `wake_sleeper`.
+    pub fn notify(&self, now_ns: u64) {
         self.notified_ns.store(now_ns, Ordering::Release);
         self.wake.fetch_add(1, Ordering::Release);
+    }
+
+    /// The second half of `wake`: the futex wake of a task asleep on its word.
+    pub fn wake_sleeper(&self) {
         futex::wake(&self.wake);
     }
 

@@ -112,13 +112,22 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
             .spawn(move || {
                 let granted = realtime::setup_current_thread(&rt_config);
                 crate::rt_alloc::claim_pool_for_this_thread();
-                let endpoint = match CoreEndpoint::create(&ns, &task_ids) {
+                let mut endpoint = match CoreEndpoint::create(&ns, &task_ids) {
                     Ok(endpoint) => endpoint,
                     Err(e) => {
                         let _ = ready_tx.send(Err(e));
                         return None;
                     }
                 };
+                // On the simulation clock a turn is one task's wake: no hop in between.
+                if clock == Clock::RealTime {
+                    let waker_config = rt_config.clone();
+                    let setup = move || realtime::setup_waker_thread(&waker_config);
+                    if let Err(e) = endpoint.hand_wakes_to_thread(&ns, setup) {
+                        let _ = ready_tx.send(Err(e));
+                        return None;
+                    }
+                }
                 // After the endpoint (whose services are the room check's first concern), before
                 // any task starts: SetHMIScope finds the ring.
                 let scope = match ipc::scope::ScopeRing::create(&ns, period_ns, &scope_codes) {

@@ -124,7 +124,11 @@ impl CycleStats {
 pub struct CycleWork {
     machine: Machine,
     endpoint: CoreEndpoint,
+    /// What changes only with the bus (the slaves' mappings, the period): the layout every
+    /// published sample starts from; also the snapshot of a cycle that got no sample.
     snapshot: Snapshot,
+    /// Numbers the versions of that layout (a `ScanNetwork` makes a new one).
+    layout: u64,
     cycle: u64,
     overruns: u64,
     /// Timing the RT loop hands in for the trace: this cycle's wake-up lateness and the
@@ -163,6 +167,7 @@ impl CycleWork {
             machine,
             endpoint,
             snapshot,
+            layout: 0,
             cycle: 0,
             overruns: 0,
             lateness_ns: 0,
@@ -217,6 +222,7 @@ impl CycleWork {
         if std::mem::take(&mut self.machine.rescanned) {
             master::describe_slaves(&self.machine.network, &mut self.snapshot);
             self.snapshot.system_error = self.machine.network.start_error().is_some() as u32;
+            self.layout += 1;
         }
         let deferred = self.endpoint.deferred_tasks();
         {
@@ -250,44 +256,56 @@ impl CycleWork {
         }
         let machine = &mut self.machine;
         self.endpoint.resume(cycle, |_task, request, reply| dispatch::resume(machine, request, reply));
+        // The snapshot is written in place into the loaned sample; without one (counted,
+        // not published) into `self.snapshot`, which also holds the layout a new sample
+        // starts from.
+        let mut loaned = self.endpoint.loan_snapshot(&self.snapshot, self.layout);
+        let snapshot = match &mut loaned {
+            Some(sample) => sample.payload_mut(),
+            None => &mut self.snapshot,
+        };
         // The bound analog outputs follow this cycle's axis variables as the snapshot
         // shows them; forced values still win.
-        self.machine.kernel.fill(&mut self.snapshot);
+        self.machine.kernel.fill(snapshot);
         let period_s = period as f64 * 1e-9;
-        self.machine.analog.step(&self.snapshot.axes, &mut self.machine.network, period_s);
+        self.machine.analog.step(&snapshot.axes, &mut self.machine.network, period_s);
         let (_, outputs) = self.machine.network.images_mut();
         self.machine.forces.apply(outputs);
 
-        self.snapshot.cycle = cycle;
-        self.snapshot.time_in_ms = cycle * period / 1_000_000;
-        self.snapshot.overruns = self.overruns;
-        self.snapshot.controller_state = self.machine.state.into();
-        self.snapshot.gpio = self.machine.io.snapshot();
-        master::update_slaves(&self.machine.network, &mut self.snapshot);
-        self.machine.triggers.fill(&mut self.snapshot.position_triggers);
-        self.machine.analog.fill(&mut self.snapshot);
-        self.machine.tasks.fill(&mut self.snapshot.tasks, &self.machine.run_speed);
+        snapshot.cycle = cycle;
+        snapshot.time_in_ms = cycle * period / 1_000_000;
+        snapshot.overruns = self.overruns;
+        snapshot.controller_state = self.machine.state.into();
+        snapshot.gpio = self.machine.io.snapshot();
+        master::update_slaves(&self.machine.network, snapshot);
+        self.machine.triggers.fill(&mut snapshot.position_triggers);
+        self.machine.analog.fill(snapshot);
+        self.machine.tasks.fill(&mut snapshot.tasks, &self.machine.run_speed);
         if self.sim {
-            self.watches_changed = crate::sim_clock::changed_watches(self.endpoint.table(), &self.snapshot);
+            self.watches_changed = crate::sim_clock::changed_watches(self.endpoint.table(), snapshot);
         }
-        self.endpoint.publish(&self.snapshot);
-        self.woken = self.endpoint.wake(cycle);
         if let Some(scope) = &mut self.scope {
-            scope.sample(&self.snapshot, self.endpoint.shared());
+            scope.sample(snapshot, self.endpoint.shared());
         }
         // On the real-time clock a row is only made for a trace file: a digest of wall-time
         // runs would say nothing.
-        if self.recording && (self.sim || self.trace.is_some()) {
-            self.record();
+        let row = (self.recording && (self.sim || self.trace.is_some())).then(|| {
+            let (lateness, execution) = if self.sim { (0, 0) } else { (self.lateness_ns, self.previous_execution_ns) };
+            TraceRow::of(snapshot, lateness, execution)
+                .with_loads(&self.machine.kernel, &self.machine.network)
+                .with_position_triggers(&self.machine.triggers)
+        });
+        if let Some(sample) = loaned {
+            self.endpoint.send_snapshot(sample);
+        }
+        self.woken = self.endpoint.wake(cycle);
+        if let Some(row) = row {
+            self.record(row);
         }
     }
 
     /// The cycle's trace row, into the trace file and, on the simulation clock, the digest.
-    fn record(&mut self) {
-        let (lateness, execution) = if self.sim { (0, 0) } else { (self.lateness_ns, self.previous_execution_ns) };
-        let row = TraceRow::of(&self.snapshot, lateness, execution)
-            .with_loads(&self.machine.kernel, &self.machine.network)
-            .with_position_triggers(&self.machine.triggers);
+    fn record(&mut self, row: TraceRow) {
         if self.sim {
             self.digest.add(&row);
         }

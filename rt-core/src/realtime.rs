@@ -54,6 +54,19 @@ pub fn setup_current_thread(config: &RtConfig) -> Granted {
     granted
 }
 
+/// The task waker (`CoreEndpoint::hand_wakes_to_thread`), started from the RT thread: it
+/// keeps the RT thread's CPU, one SCHED_FIFO priority below it, so it wakes the tasks as
+/// soon as the cycle's work is done and the RT thread's wake of it needs no other CPU.
+pub fn setup_waker_thread(config: &RtConfig) {
+    if config.priority > 1 {
+        let param = libc::sched_param { sched_priority: config.priority as i32 - 1 };
+        // SAFETY: `param` is valid for the call.
+        if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } != 0 {
+            tracing::warn!("SCHED_FIFO refused to the task waker ({})", errno());
+        }
+    }
+}
+
 fn errno() -> std::io::Error {
     std::io::Error::last_os_error()
 }
