@@ -328,6 +328,9 @@ pub fn run(
             // supervisor notices, which is wall time.
             work.recording &= work.cycle == 0 || !lockstep.all_ended(&work.machine.tasks, &work.endpoint);
         }
+        if let Some(lockstep) = &mut lockstep {
+            lockstep.begin(work.cycle + 1, work.endpoint.shared());
+        }
         work.run_cycle();
         control.cycle.store(work.cycle, Ordering::Release);
         control.active_tasks.store(work.machine.tasks.active() as u64, Ordering::Release);

@@ -3,11 +3,12 @@
 //! into frames for `FreePort.Serial.Rx` and sends `Tx`'s frames; in Modbus RTU or ASCII it
 //! answers requests through the handler the controller gives it.
 
+use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::os::fd::AsRawFd;
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -36,6 +37,20 @@ pub struct Settings {
     pub station: u8,
     /// A symlink to the pseudo-terminal, made at start (replacing one there) and removed at the end.
     pub link: Option<PathBuf>,
+}
+
+/// On the simulation clock (`luamotion run --clock sim`): what the peer sends in a FreePort
+/// protocol takes effect at a cycle boundary. Each chunk is stamped with the cycle it takes
+/// effect at, and `Rx` after cycle c frames only chunks stamped <= c, so the cycles at which
+/// a program sees the bytes are those of the stamps, and a replay of the stamps is the same
+/// run (docs/decisions.md, "Simulation clock").
+pub struct SimLine {
+    /// The cycle a chunk arriving now takes effect at; `Rx` is served after cycle `landing - 1`.
+    pub landing: Arc<AtomicU64>,
+    /// Told every chunk received and its stamp (`--record`).
+    pub record: Box<dyn FnMut(u64, &[u8]) + Send>,
+    /// A replay's chunks and their stamps, in order: the peer's bytes are then dropped.
+    pub replay: Option<Vec<(u64, Vec<u8>)>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -73,6 +88,11 @@ impl Port {
     /// Opens the pseudo-terminal, its link and the scripts' socket of namespace `ns`, and
     /// starts the thread.
     pub fn open(ns: &str, settings: Settings) -> Result<Port, SerialError> {
+        Port::open_with(ns, settings, None)
+    }
+
+    /// `open`, on the simulation clock with `sim`.
+    pub fn open_with(ns: &str, settings: Settings, sim: Option<SimLine>) -> Result<Port, SerialError> {
         let pty = Pty::open(LineSettings { frame: settings.protocol.frame, baud: settings.baud })
             .map_err(SerialError::Pty)?;
         let path = pty.path().to_path_buf();
@@ -88,6 +108,10 @@ impl Port {
         let stop = Arc::new(AtomicBool::new(false));
         let link = settings.link.clone();
         let mut line = Line::new(pty, settings, handler.clone());
+        if let Some(sim) = sim {
+            line.pending = sim.replay.clone().unwrap_or_default().into();
+            line.sim = Some(sim);
+        }
         let flag = stop.clone();
         let thread = std::thread::Builder::new()
             .name("serial1".into())
@@ -155,6 +179,11 @@ struct Line {
     logged_setting: Option<LineSettings>,
     handler: Arc<Mutex<Option<Handler>>>,
     unserved_logged: bool,
+    sim: Option<SimLine>,
+    /// A replay dropped the peer's bytes (said once).
+    peer_dropped: bool,
+    /// On the simulation clock: chunks and the cycle each takes effect at.
+    pending: VecDeque<(u64, Vec<u8>)>,
 }
 
 impl Line {
@@ -175,6 +204,9 @@ impl Line {
             logged_setting: None,
             handler,
             unserved_logged: false,
+            sim: None,
+            peer_dropped: false,
+            pending: VecDeque::new(),
         };
         line.expect_line();
         line
@@ -258,7 +290,32 @@ impl Line {
             }
             return;
         }
-        self.take(bytes);
+        match &mut self.sim {
+            Some(sim) if self.protocol.kind == Kind::FreePort => {
+                if sim.replay.is_some() {
+                    if !std::mem::replace(&mut self.peer_dropped, true) {
+                        tracing::warn!("serial port 1: a replay feeds the recorded bytes; the peer's are dropped");
+                    }
+                    return;
+                }
+                let at = sim.landing.load(Ordering::Acquire);
+                (sim.record)(at, bytes);
+                self.pending.push_back((at, bytes.to_vec()));
+            }
+            _ => self.take(bytes),
+        }
+    }
+
+    /// On the simulation clock, before a script's request: the chunks whose cycle has come.
+    fn due(&mut self) {
+        let Some(sim) = &self.sim else { return };
+        let served_after = sim.landing.load(Ordering::Acquire).saturating_sub(1);
+        while let Some((at, _)) = self.pending.front()
+            && *at <= served_after
+        {
+            let (_, bytes) = self.pending.pop_front().expect("a front");
+            self.take(&bytes);
+        }
     }
 
     fn take(&mut self, bytes: &[u8]) {
@@ -331,6 +388,7 @@ impl Line {
     }
 
     fn request(&mut self, op: Op) -> (Code, Vec<u8>) {
+        self.due();
         if !matches!(op, Op::Init { .. }) && self.protocol.kind != Kind::FreePort {
             return (Code::NotFreePort, Vec::new());
         }
