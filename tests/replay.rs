@@ -107,7 +107,7 @@ fn modbus_writes_are_recorded_and_replayed() {
         "Enable(0)\n\
          Till(function() return IsEnabled(0) end)\n\
          local last, start = 0, system_fclk\n\
-         while last ~= 3 and system_fclk - start < 300000 do\n\
+         while last ~= 3 and system_fclk - start < 120000 do\n\
            local v = ReadModbusWord(0)\n\
            if v ~= last then\n\
              last = v\n\
@@ -179,7 +179,7 @@ fn serial_bytes_are_recorded_and_replayed() {
          FreePort.Serial.Init(1, nil, CR_LF, 0x17)\n\
          my_print('reading codes')\n\
          local start, count = system_fclk, 0\n\
-         while system_fclk - start < 300000 do\n\
+         while system_fclk - start < 120000 do\n\
            local rc, code, n = FreePort.Serial.Rx(1)\n\
            if rc == 0 and n > 0 then\n\
              if code == 'END' then break end\n\

@@ -39,6 +39,9 @@ pub struct Settings {
     pub link: Option<PathBuf>,
 }
 
+/// Told each chunk the peer sent and the cycle it takes effect at.
+pub type Recorder = Box<dyn FnMut(u64, &[u8]) + Send>;
+
 /// On the simulation clock (`luamotion run --clock sim`): what the peer sends in a FreePort
 /// protocol takes effect at a cycle boundary. Each chunk is stamped with the cycle it takes
 /// effect at, and `Rx` after cycle c frames only chunks stamped <= c, so the cycles at which
@@ -48,7 +51,7 @@ pub struct SimLine {
     /// The cycle a chunk arriving now takes effect at; `Rx` is served after cycle `landing - 1`.
     pub landing: Arc<AtomicU64>,
     /// Told every chunk received and its stamp (`--record`).
-    pub record: Box<dyn FnMut(u64, &[u8]) + Send>,
+    pub record: Recorder,
     /// A replay's chunks and their stamps, in order: the peer's bytes are then dropped.
     pub replay: Option<Vec<(u64, Vec<u8>)>>,
 }
@@ -476,6 +479,57 @@ mod tests {
         assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"3.1415".to_vec()));
         assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()));
         assert_eq!(ask(&mut client, Op::Tx(vec![b'x'; 257])).0, Code::TooLong);
+    }
+
+    /// On the simulation clock the peer's bytes wait for the cycle after the one they
+    /// arrived in and are recorded with it; a replay's bytes wait for their cycle, and
+    /// the peer's are dropped.
+    #[test]
+    fn sim_clock_bytes_take_effect_at_their_cycle() {
+        let (recording, landing) = (ns("sim"), Arc::new(AtomicU64::new(5)));
+        let recorded = Arc::new(Mutex::new(Vec::new()));
+        let log = recorded.clone();
+        let record = Box::new(move |at: u64, bytes: &[u8]| log.lock().unwrap().push((at, bytes.to_vec())));
+        let settings = Settings {
+            protocol: Protocol::from_code(0x17).unwrap(),
+            baud: 38400,
+            loopback: false,
+            station: 1,
+            link: None,
+        };
+        let sim = SimLine { landing: landing.clone(), record, replay: None };
+        let port = Port::open_with(&recording, settings.clone(), Some(sim)).unwrap();
+        let mut client = Client::connect(&recording).unwrap();
+        assert_eq!(ask(&mut client, Op::Init { start: None, end: End::Byte(b';'), protocol: None }).0, Code::Ok);
+        let mut peer = OpenOptions::new().read(true).write(true).open(&port.path).unwrap();
+        peer.write_all(b"A;").unwrap();
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while recorded.lock().unwrap().is_empty() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        assert_eq!(*recorded.lock().unwrap(), [(5, b"A;".to_vec())]);
+        // Turns after cycle 4 do not see it; turns after cycle 5 do.
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()));
+        landing.store(6, Ordering::Release);
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"A".to_vec()));
+
+        let (replaying, landing) = (ns("sim-replay"), Arc::new(AtomicU64::new(1)));
+        let replay = Some(vec![(3, b"B;".to_vec()), (3, b"C;".to_vec())]);
+        let sim =
+            SimLine { landing: landing.clone(), record: Box::new(|_, _| panic!("a replay records nothing")), replay };
+        let port = Port::open_with(&replaying, settings, Some(sim)).unwrap();
+        let mut client = Client::connect(&replaying).unwrap();
+        assert_eq!(ask(&mut client, Op::Init { start: None, end: End::Byte(b';'), protocol: None }).0, Code::Ok);
+        let mut peer = OpenOptions::new().read(true).write(true).open(&port.path).unwrap();
+        peer.write_all(b"D;").unwrap();
+        // Time for the port to read it (a port that kept it would show it below).
+        std::thread::sleep(Duration::from_millis(200));
+        landing.store(3, Ordering::Release);
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()));
+        landing.store(4, Ordering::Release);
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"B".to_vec()));
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"C".to_vec()));
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()), "the peer's D is dropped");
     }
 
     #[test]
