@@ -425,7 +425,6 @@ fn run(
     let serial = controller.serial_port(&config, inputs.as_ref().map(|i| i.serial()));
     let scope_stop = Arc::new(AtomicBool::new(false));
     let recorder = (!scope.is_empty()).then(|| scope::record_run(ns.clone(), scope_options, scope, scope_stop.clone()));
-    let web_ns = ns.clone();
     let options = rt_core::RunOptions {
         ns,
         launcher,
@@ -441,72 +440,8 @@ fn run(
     let report = match (http, input_args.modbus_port()) {
         (None, None) => rt_core::run(config, options),
         (http, modbus) => {
-            let (config, console) = match modbus {
-                Some(_) => {
-                    let (console, inbox) = rt_core::console::channel();
-                    (config.with_drl_task()?, Some((console, inbox)))
-                }
-                None => (config, None),
-            };
-            // The web view's commands need a task slot of their own: the ASCII agent's.
-            let config = if http.is_some() { config.with_ascii_task()? } else { config };
-            let agent_task = config.ascii.agent_task;
-            let (console, inbox) = console.unzip();
-            let modbus_setup = match (modbus, console) {
-                (Some(port), Some(console)) => {
-                    let inputs = inputs.as_ref().map(|i| i.inputs.clone());
-                    let (setup, _) = drl_cli::console_setup(
-                        &config,
-                        &web_ns,
-                        options.data_dir.clone(),
-                        console,
-                        (None, None),
-                        inputs,
-                    )?;
-                    Some((setup, config.modbus.bind.clone(), port, drl_cli::modbus_limits(&config)))
-                }
-                _ => None,
-            };
-            let options = rt_core::RunOptions { console: inbox, ..options };
-            let controller = rt_core::controller::Background::start(config, options)?;
-            let servers = modbus_setup
-                .map(|(setup, bind, port, limits)| drl::Server::start(setup, &bind, port, limits))
-                .transpose()
-                .map_err(anyhow::Error::from)
-                .and_then(|modbus| {
-                    let web = http
-                        .map(|port| {
-                            let (agent, thread) = drl::ascii::start_agent(web_ns.clone(), agent_task)?;
-                            Ok::<_, anyhow::Error>((
-                                web::WebView::start(web_ns, "127.0.0.1", port, agent, None)?,
-                                thread,
-                            ))
-                        })
-                        .transpose()?;
-                    Ok((modbus, web))
-                });
-            match servers {
-                Ok((modbus, web)) => {
-                    if let Some(modbus) = &modbus {
-                        println!("Modbus TCP on {}", modbus.address);
-                    }
-                    if let Some((web, _)) = &web {
-                        println!("Web view on http://{}/", web.address);
-                    }
-                    let report = controller.join();
-                    // The web view holds the agent's last handle: the agent ends after it.
-                    if let Some((web, agent_thread)) = web {
-                        drop(web);
-                        let _ = agent_thread.join();
-                    }
-                    drop(modbus);
-                    report
-                }
-                Err(e) => {
-                    let _ = controller.stop();
-                    return Err(e);
-                }
-            }
+            let modbus = modbus.map(|port| (port, inputs.as_ref().map(|i| i.inputs.clone())));
+            run_served(config, options, http, modbus)?
         }
     };
     drop(serial);
@@ -561,6 +496,65 @@ fn run(
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// `run` with the web view (`--http`) or the Modbus TCP server (`--modbus-port`, with
+/// the simulation clock's inputs) beside the controller, until its programs end.
+fn run_served(
+    mut config: MachineConfig,
+    mut options: rt_core::RunOptions,
+    http: Option<u16>,
+    modbus: Option<(u16, Option<Arc<rt_core::replay::Inputs>>)>,
+) -> Result<Result<rt_core::RunReport, rt_core::ControllerError>> {
+    let ns = options.ns.clone();
+    let mut console = None;
+    if let Some((port, inputs)) = modbus {
+        config = config.with_drl_task()?;
+        let (orders, inbox) = rt_core::console::channel();
+        options.console = Some(inbox);
+        let folders = (None, None);
+        let (setup, _) = drl_cli::console_setup(&config, &ns, options.data_dir.clone(), orders, folders, inputs)?;
+        console = Some((setup, config.modbus.bind.clone(), port, drl_cli::modbus_limits(&config)));
+    }
+    if http.is_some() {
+        // The web view's commands need a task slot of their own: the ASCII agent's.
+        config = config.with_ascii_task()?;
+    }
+    let agent_task = config.ascii.agent_task;
+    let controller = rt_core::controller::Background::start(config, options)?;
+    let servers = (|| -> Result<_> {
+        let modbus = console.map(|(setup, bind, port, limits)| drl::Server::start(setup, &bind, port, limits));
+        let modbus = modbus.transpose()?;
+        let web = match http {
+            Some(port) => {
+                let (agent, thread) = drl::ascii::start_agent(ns.clone(), agent_task)?;
+                Some((web::WebView::start(ns, "127.0.0.1", port, agent, None)?, thread))
+            }
+            None => None,
+        };
+        Ok((modbus, web))
+    })();
+    let (modbus, web) = match servers {
+        Ok(servers) => servers,
+        Err(e) => {
+            let _ = controller.stop();
+            return Err(e);
+        }
+    };
+    if let Some(modbus) = &modbus {
+        println!("Modbus TCP on {}", modbus.address);
+    }
+    if let Some((web, _)) = &web {
+        println!("Web view on http://{}/", web.address);
+    }
+    let report = controller.join();
+    // The web view holds the agent's last handle: the agent ends after it.
+    if let Some((web, agent_thread)) = web {
+        drop(web);
+        let _ = agent_thread.join();
+    }
+    drop(modbus);
+    Ok(report)
 }
 
 /// The shell's convention: a run ended by signal N exits with 128 + N (130 for Ctrl-C).
