@@ -4,13 +4,16 @@
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
+use config::MachineConfig;
 use drl::codes::{ExecState, Status};
 use drl::modbus::Client;
 use drl::program::ProgramControl;
 use drl::projects::Projects;
+use ipc::Namespace;
 
 #[derive(clap::Args, Debug)]
 pub struct ServeArgs {
@@ -46,52 +49,34 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let config = config.with_drl_task()?.with_ascii_task()?;
     let ns = args.controller.namespace()?;
     let data_dir = args.controller.data_dir();
-    let projects = Projects {
-        dir: args.projects.or(config.drl.projects.clone()).unwrap_or_else(|| data_dir.join("projects")),
-        export: args.export.or(config.drl.export.clone()).unwrap_or_else(|| data_dir.join("export")),
-    };
-    std::fs::create_dir_all(&projects.dir).with_context(|| format!("create {}", projects.dir.display()))?;
     let port = args.modbus_port.unwrap_or(config.modbus.port);
     let bind = args.bind.clone().unwrap_or_else(|| config.modbus.bind.clone());
-    let limits = drl::listener::Limits {
-        max_connections: config.modbus.max_connections as usize,
-        idle_timeout: Duration::from_millis(config.modbus.idle_timeout_ms),
-    };
+    let limits = modbus_limits(&config);
     let ascii_bind = args.bind.clone().unwrap_or_else(|| config.ascii.bind.clone());
     let ascii_port = args.ascii_port.unwrap_or(config.ascii.native_port);
     let ascii_limits = drl::listener::Limits {
         max_connections: config.ascii.max_connections as usize,
         idle_timeout: Duration::from_millis(config.ascii.idle_timeout_ms),
     };
-    let drl_task = config.drl.task;
     let agent_task = config.ascii.agent_task;
-    // PLC control (0x6B10) starts and stops the machine file's programs, not the servers' slots.
-    let plc_tasks =
-        config.tasks.iter().filter(|t| t.id != drl_task && t.id != agent_task).map(|t| (t.id, t.autorun)).collect();
+    let (console, inbox) = rt_core::console::channel();
+    let (setup, projects) = console_setup(&config, &ns, data_dir.clone(), console, (args.projects, args.export), None)?;
 
     // Before the tasks start, so their first FreePort.Serial call finds it.
-    let serial = args.controller.serial_port(&config);
-    let (console, inbox) = rt_core::console::channel();
+    let serial = args.controller.serial_port(&config, None);
     let options = rt_core::RunOptions {
         ns: ns.clone(),
         launcher: args.controller.launcher(&config, &ascii_bind)?,
         exit_when_tasks_end: false,
-        data_dir: data_dir.clone(),
+        data_dir,
         trace: None,
         scope: Vec::new(),
         stop: None,
         console: Some(inbox),
         clock: rt_core::sim_clock::Clock::RealTime,
+        inputs: None,
     };
     let controller = rt_core::controller::Background::start(config, options)?;
-    let setup = drl::Setup {
-        ns: ns.clone(),
-        console,
-        program: ProgramControl::new(projects.clone()),
-        drl_task,
-        plc_tasks,
-        data_dir,
-    };
     let servers = drl::Server::start(setup, &bind, port, limits).and_then(|modbus| {
         let ascii = drl::ascii::Server::start(ns.clone(), agent_task, &ascii_bind, ascii_port, ascii_limits)?;
         Ok((modbus, ascii))
@@ -142,6 +127,46 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     drop(server);
     let report = report?;
     Ok(report.interrupted.map_or(ExitCode::SUCCESS, crate::exit_code_of_signal))
+}
+
+/// The Modbus TCP server's connection limits of the machine file.
+pub fn modbus_limits(config: &MachineConfig) -> drl::listener::Limits {
+    drl::listener::Limits {
+        max_connections: config.modbus.max_connections as usize,
+        idle_timeout: Duration::from_millis(config.modbus.idle_timeout_ms),
+    }
+}
+
+/// The register console of a controller of `config` (its DRL slot added) and its projects,
+/// where `folders` (projects, export) or the machine file say, else in `data_dir`;
+/// `inputs`: on the simulation clock, where its DV, DH and FUN147 writes go.
+pub fn console_setup(
+    config: &MachineConfig,
+    ns: &Namespace,
+    data_dir: PathBuf,
+    console: rt_core::console::Console,
+    folders: (Option<PathBuf>, Option<PathBuf>),
+    inputs: Option<Arc<rt_core::replay::Inputs>>,
+) -> Result<(drl::Setup, Projects)> {
+    let projects = Projects {
+        dir: folders.0.or(config.drl.projects.clone()).unwrap_or_else(|| data_dir.join("projects")),
+        export: folders.1.or(config.drl.export.clone()).unwrap_or_else(|| data_dir.join("export")),
+    };
+    std::fs::create_dir_all(&projects.dir).with_context(|| format!("create {}", projects.dir.display()))?;
+    let (drl_task, agent_task) = (config.drl.task, config.ascii.agent_task);
+    // PLC control (0x6B10) starts and stops the machine file's programs, not the servers' slots.
+    let plc_tasks =
+        config.tasks.iter().filter(|t| t.id != drl_task && t.id != agent_task).map(|t| (t.id, t.autorun)).collect();
+    let setup = drl::Setup {
+        ns: ns.clone(),
+        console,
+        program: ProgramControl::new(projects.clone()),
+        drl_task,
+        plc_tasks,
+        data_dir,
+        inputs,
+    };
+    Ok((setup, projects))
 }
 
 #[derive(clap::Args, Debug)]

@@ -14,6 +14,7 @@ use rt_core::sim_clock::{Clock, Speed};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
 mod drl_cli;
+mod replay_cli;
 mod scope;
 mod soak;
 mod test_runner;
@@ -84,6 +85,8 @@ enum Cmd {
         scope_options: scope::ScopeOptions,
         #[command(flatten)]
         clock: ClockArgs,
+        #[command(flatten)]
+        inputs: replay_cli::InputArgs,
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
     },
@@ -249,7 +252,7 @@ impl ControllerArgs {
     /// Opens serial port 1 unless the machine file disables it, and says where it is. A
     /// port that cannot be opened is a warning: the controller runs without it (scripts'
     /// `FreePort.Serial` calls return 10).
-    fn serial_port(&self, config: &MachineConfig) -> Option<serial::Port> {
+    fn serial_port(&self, config: &MachineConfig, sim: Option<serial::SimLine>) -> Option<serial::Port> {
         let s = &config.serial;
         if !s.enabled {
             return None;
@@ -262,7 +265,7 @@ impl ControllerArgs {
             station: config.modbus.station,
             link: self.serial_link.clone().or_else(|| s.link.clone()),
         };
-        match serial::Port::open(&self.ns, settings) {
+        match serial::Port::open_with(&self.ns, settings, sim) {
             Ok(port) => {
                 let link = port.link.as_ref().map(|l| format!(" (link {})", l.display())).unwrap_or_default();
                 eprintln!(
@@ -297,9 +300,9 @@ fn main() -> ExitCode {
     // plotters lays text out with it (the soak's report and the scope's plots).
     scope::register_font();
     let result = match cli.command {
-        Cmd::Run { controller, trace, http, scope, scope_options, clock, scripts } => {
-            run(&controller, trace, http, (scope, scope_options), clock.clock(), scripts)
-        }
+        Cmd::Run { controller, trace, http, scope, scope_options, clock, inputs, scripts } => inputs
+            .clock(clock.clock(), clock.speed)
+            .and_then(|clock| run(&controller, trace, http, (scope, scope_options), (clock, inputs), scripts)),
         Cmd::Scope(args) => scope::scope(args),
         Cmd::Test(args) => test_runner::test(args),
         Cmd::Tasks { ns } => tools::tasks(&ns),
@@ -392,7 +395,7 @@ fn run(
     trace: Option<PathBuf>,
     http: Option<u16>,
     (scope, scope_options): (Vec<PathBuf>, scope::ScopeOptions),
-    clock: Clock,
+    (clock, input_args): (Clock, replay_cli::InputArgs),
     scripts: Vec<PathBuf>,
 ) -> Result<ExitCode> {
     // Before anything starts: a name the scope does not know is the operator's first error.
@@ -420,11 +423,11 @@ fn run(
         return Ok(ExitCode::from(2));
     }
     let data_dir = controller.data_dir();
+    let inputs = input_args.prepare(clock)?;
     // Before the tasks start, so their first FreePort.Serial call finds it.
-    let serial = controller.serial_port(&config);
+    let serial = controller.serial_port(&config, inputs.as_ref().map(|i| i.serial()));
     let scope_stop = Arc::new(AtomicBool::new(false));
     let recorder = (!scope.is_empty()).then(|| scope::record_run(ns.clone(), scope_options, scope, scope_stop.clone()));
-    let web_ns = ns.clone();
     let options = rt_core::RunOptions {
         ns,
         launcher,
@@ -435,33 +438,19 @@ fn run(
         stop: None,
         console: None,
         clock,
+        inputs: inputs.as_ref().map(|i| i.feed()),
     };
-    let report = match http {
-        None => rt_core::run(config, options),
-        Some(port) => {
-            // The web view's commands need a task slot of their own: the ASCII agent's.
-            let agent_task = config.ascii.agent_task;
-            let controller = rt_core::controller::Background::start(config.with_ascii_task()?, options)?;
-            let web = drl::ascii::start_agent(web_ns.clone(), agent_task)
-                .map_err(anyhow::Error::from)
-                .and_then(|(agent, thread)| Ok((web::WebView::start(web_ns, "127.0.0.1", port, agent, None)?, thread)));
-            match web {
-                Ok((web, agent_thread)) => {
-                    println!("Web view on http://{}/", web.address);
-                    let report = controller.join();
-                    // The web view holds the agent's last handle: the agent ends after it.
-                    drop(web);
-                    let _ = agent_thread.join();
-                    report
-                }
-                Err(e) => {
-                    let _ = controller.stop();
-                    return Err(e);
-                }
-            }
+    let report = match (http, input_args.modbus_port()) {
+        (None, None) => rt_core::run(config, options),
+        (http, modbus) => {
+            let modbus = modbus.map(|port| (port, inputs.as_ref().map(|i| i.inputs.clone())));
+            run_served(config, options, http, modbus)?
         }
     };
     drop(serial);
+    if let Some(inputs) = &inputs {
+        inputs.finish()?;
+    }
     scope_stop.store(true, Ordering::Release);
     if let Some(recorder) = recorder {
         recorder.join().map_err(|_| anyhow::anyhow!("the scope's reader panicked"))??;
@@ -510,6 +499,65 @@ fn run(
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// `run` with the web view (`--http`) or the Modbus TCP server (`--modbus-port`, with
+/// the simulation clock's inputs) beside the controller, until its programs end.
+fn run_served(
+    mut config: MachineConfig,
+    mut options: rt_core::RunOptions,
+    http: Option<u16>,
+    modbus: Option<(u16, Option<Arc<rt_core::replay::Inputs>>)>,
+) -> Result<Result<rt_core::RunReport, rt_core::ControllerError>> {
+    let ns = options.ns.clone();
+    let mut console = None;
+    if let Some((port, inputs)) = modbus {
+        config = config.with_drl_task()?;
+        let (orders, inbox) = rt_core::console::channel();
+        options.console = Some(inbox);
+        let folders = (None, None);
+        let (setup, _) = drl_cli::console_setup(&config, &ns, options.data_dir.clone(), orders, folders, inputs)?;
+        console = Some((setup, config.modbus.bind.clone(), port, drl_cli::modbus_limits(&config)));
+    }
+    if http.is_some() {
+        // The web view's commands need a task slot of their own: the ASCII agent's.
+        config = config.with_ascii_task()?;
+    }
+    let agent_task = config.ascii.agent_task;
+    let controller = rt_core::controller::Background::start(config, options)?;
+    let servers = (|| -> Result<_> {
+        let modbus = console.map(|(setup, bind, port, limits)| drl::Server::start(setup, &bind, port, limits));
+        let modbus = modbus.transpose()?;
+        let web = match http {
+            Some(port) => {
+                let (agent, thread) = drl::ascii::start_agent(ns.clone(), agent_task)?;
+                Some((web::WebView::start(ns, "127.0.0.1", port, agent, None)?, thread))
+            }
+            None => None,
+        };
+        Ok((modbus, web))
+    })();
+    let (modbus, web) = match servers {
+        Ok(servers) => servers,
+        Err(e) => {
+            let _ = controller.stop();
+            return Err(e);
+        }
+    };
+    if let Some(modbus) = &modbus {
+        println!("Modbus TCP on {}", modbus.address);
+    }
+    if let Some((web, _)) = &web {
+        println!("Web view on http://{}/", web.address);
+    }
+    let report = controller.join();
+    // The web view holds the agent's last handle: the agent ends after it.
+    if let Some((web, agent_thread)) = web {
+        drop(web);
+        let _ = agent_thread.join();
+    }
+    drop(modbus);
+    Ok(report)
 }
 
 /// The shell's convention: a run ended by signal N exits with 128 + N (130 for Ctrl-C).

@@ -5,6 +5,7 @@
 //! every few milliseconds and saves DH when it changed.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
@@ -17,6 +18,7 @@ use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Monitor, Namespace};
 use rt_core::console::{Console, ConsoleOrder, ControllerState};
+use rt_core::replay::Inputs;
 use tokio::sync::oneshot;
 
 use crate::program::{Host, ProgramControl};
@@ -50,6 +52,9 @@ pub struct Setup {
     pub plc_tasks: Vec<(u8, bool)>,
     /// Where DH is kept.
     pub data_dir: PathBuf,
+    /// On the simulation clock: the DV, DH and FUN147 words written go here, to be applied
+    /// at the start of the next cycle (`rt_core::replay`); otherwise they are written at once.
+    pub inputs: Option<Arc<Inputs>>,
 }
 
 struct State {
@@ -63,6 +68,7 @@ struct Resources {
     drl_task: u8,
     plc_tasks: Vec<(u8, bool)>,
     data_dir: PathBuf,
+    inputs: Option<Arc<Inputs>>,
     monitor: Monitor,
     shared: Region<SharedData>,
     events: EventSender,
@@ -143,12 +149,13 @@ fn assemble(setup: Setup, (monitor, shared, events, node): Parts) -> State {
         Err(e) => tracing::error!("DH not restored: {e}"),
     }
     let dh_saved = shared.dh_writes();
-    let Setup { ns: _, console, program, drl_task, plc_tasks, data_dir } = setup;
+    let Setup { ns: _, console, program, drl_task, plc_tasks, data_dir, inputs } = setup;
     let res = Resources {
         console,
         drl_task,
         plc_tasks,
         data_dir,
+        inputs,
         monitor,
         shared,
         events,
@@ -253,12 +260,18 @@ impl Resources {
 
     fn write(&mut self, register: Register, value: u16, program: &mut ProgramControl) {
         match register {
-            Register::User(a) => {
-                calls::user_area::write(&self.shared, a as i64, value);
-            }
-            Register::Plc(a) => {
-                calls::plc::write(self.shared.plc(), a, value);
-            }
+            Register::User(a) | Register::Plc(a) => match &self.inputs {
+                Some(inputs) => {
+                    if !inputs.modbus_write(a, value) {
+                        tracing::warn!(
+                            "Modbus write of 0x{a:04X} dropped: a replay takes none, or too many are queued"
+                        );
+                    }
+                }
+                None => {
+                    rt_core::replay::write_word(&self.shared, a, value);
+                }
+            },
             Register::TargetState => {
                 if let Some(target) = ControllerState::target(value) {
                     self.target = target;

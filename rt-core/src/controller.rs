@@ -58,6 +58,8 @@ pub struct RunOptions {
     pub console: Option<ConsoleInbox>,
     /// Real time, or the simulation clock (`run --clock sim`).
     pub clock: Clock,
+    /// On the simulation clock: the outside inputs to apply at cycle boundaries (`replay`).
+    pub inputs: Option<crate::replay::Feed>,
 }
 
 pub struct RunReport {
@@ -106,7 +108,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         let console = options.console;
         let identity = config.identity.clone();
         let (period_ns, scope_codes) = (config.period_ns(), options.scope);
-        let (clock, task_configs) = (options.clock, config.tasks.clone());
+        let (clock, task_configs, feed) = (options.clock, config.tasks.clone(), options.inputs);
         std::thread::Builder::new()
             .name("rt-cycle".into())
             .spawn(move || {
@@ -141,7 +143,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                 endpoint.shared().set_identity(&identity.model, &identity.serial);
                 let lockstep = match clock {
                     Clock::RealTime => None,
-                    Clock::Sim { speed } => Some(Lockstep::new(&task_configs, speed, &endpoint)),
+                    Clock::Sim { speed } => Some(Lockstep::new(&task_configs, speed, &endpoint).with_feed(feed)),
                 };
                 let _ = ready_tx.send(Ok(granted));
                 Some(cycle::run(machine, endpoint, control, granted, trace, Some(scope), console, lockstep))

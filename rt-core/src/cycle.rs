@@ -361,10 +361,11 @@ pub fn run(
             shutdown_since = Some(work.cycle);
             work.machine.kernel.disable_all();
         }
-        if let Some(lockstep) = &lockstep {
+        if let Some(lockstep) = &mut lockstep {
             // The run's record ends with its programs: what follows depends on when the
             // supervisor notices, which is wall time.
             work.recording &= work.cycle == 0 || !lockstep.all_ended(&work.machine.tasks, &work.endpoint);
+            lockstep.begin(work.cycle + 1, work.endpoint.shared());
         }
         work.run_cycle();
         control.cycle.store(work.cycle, Ordering::Release);

@@ -24,6 +24,7 @@ pub mod pool;
 pub mod position_trigger;
 pub mod profile;
 pub mod realtime;
+pub mod replay;
 pub mod rt_alloc;
 pub mod scope;
 pub mod signals;

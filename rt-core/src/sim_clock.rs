@@ -24,8 +24,10 @@ use config::TaskConfig;
 use ipc::CoreEndpoint;
 use ipc::clock::monotonic_ns;
 use ipc::messages::{Snapshot, TaskState};
+use ipc::shared::SharedData;
 use ipc::task_table::{Baton, RunState, TaskSlot, TaskTable};
 
+use crate::replay::Feed;
 use crate::tasks::Tasks;
 
 /// How long the core waits for a starting process to reach its first line before it
@@ -97,6 +99,8 @@ struct Member {
 pub struct Lockstep {
     members: Vec<Member>,
     speed: Speed,
+    /// The outside inputs, applied at the start of their cycle (`replay`).
+    feed: Option<Feed>,
 }
 
 impl Lockstep {
@@ -112,7 +116,20 @@ impl Lockstep {
             }
         }
         members.sort_by_key(|m| m.id);
-        Lockstep { members, speed }
+        Lockstep { members, speed, feed: None }
+    }
+
+    /// Feeds the outside inputs (the register console's Modbus writes, a replay's).
+    pub fn with_feed(mut self, feed: Option<Feed>) -> Self {
+        self.feed = feed;
+        self
+    }
+
+    /// Before cycle `cycle`, with no task's turn in progress: its outside inputs.
+    pub fn begin(&mut self, cycle: u64, shared: &SharedData) {
+        if let Some(feed) = &mut self.feed {
+            feed.begin(cycle, shared);
+        }
     }
 
     pub fn speed(&self) -> Speed {

@@ -14,4 +14,4 @@ pub mod protocol;
 pub mod pty;
 pub mod rtu;
 
-pub use port::{Handler, Port, SerialError, Settings};
+pub use port::{Handler, Port, Recorder, SerialError, Settings, SimLine};

@@ -3,11 +3,12 @@
 //! into frames for `FreePort.Serial.Rx` and sends `Tx`'s frames; in Modbus RTU or ASCII it
 //! answers requests through the handler the controller gives it.
 
+use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::os::fd::AsRawFd;
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -36,6 +37,23 @@ pub struct Settings {
     pub station: u8,
     /// A symlink to the pseudo-terminal, made at start (replacing one there) and removed at the end.
     pub link: Option<PathBuf>,
+}
+
+/// Told each chunk the peer sent and the cycle it takes effect at.
+pub type Recorder = Box<dyn FnMut(u64, &[u8]) + Send>;
+
+/// On the simulation clock (`luamotion run --clock sim`): what the peer sends in a FreePort
+/// protocol takes effect at a cycle boundary. Each chunk is stamped with the cycle it takes
+/// effect at, and `Rx` after cycle c frames only chunks stamped <= c, so the cycles at which
+/// a program sees the bytes are those of the stamps, and a replay of the stamps is the same
+/// run (docs/decisions.md, "Simulation clock").
+pub struct SimLine {
+    /// The cycle a chunk arriving now takes effect at; `Rx` is served after cycle `landing - 1`.
+    pub landing: Arc<AtomicU64>,
+    /// Told every chunk received and its stamp (`--record`).
+    pub record: Recorder,
+    /// A replay's chunks and their stamps, in order: the peer's bytes are then dropped.
+    pub replay: Option<Vec<(u64, Vec<u8>)>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -73,6 +91,11 @@ impl Port {
     /// Opens the pseudo-terminal, its link and the scripts' socket of namespace `ns`, and
     /// starts the thread.
     pub fn open(ns: &str, settings: Settings) -> Result<Port, SerialError> {
+        Port::open_with(ns, settings, None)
+    }
+
+    /// `open`, on the simulation clock with `sim`.
+    pub fn open_with(ns: &str, settings: Settings, sim: Option<SimLine>) -> Result<Port, SerialError> {
         let pty = Pty::open(LineSettings { frame: settings.protocol.frame, baud: settings.baud })
             .map_err(SerialError::Pty)?;
         let path = pty.path().to_path_buf();
@@ -88,6 +111,10 @@ impl Port {
         let stop = Arc::new(AtomicBool::new(false));
         let link = settings.link.clone();
         let mut line = Line::new(pty, settings, handler.clone());
+        if let Some(sim) = sim {
+            line.pending = sim.replay.clone().unwrap_or_default().into();
+            line.sim = Some(sim);
+        }
         let flag = stop.clone();
         let thread = std::thread::Builder::new()
             .name("serial1".into())
@@ -155,6 +182,11 @@ struct Line {
     logged_setting: Option<LineSettings>,
     handler: Arc<Mutex<Option<Handler>>>,
     unserved_logged: bool,
+    sim: Option<SimLine>,
+    /// A replay dropped the peer's bytes (said once).
+    peer_dropped: bool,
+    /// On the simulation clock: chunks and the cycle each takes effect at.
+    pending: VecDeque<(u64, Vec<u8>)>,
 }
 
 impl Line {
@@ -175,6 +207,9 @@ impl Line {
             logged_setting: None,
             handler,
             unserved_logged: false,
+            sim: None,
+            peer_dropped: false,
+            pending: VecDeque::new(),
         };
         line.expect_line();
         line
@@ -258,7 +293,32 @@ impl Line {
             }
             return;
         }
-        self.take(bytes);
+        match &mut self.sim {
+            Some(sim) if self.protocol.kind == Kind::FreePort => {
+                if sim.replay.is_some() {
+                    if !std::mem::replace(&mut self.peer_dropped, true) {
+                        tracing::warn!("serial port 1: a replay feeds the recorded bytes; the peer's are dropped");
+                    }
+                    return;
+                }
+                let at = sim.landing.load(Ordering::Acquire);
+                (sim.record)(at, bytes);
+                self.pending.push_back((at, bytes.to_vec()));
+            }
+            _ => self.take(bytes),
+        }
+    }
+
+    /// On the simulation clock, before a script's request: the chunks whose cycle has come.
+    fn due(&mut self) {
+        let Some(sim) = &self.sim else { return };
+        let served_after = sim.landing.load(Ordering::Acquire).saturating_sub(1);
+        while let Some((at, _)) = self.pending.front()
+            && *at <= served_after
+        {
+            let (_, bytes) = self.pending.pop_front().expect("a front");
+            self.take(&bytes);
+        }
     }
 
     fn take(&mut self, bytes: &[u8]) {
@@ -331,6 +391,7 @@ impl Line {
     }
 
     fn request(&mut self, op: Op) -> (Code, Vec<u8>) {
+        self.due();
         if !matches!(op, Op::Init { .. }) && self.protocol.kind != Kind::FreePort {
             return (Code::NotFreePort, Vec::new());
         }
@@ -418,6 +479,57 @@ mod tests {
         assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"3.1415".to_vec()));
         assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()));
         assert_eq!(ask(&mut client, Op::Tx(vec![b'x'; 257])).0, Code::TooLong);
+    }
+
+    /// On the simulation clock the peer's bytes wait for the cycle after the one they
+    /// arrived in and are recorded with it; a replay's bytes wait for their cycle, and
+    /// the peer's are dropped.
+    #[test]
+    fn sim_clock_bytes_take_effect_at_their_cycle() {
+        let (recording, landing) = (ns("sim"), Arc::new(AtomicU64::new(5)));
+        let recorded = Arc::new(Mutex::new(Vec::new()));
+        let log = recorded.clone();
+        let record = Box::new(move |at: u64, bytes: &[u8]| log.lock().unwrap().push((at, bytes.to_vec())));
+        let settings = Settings {
+            protocol: Protocol::from_code(0x17).unwrap(),
+            baud: 38400,
+            loopback: false,
+            station: 1,
+            link: None,
+        };
+        let sim = SimLine { landing: landing.clone(), record, replay: None };
+        let port = Port::open_with(&recording, settings.clone(), Some(sim)).unwrap();
+        let mut client = Client::connect(&recording).unwrap();
+        assert_eq!(ask(&mut client, Op::Init { start: None, end: End::Byte(b';'), protocol: None }).0, Code::Ok);
+        let mut peer = OpenOptions::new().read(true).write(true).open(&port.path).unwrap();
+        peer.write_all(b"A;").unwrap();
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while recorded.lock().unwrap().is_empty() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        assert_eq!(*recorded.lock().unwrap(), [(5, b"A;".to_vec())]);
+        // Turns after cycle 4 do not see it; turns after cycle 5 do.
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()));
+        landing.store(6, Ordering::Release);
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"A".to_vec()));
+
+        let (replaying, landing) = (ns("sim-replay"), Arc::new(AtomicU64::new(1)));
+        let replay = Some(vec![(3, b"B;".to_vec()), (3, b"C;".to_vec())]);
+        let sim =
+            SimLine { landing: landing.clone(), record: Box::new(|_, _| panic!("a replay records nothing")), replay };
+        let port = Port::open_with(&replaying, settings, Some(sim)).unwrap();
+        let mut client = Client::connect(&replaying).unwrap();
+        assert_eq!(ask(&mut client, Op::Init { start: None, end: End::Byte(b';'), protocol: None }).0, Code::Ok);
+        let mut peer = OpenOptions::new().read(true).write(true).open(&port.path).unwrap();
+        peer.write_all(b"D;").unwrap();
+        // Time for the port to read it (a port that kept it would show it below).
+        std::thread::sleep(Duration::from_millis(200));
+        landing.store(3, Ordering::Release);
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()));
+        landing.store(4, Ordering::Release);
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"B".to_vec()));
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, b"C".to_vec()));
+        assert_eq!(ask(&mut client, Op::Rx), (Code::Ok, Vec::new()), "the peer's D is dropped");
     }
 
     #[test]

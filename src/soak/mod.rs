@@ -310,6 +310,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
         stop: None,
         console: None,
         clock: rt_core::sim_clock::Clock::RealTime,
+        inputs: None,
     };
     let controller = rt_core::controller::Background::start(config, options)?;
     let namespace = Namespace::new(ns)?;

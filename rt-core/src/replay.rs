@@ -1,0 +1,347 @@
+//! What the outside world feeds a run on the simulation clock, stamped with the cycle it
+//! takes effect at (`luamotion run --clock sim --record FILE`, `--replay FILE`; the format
+//! in docs/replay.md, the choices in docs/decisions.md, "Simulation clock").
+//!
+//! An input lands at a cycle boundary: a Modbus write of a DV, DH or FUN147 word is queued
+//! by the register console and applied by the lockstep gate at the start of cycle k,
+//! before the cycle and before any task's turn after it; bytes serial port 1 receives are
+//! stamped with the cycle they take effect at, and a task's `FreePort.Serial.Rx` after
+//! cycle c returns only bytes stamped <= c. So the record says exactly what each turn saw,
+//! and a replay that feeds the same inputs at the same cycles gives the same trace.
+//! Real-time mode never comes here.
+
+use std::collections::VecDeque;
+use std::fmt::Write as _;
+use std::io::{BufRead, Read};
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+use crossbeam::queue::ArrayQueue;
+use ipc::shared::SharedData;
+
+/// The first line of a record file; the number is the format's version.
+pub const HEADER: &str = "luamotion-inputs 1";
+/// Longest line a record file may have (a serial chunk of 4096 bytes in hex fits).
+pub const MAX_LINE: usize = 16 * 1024;
+/// Modbus writes in flight between the console and the next cycle.
+const MODBUS_QUEUE: usize = 4096;
+
+/// One input from outside.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// A Modbus write of one word of DV, DH (DXMC A.1) or the FUN147 image, by address.
+    Modbus { address: u16, value: u16 },
+    /// Bytes serial port 1 received from its peer (after the line's settings were checked).
+    Serial(Vec<u8>),
+}
+
+/// An input and the cycle it takes effect at.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Stamped {
+    pub cycle: u64,
+    pub input: Input,
+}
+
+/// A record file that cannot be replayed; `line` counts from 1.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    #[error("cannot read {0}: {1}")]
+    Io(String, std::io::Error),
+    #[error("line {line}: {what}")]
+    Line { line: usize, what: String },
+}
+
+/// Whether `address` is a word an outside Modbus write of data reaches (DV, DH, FUN147).
+pub fn is_data_word(address: u16) -> bool {
+    calls::user_area::UserArea::of(address.into()).is_some() || calls::plc::PlcWord::at(address).is_some()
+}
+
+/// Writes a DV, DH or FUN147 word by Modbus address; false for any other address.
+pub fn write_word(shared: &SharedData, address: u16, value: u16) -> bool {
+    calls::user_area::write(shared, address.into(), value) || calls::plc::write(shared.plc(), address, value)
+}
+
+/// Reads a record file: its header, then one input a line in the order of their cycles.
+pub fn read(path: &Path) -> Result<Vec<Stamped>, RecordError> {
+    let io = |e| RecordError::Io(path.display().to_string(), e);
+    parse(std::io::BufReader::new(std::fs::File::open(path).map_err(io)?)).map_err(|e| match e {
+        RecordError::Io(_, e) => io(e),
+        other => other,
+    })
+}
+
+/// Parses a record; a line longer than `MAX_LINE` is refused without being read whole.
+pub fn parse(mut reader: impl BufRead) -> Result<Vec<Stamped>, RecordError> {
+    let mut inputs: Vec<Stamped> = Vec::new();
+    let mut buf = Vec::new();
+    for line in 1.. {
+        buf.clear();
+        let n = reader
+            .by_ref()
+            .take(MAX_LINE as u64 + 1)
+            .read_until(b'\n', &mut buf)
+            .map_err(|e| RecordError::Io(String::new(), e))?;
+        if n == 0 {
+            if line == 1 {
+                return Err(RecordError::Line { line, what: format!("empty; a record starts with `{HEADER}`") });
+            }
+            break;
+        }
+        let bad = |what: String| RecordError::Line { line, what };
+        if buf.len() > MAX_LINE {
+            return Err(bad(format!("longer than {MAX_LINE} bytes")));
+        }
+        let text = std::str::from_utf8(&buf).map(|t| t.trim_end_matches(['\n', '\r']));
+        if line == 1 {
+            if text != Ok(HEADER) {
+                return Err(bad(format!("not a luamotion input record: the first line must be `{HEADER}`")));
+            }
+            continue;
+        }
+        let text = text.map_err(|_| bad("not UTF-8 text".into()))?;
+        if text.is_empty() || text.starts_with('#') {
+            continue;
+        }
+        let stamped = parse_input(text).map_err(bad)?;
+        if let Some(last) = inputs.last()
+            && stamped.cycle < last.cycle
+        {
+            return Err(bad(format!(
+                "cycle {} comes after cycle {}: inputs must be in cycle order",
+                stamped.cycle, last.cycle
+            )));
+        }
+        inputs.push(stamped);
+    }
+    Ok(inputs)
+}
+
+/// `<cycle> modbus <address> <value>` or `<cycle> serial <hex bytes>`.
+fn parse_input(text: &str) -> Result<Stamped, String> {
+    let words: Vec<&str> = text.split_ascii_whitespace().collect();
+    let cycle = words[0].parse::<u64>().map_err(|_| format!("`{}` is not a cycle number", words[0]))?;
+    if cycle == 0 {
+        return Err("cycle 0: the first cycle is 1".into());
+    }
+    let input = match words.get(1..).unwrap_or_default() {
+        ["modbus", address, value] => {
+            let address = address
+                .strip_prefix("0x")
+                .and_then(|hex| u16::from_str_radix(hex, 16).ok())
+                .ok_or_else(|| format!("`{address}` is not a Modbus address (0x0000..0xFFFF)"))?;
+            if !is_data_word(address) {
+                return Err(format!("0x{address:04X} is not a DV, DH or FUN147 word"));
+            }
+            let value = value.parse::<u16>().map_err(|_| format!("`{value}` is not a word (0..65535)"))?;
+            Input::Modbus { address, value }
+        }
+        ["serial", hex] => Input::Serial(from_hex(hex).ok_or_else(|| format!("`{hex}` is not bytes in hex"))?),
+        [kind, ..] if !matches!(*kind, "modbus" | "serial") => {
+            return Err(format!("unknown input `{kind}` (known: modbus, serial)"));
+        }
+        [kind, ..] => {
+            return Err(format!(
+                "`{kind}` takes {}",
+                if *kind == "modbus" { "an address and a value" } else { "its bytes in hex" }
+            ));
+        }
+        [] => return Err("a cycle without an input".into()),
+    };
+    Ok(Stamped { cycle, input })
+}
+
+fn from_hex(hex: &str) -> Option<Vec<u8>> {
+    if !hex.len().is_multiple_of(2) {
+        return None;
+    }
+    (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok()).collect()
+}
+
+/// The record's text: the header, then the inputs in cycle order.
+pub fn format(inputs: &[Stamped]) -> String {
+    let mut out = format!("{HEADER}\n");
+    for Stamped { cycle, input } in inputs {
+        let _ = match input {
+            Input::Modbus { address, value } => writeln!(out, "{cycle} modbus 0x{address:04X} {value}"),
+            Input::Serial(bytes) => {
+                let hex: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
+                writeln!(out, "{cycle} serial {hex}")
+            }
+        };
+    }
+    out
+}
+
+/// What the run's outside inputs share: the cycle an input arriving now takes effect at,
+/// the console's queued Modbus writes and, with `--record`, the record.
+pub struct Inputs {
+    landing: Arc<AtomicU64>,
+    modbus: ArrayQueue<(u16, u16)>,
+    record: Option<Mutex<Vec<Stamped>>>,
+    /// Replaying: the outside peers' inputs are dropped, the record's fed instead.
+    replaying: bool,
+}
+
+impl Inputs {
+    /// `record`: keep every input for `take_record`; `replaying`: ignore the peers.
+    pub fn new(record: bool, replaying: bool) -> Arc<Self> {
+        Arc::new(Inputs {
+            landing: Arc::new(AtomicU64::new(1)),
+            modbus: ArrayQueue::new(MODBUS_QUEUE),
+            record: record.then(|| Mutex::new(Vec::new())),
+            replaying,
+        })
+    }
+
+    /// The cycle an input arriving now takes effect at (serial port 1 stamps its bytes so).
+    pub fn landing(&self) -> Arc<AtomicU64> {
+        self.landing.clone()
+    }
+
+    pub fn replaying(&self) -> bool {
+        self.replaying
+    }
+
+    /// A Modbus write from outside, applied at the start of the next cycle; false when the
+    /// queue is full or a replay ignores outside writes.
+    pub fn modbus_write(&self, address: u16, value: u16) -> bool {
+        !self.replaying && self.modbus.push((address, value)).is_ok()
+    }
+
+    /// Keeps an input for the record (nothing without `--record`).
+    pub fn record(&self, cycle: u64, input: Input) {
+        if let Some(record) = &self.record {
+            record.lock().unwrap_or_else(|e| e.into_inner()).push(Stamped { cycle, input });
+        }
+    }
+
+    /// The record so far, in cycle order (inputs of one cycle in the order they came).
+    pub fn take_record(&self) -> Vec<Stamped> {
+        let mut inputs = self
+            .record
+            .as_ref()
+            .map(|r| std::mem::take(&mut *r.lock().unwrap_or_else(|e| e.into_inner())))
+            .unwrap_or_default();
+        inputs.sort_by_key(|s| s.cycle);
+        inputs
+    }
+}
+
+/// The lockstep gate's part: the Modbus writes, queued or replayed, applied at the start
+/// of their cycle.
+pub struct Feed {
+    inputs: Arc<Inputs>,
+    replay: VecDeque<(u64, u16, u16)>,
+}
+
+impl Feed {
+    /// `replay`: the record's inputs (its serial bytes go to serial port 1, not here).
+    pub fn new(inputs: Arc<Inputs>, replay: &[Stamped]) -> Self {
+        let replay = replay
+            .iter()
+            .filter_map(|s| match s.input {
+                Input::Modbus { address, value } => Some((s.cycle, address, value)),
+                Input::Serial(_) => None,
+            })
+            .collect();
+        Feed { inputs, replay }
+    }
+
+    /// Before cycle `cycle`: applies its inputs; from now on, arrivals land at the next one.
+    pub fn begin(&mut self, cycle: u64, shared: &SharedData) {
+        while let Some(&(at, address, value)) = self.replay.front()
+            && at <= cycle
+        {
+            self.replay.pop_front();
+            write_word(shared, address, value);
+            self.inputs.record(cycle, Input::Modbus { address, value });
+        }
+        while let Some((address, value)) = self.inputs.modbus.pop() {
+            write_word(shared, address, value);
+            self.inputs.record(cycle, Input::Modbus { address, value });
+        }
+        self.inputs.landing.store(cycle + 1, Ordering::Release);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parsed(text: impl AsRef<[u8]>) -> Result<Vec<Stamped>, String> {
+        parse(text.as_ref()).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn a_record_survives_its_text() {
+        let inputs = vec![
+            Stamped { cycle: 3, input: Input::Modbus { address: 0x0000, value: 7 } },
+            Stamped { cycle: 3, input: Input::Serial(b"hi;\x00\xff".to_vec()) },
+            Stamped { cycle: 90, input: Input::Modbus { address: 0x8001, value: 65535 } },
+            Stamped { cycle: 91, input: Input::Modbus { address: 0x3000, value: 1 } },
+        ];
+        let text = format(&inputs);
+        assert!(text.starts_with("luamotion-inputs 1\n3 modbus 0x0000 7\n3 serial 68693b00ff\n"), "{text}");
+        assert_eq!(parsed(&text).unwrap(), inputs);
+        assert_eq!(parsed("luamotion-inputs 1\n# a comment\n\n5 modbus 0x0001 2\r\n").unwrap().len(), 1);
+    }
+
+    /// Each bad record is told with its line and what is wrong with it.
+    #[test]
+    fn bad_records_are_told_by_line() {
+        let cases = [
+            ("", "line 1: empty"),
+            ("\u{7f}ELF\x02\x01\x01", "line 1: not a luamotion input record"),
+            ("luamotion-inputs 2\n", "line 1: not a luamotion input record"),
+            ("luamotion-inputs 1\n5 modbus 0x0000 1\n4 modbus 0x0000 2\n", "line 3: cycle 4 comes after cycle 5"),
+            ("luamotion-inputs 1\n5 gpi 3 1\n", "line 2: unknown input `gpi`"),
+            ("luamotion-inputs 1\nfive modbus 0x0000 1\n", "line 2: `five` is not a cycle number"),
+            ("luamotion-inputs 1\n0 modbus 0x0000 1\n", "line 2: cycle 0"),
+            ("luamotion-inputs 1\n1 modbus 0x6B10 1\n", "line 2: 0x6B10 is not a DV, DH or FUN147 word"),
+            ("luamotion-inputs 1\n1 modbus 16 1\n", "line 2: `16` is not a Modbus address"),
+            ("luamotion-inputs 1\n1 modbus 0x0000 70000\n", "line 2: `70000` is not a word"),
+            ("luamotion-inputs 1\n1 modbus 0x0000\n", "line 2: `modbus` takes an address and a value"),
+            ("luamotion-inputs 1\n1 serial 6g\n", "line 2: `6g` is not bytes in hex"),
+            ("luamotion-inputs 1\n1 serial abc\n", "line 2: `abc` is not bytes in hex"),
+            ("luamotion-inputs 1\n1\n", "line 2: a cycle without an input"),
+        ];
+        for (text, expected) in cases {
+            let error = parsed(text).expect_err(text);
+            assert!(error.starts_with(expected), "{text:?}: {error}");
+        }
+        assert!(parsed(b"luamotion-inputs 1\n1 serial \xff\n").unwrap_err().starts_with("line 2: not UTF-8"));
+        let huge = format!("luamotion-inputs 1\n1 serial {}\n", "ab".repeat(MAX_LINE));
+        assert_eq!(parsed(&huge).unwrap_err(), format!("line 2: longer than {MAX_LINE} bytes"));
+    }
+
+    /// Queued writes land at the cycle they are applied at, replayed ones at theirs, and
+    /// both go into the record with that cycle.
+    #[test]
+    fn writes_land_at_cycle_boundaries() {
+        let shared: Box<SharedData> = ipc::shm::zeroed();
+        let inputs = Inputs::new(true, false);
+        let replay = [
+            Stamped { cycle: 2, input: Input::Modbus { address: 0x0001, value: 11 } },
+            Stamped { cycle: 2, input: Input::Serial(vec![1]) },
+        ];
+        let mut feed = Feed::new(inputs.clone(), &replay);
+        assert!(inputs.modbus_write(0x0000, 5));
+        assert_eq!(shared.dv_word(0), Some(0), "not before the cycle");
+        feed.begin(1, &shared);
+        assert_eq!((shared.dv_word(0), shared.dv_word(1)), (Some(5), Some(0)));
+        assert_eq!(inputs.landing().load(Ordering::Acquire), 2);
+        feed.begin(2, &shared);
+        assert_eq!(shared.dv_word(1), Some(11));
+        let record = inputs.take_record();
+        assert_eq!(
+            record,
+            [
+                Stamped { cycle: 1, input: Input::Modbus { address: 0, value: 5 } },
+                Stamped { cycle: 2, input: Input::Modbus { address: 1, value: 11 } },
+            ]
+        );
+        let replaying = Inputs::new(false, true);
+        assert!(!replaying.modbus_write(0x0000, 1), "a replay takes no outside writes");
+    }
+}
