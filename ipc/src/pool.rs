@@ -139,11 +139,20 @@ impl Place {
     /// controller ends (`to` Closed, which also wakes it). False when a task was handed to
     /// it first: the hand-out stands.
     pub fn withdraw(&self, pid: u32, to: PlaceState) -> bool {
-        // A process that never offered itself left no pid here.
-        let from = if self.pid() == pid { PlaceState::Ready } else { PlaceState::Empty };
-        let done = self.swap(from, to) || self.state() == to;
+        let done = if self.pid() == pid {
+            // Only while it waits: once handed a task (taken or not), it is the task's.
+            self.swap(PlaceState::Ready, to)
+        } else {
+            // It never offered itself.
+            self.swap(PlaceState::Empty, to) || self.state() == to
+        };
         futex::wake(&self.state);
         done
+    }
+
+    /// Whether process `pid` was handed a task here and has not taken it yet.
+    pub fn untaken(&self, pid: u32) -> bool {
+        self.pid() == pid && matches!(self.state(), PlaceState::Claimed | PlaceState::Handed)
     }
 
     /// A task handed to process `pid`, which ended before it took it: the place is free again.
@@ -240,5 +249,14 @@ mod tests {
         assert_eq!(place.state(), PlaceState::Empty);
         assert!(place.offer(15));
         assert_eq!(place.wait(|| false, Duration::from_millis(1)), None, "the controller is gone");
+        assert!(place.withdraw(15, PlaceState::Empty), "it died waiting");
+
+        let place = &table.pool.places[2];
+        assert!(place.offer(16));
+        assert_eq!(table.pool.hand(4, 64, b""), Some((2, 16)));
+        assert!(place.untaken(16) && !place.untaken(17));
+        assert!(place.wait(|| true, Duration::from_millis(1)).is_some());
+        assert!(!place.untaken(16), "taken");
+        assert!(!place.withdraw(16, PlaceState::Empty), "a process that took its task is the task's, ended or not");
     }
 }

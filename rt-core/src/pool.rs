@@ -36,12 +36,13 @@ impl Pool {
     }
 
     /// The waiting process `pid`, which the core handed a task; `None` when it died
-    /// first (the caller starts one the usual way). Its stdout and stderr are still in
-    /// the `Child`.
+    /// before it took the task (the caller starts one the usual way). One that took it
+    /// and ended already (a short program) is the task's process all the same: its end is
+    /// reaped and reported as any task's. Its stdout and stderr are still in the `Child`.
     pub fn take(&mut self, pid: u32, board: &Board) -> Option<Child> {
         let i = self.waiting.iter().position(|w| w.child.id() == pid)?;
         let Waiting { mut child, place } = self.waiting.swap_remove(i);
-        if matches!(child.try_wait(), Ok(None)) {
+        if matches!(child.try_wait(), Ok(None)) || !board.places[place].untaken(pid) {
             return Some(child);
         }
         board.places[place].forget(pid);
@@ -120,5 +121,43 @@ impl Pool {
         }
         tracing::warn!(pid = child.id(), ?status, "a waiting script process ended: {}", stderr.trim());
         self.next_start = Instant::now() + RETRY_AFTER_DEATH;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ipc::task_table::TaskTable;
+
+    /// A process that has ended (and whose end the `Child` has seen).
+    fn ended_child() -> Child {
+        let mut child = Command::new("true").stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+        while child.try_wait().unwrap().is_none() {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        child
+    }
+
+    /// A pooled process that took its task and ended before the supervisor heard of the
+    /// hand-out (a short program) is the task's process: its end is the task's, and the
+    /// task does not run a second time. One that ended before it took its task is replaced.
+    #[test]
+    fn a_handed_process_that_ended_counts_as_the_task_s_once_it_took_the_task() {
+        let table: Box<TaskTable> = ipc::shm::zeroed();
+        let board = &table.pool;
+        let mut pool = Pool::new(2);
+        for place in 0..2 {
+            let child = ended_child();
+            assert!(board.places[place].offer(child.id()));
+            pool.waiting.push(Waiting { child, place });
+        }
+        let (took, died) = (pool.waiting[0].child.id(), pool.waiting[1].child.id());
+        assert_eq!(board.hand(1, 64, b""), Some((0, took)));
+        assert!(board.places[0].wait(|| true, Duration::from_millis(1)).is_some());
+        assert_eq!(board.hand(2, 64, b""), Some((1, died)));
+        assert!(!pool.reap(board), "both were handed a task: they stay until the supervisor hears of it");
+        assert!(pool.take(took, board).is_some(), "it ran its task");
+        assert!(pool.take(died, board).is_none(), "it never took its task: the task is started anew");
+        assert_eq!(board.places[1].state(), PlaceState::Empty, "its place is free again");
     }
 }
