@@ -184,10 +184,10 @@ enum Cmd {
         /// Where START_ASCII_AGENT listens, HOST:PORT.
         #[arg(long, default_value = script_host::bindings::DEFAULT_USER_ASCII)]
         ascii_user: String,
-        /// Wait for the task on stdin (`<task> <memory MiB> <entry or -> <program>`), ready
-        /// to run it at once: the controller's pool of started script processes.
-        #[arg(long, conflicts_with_all = ["task", "program", "entry"])]
-        pool: bool,
+        /// Wait on this place of the pool's board until the core hands it a task, ready to
+        /// run it at once: the controller's pool of started script processes.
+        #[arg(long, value_name = "PLACE", conflicts_with_all = ["task", "program", "entry"])]
+        pool: Option<usize>,
         /// The Lua program.
         #[arg(required_unless_present = "pool")]
         program: Option<PathBuf>,
@@ -334,7 +334,7 @@ fn main() -> ExitCode {
             entry,
             freeport_bind,
             ascii_user,
-            pool: _,
+            pool,
             program,
         } => {
             let ns = match Namespace::new(&ns) {
@@ -344,20 +344,28 @@ fn main() -> ExitCode {
                     return ExitCode::FAILURE;
                 }
             };
-            let pooled = script_host::PoolArgs { ns, controller_pid, data_dir, user_ascii: ascii_user, freeport_bind };
             // clap requires both unless `--pool` is given, which excludes them.
             let (Some(task), Some(program)) = (task, program) else {
+                let place = pool.unwrap_or_default();
+                let pooled = script_host::PoolArgs {
+                    ns,
+                    place,
+                    controller_pid,
+                    data_dir,
+                    user_ascii: ascii_user,
+                    freeport_bind,
+                };
                 return script(script_host::run_pooled(pooled));
             };
             let args = script_host::ScriptArgs {
-                ns: pooled.ns,
+                ns,
                 task,
                 controller_pid,
                 memory_limit_mib,
-                data_dir: pooled.data_dir,
+                data_dir,
                 entry,
                 program,
-                user_ascii: pooled.user_ascii,
+                user_ascii: ascii_user,
                 freeport_bind,
             };
             Ok(script(script_host::run(args)))

@@ -9,7 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use common::{BIN, Finished, data_dir, eventually, finish, process_alive, program, unique_ns, waiting_children_of};
+use common::{
+    BIN, Finished, children_of, data_dir, eventually, finish, process_alive, program, unique_ns, waiting_children_of,
+};
 
 /// A machine file with `[rt] script_pool = pool` and task i running `tasks[i]`, the ones
 /// marked with the controller.
@@ -135,4 +137,73 @@ fn a_waiting_process_that_dies_is_replaced_and_all_die_with_the_controller() {
     assert!(stderr.contains("a waiting script process ended"), "{stderr}");
     assert!(ran, "starts went on: {stderr}");
     assert!(gone, "the waiting processes died with the controller: {survivors:?}");
+}
+
+/// More pooled tasks that keep running than the pool's board has places all start from
+/// the pool: a place is free again once its process has read its task, not when the task
+/// ends. Then every script process, started ahead or for its task, dies with its
+/// controller's `kill -9`, even one computing without an API call (nothing but its death
+/// signal, which it sets itself, can end it).
+#[test]
+fn places_come_back_while_their_tasks_run_and_every_script_dies_with_the_controller() {
+    let starts = ipc::pool::PLACES + 2;
+    let dir = tempfile::tempdir().unwrap();
+    let main = program(
+        dir.path(),
+        "main.lua",
+        &format!(
+            "for k = 1, {starts} do\n  Till(function() return system_user_table[0] >= k end)\n  StartTask(k)\nend\n\
+             while true do end\n"
+        ),
+    );
+    let sleeper = program(dir.path(), "sleeper.lua", "while true do Sleep(50) end\n");
+    let busy = program(dir.path(), "busy.lua", "while true do end\n");
+    let mut toml = "[rt]\nscript_pool = 2\n[[axes]]\n".to_string();
+    for id in 0..=starts {
+        let program = match id {
+            0 => &main,
+            id if id == starts => &busy,
+            _ => &sleeper,
+        };
+        toml += &format!(
+            "[[tasks]]\nid = {id}\nprogram = {:?}\nautorun = {}\nwatchdog_ms = 600000\n",
+            program.display().to_string(),
+            id == 0
+        );
+    }
+    let config = dir.path().join("machine.toml");
+    std::fs::write(&config, toml).unwrap();
+    let ns = unique_ns("pool-places");
+    let mut child = start(&ns, &config);
+    let pid = child.id();
+    let namespace = ipc::Namespace::new(&ns).unwrap();
+    assert!(eventually(Duration::from_secs(20), || ipc::controller_ready(&namespace).unwrap_or(false)));
+    let table = ipc::shm::Region::<ipc::task_table::TaskTable>::open(&namespace, "tasks").unwrap();
+    let shared = ipc::shm::Region::<ipc::shared::SharedData>::open(&namespace, "shared").unwrap();
+    let ready = || table.pool.places.iter().filter(|p| p.state() == ipc::pool::PlaceState::Ready).count();
+    let mut started = 0;
+    for k in 1..=starts {
+        // Both waiting processes ready: the start is handed to one of them.
+        if !eventually(Duration::from_secs(30), || ready() == 2) {
+            break;
+        }
+        shared.set_user_table(0, k as f64);
+        if !eventually(Duration::from_secs(30), || table.slots[k].started()) {
+            break;
+        }
+        started = k;
+    }
+    let scripts: Vec<u32> = [children_of(pid), waiting_children_of(pid)].concat();
+    // SAFETY: killing this test's controller as a crash would.
+    unsafe { libc::kill(pid as i32, libc::SIGKILL) };
+    let gone = eventually(Duration::from_secs(10), || scripts.iter().all(|&p| !process_alive(p)));
+    let _ = child.wait();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut stderr).unwrap();
+    ipc::remove_namespace_files(&namespace);
+    assert_eq!(started, starts, "every start got a ready waiting process: {stderr}");
+    let pooled = stderr.lines().filter(|l| l.contains(" started") && l.contains("pooled=true")).count();
+    assert_eq!(pooled, starts, "all from the pool: {stderr}");
+    assert_eq!(scripts.len(), 1 + starts + 2, "main, the started tasks, two waiting: {scripts:?}");
+    assert!(gone, "every script process died with the controller: {scripts:?}");
 }

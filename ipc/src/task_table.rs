@@ -10,6 +10,7 @@ use num_enum::{FromPrimitive, IntoPrimitive};
 use crate::debug::DebugBlock;
 use crate::futex;
 use crate::messages::MAX_TASKS;
+use crate::pool::Board;
 use crate::shm::Shareable;
 
 /// What a task's script is doing. An unknown word reads as `Idle`: a slot no script
@@ -403,6 +404,8 @@ pub struct TaskTable {
     pub slots: [TaskSlot; MAX_TASKS],
     /// On the simulation clock: bumped by a task that parks; the core sleeps on it.
     gate: AtomicU32,
+    /// The script pool's waiting processes, handed their tasks by the core.
+    pub pool: Board,
 }
 
 impl TaskTable {
@@ -425,7 +428,7 @@ impl TaskTable {
     }
 }
 
-// SAFETY: repr(C), only atomics, valid when zeroed (Idle, no heartbeat).
+// SAFETY: repr(C), only atomics, valid when zeroed (Idle, no heartbeat, no pooled process).
 unsafe impl Shareable for TaskTable {}
 
 #[cfg(test)]

@@ -106,8 +106,16 @@ pub fn spawn_forward(
     throttle: Arc<Mutex<Throttle>>,
     last_line: Option<Arc<Mutex<Option<String>>>>,
 ) -> std::thread::JoinHandle<()> {
-    std::thread::spawn(move || forward(stream, out, task, &throttle, last_line.as_deref()))
+    // A small stack: the controller locks its memory, so each thread's whole stack is
+    // touched and kept (2 MiB by default, two threads per task).
+    std::thread::Builder::new()
+        .stack_size(FORWARDER_STACK)
+        .spawn(move || forward(stream, out, task, &throttle, last_line.as_deref()))
+        .expect("the OS starts a thread")
 }
+
+/// The stack of a thread forwarding one stream: `forward`'s buffer and one line beside.
+const FORWARDER_STACK: usize = 256 * 1024;
 
 fn dropped_notice(task: u8, dropped: u64) -> String {
     format!("[task {task}] … [{dropped} lines dropped: more than {LINES_PER_SECOND} a second]\n")

@@ -14,7 +14,6 @@ use api::alarms::{Alarm, Event};
 use ipc::Namespace;
 use ipc::events::EventSender;
 use ipc::messages::{EventKind, EventRecord, MAX_TASKS};
-use ipc::pool::Assignment;
 use ipc::services::{self, IpcNode, Open};
 use ipc::shm::Region;
 use ipc::task_table::TaskTable;
@@ -53,6 +52,8 @@ struct Running {
     id: u8,
     program: PathBuf,
     child: Child,
+    /// The place on the pool's board it was handed its task on.
+    place: Option<usize>,
     last_error_line: Arc<Mutex<Option<String>>>,
     forwarders: Vec<JoinHandle<()>>,
     kill_ordered: bool,
@@ -121,6 +122,7 @@ impl Supervisor {
         while let Some(order) = self.link.next_order() {
             match order {
                 Order::Start { task, entry } => self.start(task, entry),
+                Order::Handed { task, entry, place, pid } => self.handed(task, entry, place, pid),
                 Order::Kill { task, pid } => self.kill(task, pid),
                 Order::Alarm(report) => self.alarm(&report),
             }
@@ -135,14 +137,14 @@ impl Supervisor {
                 _ => i += 1,
             }
         }
-        if self.pool.reap() {
+        if self.pool.reap(&self.table.pool) {
             ipc::clean_dead_nodes(&self.ns);
         }
         if !self.shutting_down {
             let (launcher, ns, data_dir) = (&self.launcher, &self.ns, &self.data_dir);
-            self.pool.refill(|| {
+            self.pool.refill(&self.table.pool, |place| {
                 let mut command = script_command(launcher, ns, data_dir);
-                command.arg("--pool");
+                command.args(["--pool", &place.to_string()]);
                 command
             });
         }
@@ -160,16 +162,10 @@ impl Supervisor {
     }
 
     fn start(&mut self, id: u8, entry: Entry) {
-        let config = self.configs[id as usize].clone().filter(|_| !self.shutting_down);
-        let Some(mut task) = config else {
+        let Some(task) = self.task_config(id).filter(|_| !self.shutting_down) else {
             self.link.report(Report::SpawnFailed { task: id });
             return;
         };
-        // A slot without a program in the machine file (the DRL project's) runs what the
-        // console wrote into the task table.
-        if task.program.as_os_str().is_empty() {
-            task.program = PathBuf::from(self.table.slots[id as usize].program());
-        }
         match self.spawn(&task, entry) {
             Ok(pid) => self.link.report(Report::Spawned { task: id, pid }),
             Err(e) => {
@@ -179,29 +175,42 @@ impl Supervisor {
         }
     }
 
-    /// A script process for `task`: a waiting one from the pool, else a new one.
+    /// The core handed task `id` to the pool's waiting process `pid`: it is the task's
+    /// process from now on. One that died before it could be told is replaced by a start
+    /// as without a pool.
+    fn handed(&mut self, id: u8, entry: Entry, place: usize, pid: u32) {
+        // The core hands out only configured tasks.
+        let (Some(task), Some(child)) = (self.task_config(id), self.pool.take(pid, &self.table.pool)) else {
+            return self.start(id, entry);
+        };
+        self.track(&task, child, Some(place));
+    }
+
+    /// Task `id`'s configuration, `None` when it has none. A slot without a program in the
+    /// machine file (the DRL project's) runs what the console wrote into the task table.
+    fn task_config(&self, id: u8) -> Option<TaskConfig> {
+        let mut task = self.configs[id as usize].clone()?;
+        if task.program.as_os_str().is_empty() {
+            task.program = PathBuf::from(self.table.slots[id as usize].program());
+        }
+        Some(task)
+    }
+
+    /// A new script process for `task` (the pool's are handed out by the core).
     fn spawn(&mut self, task: &TaskConfig, entry: Entry) -> std::io::Result<u32> {
         self.table.slots[task.id as usize].reset();
-        let assignment = Assignment {
-            task: task.id,
-            memory_limit_mib: task.memory_limit_mib,
-            entry: entry.function_name(),
-            program: task.program.clone(),
-        };
-        let (mut child, pooled) = match self.pool.hand_out(&assignment) {
-            Some(child) => (child, true),
-            None => {
-                let mut command = script_command(&self.launcher, &self.ns, &self.data_dir);
-                command
-                    .args(["--task", &task.id.to_string()])
-                    .args(["--memory-limit-mib", &task.memory_limit_mib.to_string()]);
-                if let Some(function) = &assignment.entry {
-                    command.args(["--entry", function]);
-                }
-                command.arg(&task.program).stdin(Stdio::null());
-                (command.spawn()?, false)
-            }
-        };
+        let mut command = script_command(&self.launcher, &self.ns, &self.data_dir);
+        command.args(["--task", &task.id.to_string()]).args(["--memory-limit-mib", &task.memory_limit_mib.to_string()]);
+        if let Some(function) = entry.function_name() {
+            command.args(["--entry", &function]);
+        }
+        command.arg(&task.program).stdin(Stdio::null());
+        let child = command.spawn()?;
+        Ok(self.track(task, child, None))
+    }
+
+    /// Forwards the output of `task`'s process `child` and watches it until it ends.
+    fn track(&mut self, task: &TaskConfig, mut child: Child, place: Option<usize>) -> u32 {
         let pid = child.id();
         let last_error_line = Arc::new(Mutex::new(None));
         let stdout = child.stdout.take().expect("piped");
@@ -211,17 +220,19 @@ impl Supervisor {
             spawn_forward(stdout, std::io::stdout(), task.id, throttle.clone(), None),
             spawn_forward(stderr, std::io::stderr(), task.id, throttle, Some(last_error_line.clone())),
         ];
+        let pooled = place.is_some();
         tracing::info!(task = task.id, pid, pooled, program = %task.program.display(), "started");
         self.running.push(Running {
             id: task.id,
             program: task.program.clone(),
             child,
+            place,
             last_error_line,
             forwarders,
             kill_ordered: false,
             alarm: None,
         });
-        Ok(pid)
+        pid
     }
 
     fn kill(&mut self, task: u8, pid: u32) {
@@ -249,6 +260,10 @@ impl Supervisor {
     fn reap(&mut self, task: Running, status: ExitStatus) {
         for forwarder in task.forwarders {
             let _ = forwarder.join();
+        }
+        if let Some(place) = task.place {
+            // Handed a task it never took: the place is free again.
+            self.table.pool.places[place].forget(task.child.id());
         }
         let slot = &self.table.slots[task.id as usize];
         let exit = if status.success() {
@@ -285,7 +300,7 @@ impl Supervisor {
     /// waiting ones end.
     pub fn refuse_starts(&mut self) {
         self.shutting_down = true;
-        self.pool.close();
+        self.pool.close(&self.table.pool);
     }
 
     /// Ends every script process (shutdown) and reaps them; starts no new ones.
@@ -311,7 +326,10 @@ impl Supervisor {
 }
 
 /// `luamotion script` with what every script process is told, its output piped, in
-/// its own process group and dying with the controller.
+/// its own process group. Started with `posix_spawn` (std's choice when no code runs
+/// between fork and exec): a fork would copy the page tables of the controller's locked
+/// memory, and the exec throw them away, most of a start's CPU time and a pause for the
+/// RT thread. The script sets its death signal itself (`script_host`).
 fn script_command(launcher: &ScriptLauncher, ns: &Namespace, data_dir: &Path) -> Command {
     let mut command = Command::new(&launcher.executable);
     command
@@ -321,22 +339,10 @@ fn script_command(launcher: &ScriptLauncher, ns: &Namespace, data_dir: &Path) ->
         .arg("--data-dir")
         .arg(data_dir)
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    let parent = std::process::id();
-    // SAFETY: only async-signal-safe calls between fork and exec.
-    unsafe {
-        command.pre_exec(move || {
-            // Own process group: a Ctrl-C at the terminal reaches the controller, which
-            // then stops its scripts in order.
-            libc::setpgid(0, 0);
-            // Die with the controller, even on its kill -9.
-            libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
-            if libc::getppid() as u32 != parent {
-                libc::_exit(1);
-            }
-            Ok(())
-        });
-    }
+        .stderr(Stdio::piped())
+        // Own process group: a Ctrl-C at the terminal reaches the controller, which then
+        // stops its scripts in order.
+        .process_group(0);
     command
 }
 

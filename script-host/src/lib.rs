@@ -13,7 +13,6 @@ pub mod require;
 pub mod sandbox;
 pub mod user_table;
 
-use std::io::BufRead;
 use std::path::PathBuf;
 use std::rc::Rc;
 
@@ -43,9 +42,11 @@ pub struct ScriptArgs {
     pub freeport_bind: std::net::IpAddr,
 }
 
-/// A pooled process (`script --pool`): what it knows before the supervisor hands it a task.
+/// A pooled process (`script --pool <place>`): what it knows before the core hands it a task.
 pub struct PoolArgs {
     pub ns: Namespace,
+    /// Its place on the task table's pool board.
+    pub place: usize,
     pub controller_pid: u32,
     pub data_dir: PathBuf,
     pub user_ascii: String,
@@ -53,7 +54,7 @@ pub struct PoolArgs {
 }
 
 impl PoolArgs {
-    fn assign(self, assignment: Assignment) -> ScriptArgs {
+    fn assign(self, assignment: Assignment, program: PathBuf) -> ScriptArgs {
         ScriptArgs {
             ns: self.ns,
             task: assignment.task,
@@ -61,7 +62,7 @@ impl PoolArgs {
             memory_limit_mib: assignment.memory_limit_mib,
             data_dir: self.data_dir,
             entry: assignment.entry,
-            program: assignment.program,
+            program,
             user_ascii: self.user_ascii,
             freeport_bind: self.freeport_bind,
         }
@@ -80,8 +81,8 @@ pub enum ScriptError {
     Ipc(#[from] IpcError),
     #[error("the controller is gone")]
     ControllerGone,
-    #[error("no task from the controller: {0:?}")]
-    Assignment(String),
+    #[error("no place {0} on the pool's board")]
+    NoPlace(usize),
     #[error("{message}")]
     OutOfMemory { message: String },
 }
@@ -106,6 +107,7 @@ impl ScriptError {
 
 /// Runs the program to its end.
 pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
+    die_with_controller(args.controller_pid)?;
     let source = read_program(&args)?;
     let endpoint = TaskEndpoint::open(&args.ns, args.task, args.controller_pid)?;
     ipc::restore_default_signals();
@@ -113,28 +115,53 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     run_attached(args, &source, host)
 }
 
+/// How often a waiting process checks that its controller is still there.
+const POOL_LIVENESS: std::time::Duration = std::time::Duration::from_millis(100);
+
 /// A pooled process: everything a start does before it knows its task (the exec, the
-/// node, the state subscriber) is done while it waits for the supervisor's assignment on
-/// stdin; then it runs that one task as `run` does, in a VM made for it, and ends.
+/// node, the state subscriber) is done while it waits on its place of the pool's board;
+/// the core hands it a task there, and it runs that one task as `run` does, in a VM made
+/// for it, and ends.
 pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
+    die_with_controller(pool.controller_pid)?;
     set_process_name(WAITING_NAME);
     let prepared = PreparedEndpoint::new(&pool.ns, POOL_NODE_NAME, pool.controller_pid)?;
     let events = prepared.event_sender(&pool.ns)?;
     let shared = Region::<SharedData>::open(&pool.ns, "shared")?;
+    let table = Region::<TaskTable>::open(&pool.ns, "tasks")?;
     ipc::restore_default_signals();
-    let mut line = String::new();
-    match std::io::stdin().lock().read_line(&mut line) {
-        // The supervisor closed the pipe: the controller is ending or gone.
-        Ok(0) | Err(_) => return Err(ScriptError::ControllerGone),
-        Ok(_) => {}
-    }
-    let assignment = Assignment::decode(&line).ok_or(ScriptError::Assignment(line))?;
+    let place = table.pool.places.get(pool.place).ok_or(ScriptError::NoPlace(pool.place))?;
+    let controller_pid = pool.controller_pid;
+    // Closed or withdrawn: the controller is ending or gone.
+    let assignment = place
+        .offer(std::process::id())
+        .then(|| place.wait(|| controller_alive(controller_pid), POOL_LIVENESS))
+        .flatten()
+        .ok_or(ScriptError::ControllerGone)?;
     set_process_name(RUNNING_NAME);
-    let args = pool.assign(assignment);
+    let program = PathBuf::from(table.slots[assignment.task as usize].program());
+    let args = pool.assign(assignment, program);
     let source = read_program(&args)?;
     let endpoint = prepared.attach(&args.ns, args.task)?;
     let host = Host::from_parts(endpoint, events, shared, &args.ns, args.data_dir.clone());
     run_attached(args, &source, host)
+}
+
+/// Dies with the controller: SIGKILL when the controller's thread that started this
+/// process ends, even on its `kill -9`. Set here rather than between fork and exec, so
+/// that the controller can start scripts with `posix_spawn` (a fork copies its locked
+/// memory's page tables, and exec throws the copy away: most of a start's CPU time).
+fn die_with_controller(controller_pid: u32) -> Result<(), ScriptError> {
+    // SAFETY: plain prctl with constant arguments; getppid cannot fail.
+    let parent = unsafe {
+        libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
+        libc::getppid()
+    };
+    // A controller that died before the prctl left this process to another parent.
+    if parent as u32 != controller_pid {
+        return Err(ScriptError::ControllerGone);
+    }
+    Ok(())
 }
 
 /// What `ps` shows of a waiting process, and of one that runs its task (the executable's

@@ -32,6 +32,11 @@ impl Entry {
         Some(entry)
     }
 
+    /// The function's name as bytes, empty for the top level.
+    pub fn name(&self) -> &[u8] {
+        &self.name[..self.len as usize]
+    }
+
     /// The function's name, or `None` for the top level.
     pub fn function_name(&self) -> Option<String> {
         (self.len > 0).then(|| String::from_utf8_lossy(&self.name[..self.len as usize]).into_owned())
@@ -57,6 +62,14 @@ pub enum Order {
     Start {
         task: u8,
         entry: Entry,
+    },
+    /// The core handed the task to the pool's waiting process `pid` on place `place` of
+    /// the board: forward its output and reap it (or, when it died first, start one).
+    Handed {
+        task: u8,
+        entry: Entry,
+        place: usize,
+        pid: u32,
     },
     /// End the task's process at once (SIGKILL).
     Kill {

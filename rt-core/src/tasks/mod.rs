@@ -11,7 +11,7 @@ use api::SystemError;
 use api::alarms::{Alarm, Event};
 use ipc::messages::{MAX_TASKS, TaskSnapshot, TaskState};
 use ipc::shared::SharedData;
-use ipc::task_table::{EndCode, RunState, TaskTable};
+use ipc::task_table::{EndCode, PROGRAM_BYTES, RunState, TaskTable};
 
 use crate::config::{FaultReaction, TaskConfig};
 pub use link::{AlarmReport, CoreLink, ENTRY_BYTES, Entry, Exit, Order, Report, SupervisorEnd, link};
@@ -28,6 +28,10 @@ struct Spec {
     reaction: FaultReaction,
     /// Attached to by a process the user starts: running from the start, no watchdog.
     external: bool,
+    memory_limit_mib: u32,
+    /// The pool's waiting processes can run it: they read its program from the task
+    /// table, which holds a path of fewer than `PROGRAM_BYTES` bytes of UTF-8 whole.
+    poolable: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -102,6 +106,8 @@ impl Tasks {
                 watchdog_ms: config.watchdog_ms,
                 reaction: config.fault_reaction,
                 external: config.external,
+                memory_limit_mib: config.memory_limit_mib,
+                poolable: config.program.to_str().is_some_and(|p| p.len() < PROGRAM_BYTES),
             });
             task.state = if config.external { TaskState::Running } else { TaskState::Stopped };
         }
@@ -262,7 +268,17 @@ impl Tasks {
                 TaskState::Starting if !task.ordered && task.pid.is_none() => {
                     task.ordered = true;
                     let entry = task.entry;
-                    self.link.order(Order::Start { task: t, entry });
+                    // A waiting process of the pool takes the task in this cycle; else
+                    // the supervisor starts one.
+                    slot.reset();
+                    let spec = task.spec.filter(|s| s.poolable);
+                    match spec.and_then(|s| table.pool.hand(t, s.memory_limit_mib, entry.name())) {
+                        Some((place, pid)) => {
+                            task.pid = Some(pid);
+                            self.link.order(Order::Handed { task: t, entry, place, pid });
+                        }
+                        None => self.link.order(Order::Start { task: t, entry }),
+                    }
                 }
                 TaskState::Starting if task.ordered && task.pid.is_some_and(|p| slot.pid() == p) && slot.started() => {
                     task.state = TaskState::Running;
@@ -476,6 +492,27 @@ mod tests {
         rig.step();
         assert_eq!(rig.tasks.state(0), TaskState::Stopped, "Running -> Stopped when the program ends");
         assert!(rig.reactions.is_empty(), "a program that ends is no fault");
+    }
+
+    /// A start with a pooled process waiting is handed to it in the cycle of the start,
+    /// with its entry and memory limit; the next start, with nobody waiting, goes to the
+    /// supervisor.
+    #[test]
+    fn a_start_is_handed_to_a_waiting_process_in_its_cycle() {
+        let mut rig = Rig::new();
+        assert!(rig.table.pool.places[2].offer(77));
+        let entry = Entry::function(b"go").unwrap();
+        rig.tasks.start(1, entry, 0).unwrap();
+        rig.step();
+        assert_eq!(rig.orders(), vec![Order::Handed { task: 1, entry, place: 2, pid: 77 }]);
+        let handed = rig.table.pool.places[2].wait(|| true, std::time::Duration::from_millis(1)).unwrap();
+        assert_eq!((handed.task, handed.memory_limit_mib, handed.entry.as_deref()), (1, 64, Some("go")));
+        rig.script_runs(1, 77);
+        rig.step();
+        assert_eq!(rig.tasks.state(1), TaskState::Running, "no report from the supervisor needed");
+        rig.tasks.start(0, Entry::TOP_LEVEL, rig.cycle).unwrap();
+        rig.step();
+        assert_eq!(rig.orders(), vec![Order::Start { task: 0, entry: Entry::TOP_LEVEL }], "the pool is empty");
     }
 
     #[test]
