@@ -91,6 +91,8 @@ pub struct CoreIpcStats {
     pub publish_failures: u64,
     /// Of `wakes`, those whose futex wake the task waker made (`hand_wakes_to_thread`).
     pub handed_off: u64,
+    /// CPU time the task waker thread has used, ns: work the RT thread handed it.
+    pub waker_cpu_ns: u64,
 }
 
 /// The futex wakes the RT thread hands to the task waker thread: each costs the RT
@@ -135,6 +137,26 @@ impl WakeHandoff {
 struct TaskWaker {
     handoff: Arc<WakeHandoff>,
     thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl TaskWaker {
+    /// The thread's CPU time so far, ns (0 when it cannot be read).
+    fn cpu_ns(&self) -> u64 {
+        use std::os::unix::thread::JoinHandleExt;
+        let Some(thread) = &self.thread else { return 0 };
+        // SAFETY: the thread is not joined yet, so its pthread_t is valid; both calls only
+        // write the values they are given.
+        unsafe {
+            let mut clock: libc::clockid_t = 0;
+            let mut ts: libc::timespec = std::mem::zeroed();
+            if libc::pthread_getcpuclockid(thread.as_pthread_t(), &mut clock) != 0
+                || libc::clock_gettime(clock, &mut ts) != 0
+            {
+                return 0;
+            }
+            ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
+        }
+    }
 }
 
 impl Drop for TaskWaker {
@@ -210,7 +232,7 @@ impl CoreEndpoint {
 
     /// The counters so far.
     pub fn stats(&self) -> CoreIpcStats {
-        self.stats
+        CoreIpcStats { waker_cpu_ns: self.waker.as_ref().map_or(0, TaskWaker::cpu_ns), ..self.stats }
     }
 
     /// Takes up to `max_per_task` pending requests of every task and answers each with

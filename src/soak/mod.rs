@@ -165,6 +165,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         overruns: stats.overruns,
         rt_cpu_percent: percent(stats.cpu_ns),
         simulation_cpu_percent: percent(stats.simulation_ns),
+        task_waker_cpu_percent: percent(stats.ipc.waker_cpu_ns),
     };
     let run_info = RunInfo {
         period_us: args.period_us,
@@ -425,11 +426,12 @@ fn targets(report: &Report) -> Vec<Target> {
     let reference = r.period_us == 1000 && r.axes == 96 && r.scripts >= 16;
     out.push(Target {
         target: "RT thread CPU at most 10 % of a core at 1 kHz with 96 axes and 16 tasks, 15 % with 64".into(),
+        // The waker's wakes are the RT thread's work, done on another thread.
         measured: format!(
-            "{:.1} % ({:.1} % simulating the drives) with {} axes and {} tasks at {} us",
-            c.rt_cpu_percent, c.simulation_cpu_percent, r.axes, r.scripts, r.period_us
+            "{:.1} % ({:.1} % simulating the drives) and the task waker's {:.1} % with {} axes and {} tasks at {} us",
+            c.rt_cpu_percent, c.simulation_cpu_percent, c.task_waker_cpu_percent, r.axes, r.scripts, r.period_us
         ),
-        met: reference.then_some(c.rt_cpu_percent <= limit),
+        met: reference.then_some(c.rt_cpu_percent + c.task_waker_cpu_percent <= limit),
     });
     let y = &report.cycle;
     out.push(Target {

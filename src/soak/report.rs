@@ -72,6 +72,9 @@ pub struct Counters {
     pub rt_cpu_percent: f64,
     /// ...of which the simulated drives' share.
     pub simulation_cpu_percent: f64,
+    /// CPU time of the task waker thread, which makes the RT thread's futex wakes when more
+    /// than one task is due, percent of one core.
+    pub task_waker_cpu_percent: f64,
 }
 
 /// The cycle against its period: execution percentiles as fractions of it, and the
@@ -245,8 +248,8 @@ impl Report {
             c.calls.call_errors
         );
         println!(
-            "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives)",
-            c.cycles, c.overruns, c.rt_cpu_percent, c.simulation_cpu_percent
+            "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task waker {:.1} %",
+            c.cycles, c.overruns, c.rt_cpu_percent, c.simulation_cpu_percent, c.task_waker_cpu_percent
         );
         self.print_cycle();
         self.print_scripts();
