@@ -41,6 +41,8 @@ fn soak(args: &[&str], json: &std::path::Path) -> (serde_json::Value, String) {
         "floor: futex wake-up",
         "floor: iceoryx2 round trip",
         "floor: bare loop lateness",
+        "floor: fixed work execution",
+        "floor: fixed work CPU time",
     ] {
         let m = metrics.iter().find(|m| m["name"] == name).unwrap_or_else(|| panic!("{name} in {report}"));
         assert!(m["count"].as_u64().unwrap() > 0, "{name}");
@@ -50,9 +52,22 @@ fn soak(args: &[&str], json: &std::path::Path) -> (serde_json::Value, String) {
         assert!(stdout.contains(name), "{name} in the table");
     }
     check_cycle(&report, &stdout);
+    check_fixed_work(&report, &stdout);
     check_scripts(&report, &stdout);
     check_memory(&report, &stdout);
     (report, stdout)
+}
+
+/// The bare loop's fixed work is calibrated to a fifth of the period of CPU time, and the
+/// execution target names it as the machine's share of the tail.
+fn check_fixed_work(report: &serde_json::Value, stdout: &str) {
+    let period_us = f(&report["cycle"]["period_us"]);
+    let cpu_p50 = f(&metric(report, "floor: fixed work CPU time")["p50"]) / period_us;
+    assert!((0.1..0.6).contains(&cpu_p50), "fixed work p50 {cpu_p50} of the period");
+    let wall_p50 = f(&metric(report, "floor: fixed work execution")["p50"]) / period_us;
+    assert!(wall_p50 >= cpu_p50 * 0.9, "wall {wall_p50} vs CPU {cpu_p50}");
+    let line = stdout.lines().find(|l| l.contains("cycle execution p99.99 within")).unwrap();
+    assert!(line.contains("the bare loop's fixed work: p50"), "{line}");
 }
 
 fn metric<'a>(report: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {

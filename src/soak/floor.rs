@@ -1,8 +1,9 @@
 //! The machine's own floors, measured in the same run: what iceoryx2 alone costs between
 //! two processes (the pong side runs as `luamotion soak-pong`), what the same ping costs
-//! when the sleeper is woken as a task is (its futex word), and how late a bare
+//! when the sleeper is woken as a task is (its futex word), how late a bare
 //! absolute-deadline sleep loop wakes at the cycle's period and scheduling class (what
-//! cyclictest measures).
+//! cyclictest measures), and how long the same fixed work takes in each of its periods
+//! (what the machine adds to a cycle's execution that is not the cycle's doing).
 
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -23,24 +24,84 @@ pub const PING_PONG: &str = "floor: iceoryx2 round trip";
 /// `wake-up` with nothing else going on.
 pub const FUTEX_WAKE: &str = "floor: futex wake-up";
 pub const BARE_LATENESS: &str = "floor: bare loop lateness";
+/// The wall time of the bare loop's fixed work, a fifth of a period of CPU time.
+pub const FIXED_WORK: &str = "floor: fixed work execution";
+/// The CPU time the kernel charges the same work: without `CONFIG_IRQ_TIME_ACCOUNTING`
+/// the interrupts served meanwhile are charged to it.
+pub const FIXED_WORK_CPU: &str = "floor: fixed work CPU time";
 
-/// The wake-up lateness of a bare absolute-deadline loop, on a thread set up as the RT
-/// thread is.
-pub fn bare_loop(rt: &RtConfig, period_ns: u64, duration: Duration) -> Result<Histogram<u64>> {
+/// The share of the period the bare loop works each period: about what a cycle of 96
+/// axes and 16 tasks takes at its median.
+const WORK_SHARE: f64 = 0.2;
+
+/// What the bare loop measured: its wake-up lateness, its fixed work's wall and CPU time.
+pub struct BareLoop {
+    pub lateness: Histogram<u64>,
+    pub fixed_work: Histogram<u64>,
+    pub fixed_work_cpu: Histogram<u64>,
+}
+
+/// An absolute-deadline loop on a thread set up as the RT thread is: how late it wakes,
+/// and how long a fixed amount of work then takes, each period. The work's wall time
+/// beyond its median is what the machine (interrupts, the hypervisor, the kernel's
+/// non-preemptible paths) adds; a cycle's execution tail cannot be shorter than it.
+pub fn bare_loop(rt: &RtConfig, period_ns: u64, duration: Duration) -> Result<BareLoop> {
     let rt = rt.clone();
     let thread = std::thread::Builder::new().name("floor-loop".into()).spawn(move || {
         realtime::setup_current_thread(&rt);
-        let mut lateness = metrics::histogram();
+        let mut work = FixedWork::calibrated((period_ns as f64 * WORK_SHARE) as u64);
+        let (mut lateness, mut fixed_work, mut fixed_work_cpu) =
+            (metrics::histogram(), metrics::histogram(), metrics::histogram());
         let end = monotonic_ns() + duration.as_nanos() as u64;
         let mut deadline = monotonic_ns() + period_ns;
         while deadline < end {
             realtime::sleep_until(deadline);
-            metrics::record(&mut lateness, monotonic_ns().saturating_sub(deadline));
+            let woke = monotonic_ns();
+            metrics::record(&mut lateness, woke.saturating_sub(deadline));
+            let cpu = realtime::thread_cpu_ns();
+            work.run();
+            metrics::record(&mut fixed_work, monotonic_ns() - woke);
+            metrics::record(&mut fixed_work_cpu, realtime::thread_cpu_ns() - cpu);
             deadline += period_ns;
         }
-        lateness
+        BareLoop { lateness, fixed_work, fixed_work_cpu }
     })?;
     thread.join().map_err(|_| anyhow::anyhow!("the floor loop panicked"))
+}
+
+/// Arithmetic over a table the size of a cycle's working set, repeated `rounds` times.
+struct FixedWork {
+    table: Vec<f64>,
+    rounds: u64,
+}
+
+impl FixedWork {
+    /// Work of about `cpu_ns` of CPU time: the fewest nanoseconds a round took in a few
+    /// trials (the least disturbed) sets the number of rounds.
+    fn calibrated(cpu_ns: u64) -> Self {
+        let mut work = FixedWork { table: vec![1.0; 4096], rounds: 1 };
+        let round_ns = (0..20)
+            .map(|_| {
+                let started = realtime::thread_cpu_ns();
+                work.run();
+                realtime::thread_cpu_ns() - started
+            })
+            .min()
+            .unwrap_or(1)
+            .max(1);
+        work.rounds = (cpu_ns / round_ns).max(1);
+        work
+    }
+
+    fn run(&mut self) {
+        for round in 0..self.rounds {
+            let k = 1.0 + round as f64 * 1e-9;
+            for x in self.table.iter_mut() {
+                *x = (*x * k).mul_add(0.999_999, 1e-6);
+            }
+        }
+        std::hint::black_box(&self.table);
+    }
 }
 
 /// `luamotion soak-pong`: echoes pings until terminated.

@@ -2,8 +2,9 @@
 //! this machine under the load of N script processes, beside the machine's own floors
 //! measured in the same run.
 //!
-//! 1. floors: a bare absolute-deadline loop at the cycle's period and scheduling class,
-//!    and an iceoryx2 ping-pong between two processes (`floor.rs`);
+//! 1. floors: a bare absolute-deadline loop at the cycle's period and scheduling class
+//!    doing a fixed work each period, and an iceoryx2 ping-pong between two processes
+//!    (`floor.rs`);
 //! 2. a controller with N attached task slots, and N worker processes running a mix of
 //!    commands and queries against it (`worker.rs`);
 //! 3. the merged histograms, the counters that must stay 0, the overruns by cause, the
@@ -126,7 +127,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
     let _load = args.load.then(|| Load::start(cpus));
 
     eprintln!(
-        "floors: a bare {} us loop, an iceoryx2 ping-pong and a futex ping-pong, {} s each",
+        "floors: a bare {} us loop with a fixed work, an iceoryx2 ping-pong and a futex ping-pong, {} s each",
         args.period_us,
         floor_time.as_secs()
     );
@@ -142,7 +143,9 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
     let floor_futex = Row::new(floor::FUTEX_WAKE, &futex_wake);
     let floor_p50s = (floor_one_way.p50, floor_futex.p50);
     let floor_round_trip = Row::new(floor::PING_PONG, &ping_round_trip);
-    let floor_lateness = Row::new(floor::BARE_LATENESS, &bare);
+    let floor_lateness = Row::new(floor::BARE_LATENESS, &bare.lateness);
+    let floor_work = Row::new(floor::FIXED_WORK, &bare.fixed_work);
+    let floor_work_cpu = Row::new(floor::FIXED_WORK_CPU, &bare.fixed_work_cpu);
     let metric = |name: &str| Row::new(name, merged.get(name).unwrap_or(&metrics::histogram()));
     let rows = vec![
         metric(worker::ROUND_TRIP).beside(&floor_round_trip),
@@ -151,12 +154,14 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         metric(worker::WAKE).beside(&floor_one_way),
         metric(worker::SNAPSHOT_AGE),
         Row::new("cycle lateness", &stats.lateness).beside(&floor_lateness),
-        Row::new(CYCLE_EXECUTION, &stats.execution),
-        Row::new(CYCLE_CPU, &stats.cpu),
+        Row::new(CYCLE_EXECUTION, &stats.execution).beside(&floor_work),
+        Row::new(CYCLE_CPU, &stats.cpu).beside(&floor_work_cpu),
         floor_one_way,
         floor_futex,
         floor_round_trip,
         floor_lateness,
+        floor_work,
+        floor_work_cpu,
     ];
     let percent = |ns: u64| if stats.wall_ns > 0 { ns as f64 * 100.0 / stats.wall_ns as f64 } else { 0.0 };
     let counters = Counters {
@@ -434,9 +439,13 @@ fn targets(report: &Report) -> Vec<Target> {
         met: reference.then_some(c.rt_cpu_percent + c.task_waker_cpu_percent <= limit),
     });
     let y = &report.cycle;
+    // The fixed work's tail beyond its median is the machine's, not the cycle's.
+    let machine = row(floor::FIXED_WORK).map_or(String::new(), |w| {
+        format!("; the bare loop's fixed work: p50 {:.3}, p99.99 {:.3}", w.p50 / y.period_us, w.p99_99 / y.period_us)
+    });
     out.push(Target {
         target: "cycle execution p99.99 within 30 % of the period".into(),
-        measured: format!("{:.3} of the period", y.execution_of_period.p99_99),
+        measured: format!("{:.3} of the period{machine}", y.execution_of_period.p99_99),
         met: Some(y.execution_of_period.p99_99 <= 0.3),
     });
     out.push(Target {
