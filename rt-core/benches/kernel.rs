@@ -3,7 +3,9 @@
 //!   `MoveAbs` through the profile generator and the filter chain after it (plan + first
 //!   sample, smoothing on);
 //! - one kernel cycle (read drives, plan, limits, status, write drives) per axis, with
-//!   every axis moving, for 1 to 64 axes. The drives' own simulation is not timed;
+//!   every axis moving, for 1 to 64 axes, and with 96 axes disabled (resting at their
+//!   feedback every cycle, as the axes no program uses). The drives' own simulation is
+//!   not timed;
 //! - groups (HMPL ch. 8): one kernel cycle with 4 groups of 2 axes each running a polygon
 //!   of short segments with look-ahead, their queues kept full (512), beside the same
 //!   8 axes with no group; and queuing one segment with look-ahead onto a full queue;
@@ -56,12 +58,17 @@ fn planning(c: &mut Criterion) {
 }
 
 /// A machine of `n` default axes, enabled, brought to Op.
-fn machine(n: usize) -> (Network, Kernel, u64) {
+fn disabled_machine(n: usize) -> (Network, Kernel) {
     let axis = AxisConfig { travel: TravelConfig::built_in(), ..AxisConfig::default() };
     let config = MachineConfig { axes: vec![axis; n], ..MachineConfig::default() };
     let mut network = Network::new(&config.axes);
     network.start(config.period_ns()).unwrap();
-    let mut kernel = Kernel::new(&config, &network);
+    let kernel = Kernel::new(&config, &network);
+    (network, kernel)
+}
+
+fn machine(n: usize) -> (Network, Kernel, u64) {
+    let (mut network, mut kernel) = disabled_machine(n);
     for a in 0..n {
         kernel.enable(a as i64).unwrap();
     }
@@ -100,6 +107,22 @@ fn kernel_cycle(c: &mut Criterion) {
             })
         });
     }
+    group.throughput(Throughput::Elements(96));
+    group.bench_function(BenchmarkId::new("axes_disabled", 96), |b| {
+        let (mut network, mut kernel) = disabled_machine(96);
+        let mut cycle = 0;
+        b.iter_custom(|iters| {
+            let mut timed = Duration::ZERO;
+            for _ in 0..iters {
+                cycle += 1;
+                network.exchange(PERIOD_S);
+                let start = Instant::now();
+                kernel.step(cycle, &mut network);
+                timed += start.elapsed();
+            }
+            timed
+        })
+    });
     group.finish();
 }
 

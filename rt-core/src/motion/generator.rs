@@ -276,8 +276,13 @@ impl Generator {
         }
     }
 
+    /// Empties the queue. Only the held entries are cleared (the others are `None`
+    /// already): a disabled axis rests every cycle, and a whole queue of inline PVT
+    /// tables is about 20 KiB to write.
     fn clear_queue(&mut self) {
-        self.queue = [None; QUEUE_CAPACITY];
+        for i in 0..self.queue_len {
+            self.queue[(self.queue_head + i) % QUEUE_CAPACITY] = None;
+        }
         self.queue_head = 0;
         self.queue_len = 0;
     }
