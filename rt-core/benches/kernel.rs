@@ -111,17 +111,7 @@ fn kernel_cycle(c: &mut Criterion) {
     group.bench_function(BenchmarkId::new("axes_disabled", 96), |b| {
         let (mut network, mut kernel) = disabled_machine(96);
         let mut cycle = 0;
-        b.iter_custom(|iters| {
-            let mut timed = Duration::ZERO;
-            for _ in 0..iters {
-                cycle += 1;
-                network.exchange(PERIOD_S);
-                let start = Instant::now();
-                kernel.step(cycle, &mut network);
-                timed += start.elapsed();
-            }
-            timed
-        })
+        b.iter_custom(|iters| timed_cycles(&mut network, &mut kernel, &mut cycle, iters))
     });
     group.finish();
 }
@@ -154,21 +144,24 @@ fn fill(kernel: &mut Kernel, g: i64, next: &mut usize) {
     }
 }
 
+/// `iters` cycles with nothing commanded; the kernel's step timed, the drives' not.
+fn timed_cycles(network: &mut Network, kernel: &mut Kernel, cycle: &mut u64, iters: u64) -> Duration {
+    let mut timed = Duration::ZERO;
+    for _ in 0..iters {
+        *cycle += 1;
+        network.exchange(PERIOD_S);
+        let start = Instant::now();
+        kernel.step(*cycle, network);
+        timed += start.elapsed();
+    }
+    timed
+}
+
 fn groups(c: &mut Criterion) {
     let mut group = c.benchmark_group("groups");
     group.bench_function("kernel_cycle_8_axes_no_group", |b| {
         let (mut network, mut kernel, mut cycle) = machine(8);
-        b.iter_custom(|iters| {
-            let mut timed = Duration::ZERO;
-            for _ in 0..iters {
-                cycle += 1;
-                network.exchange(PERIOD_S);
-                let start = Instant::now();
-                kernel.step(cycle, &mut network);
-                timed += start.elapsed();
-            }
-            timed
-        })
+        b.iter_custom(|iters| timed_cycles(&mut network, &mut kernel, &mut cycle, iters))
     });
     group.bench_function("kernel_cycle_4_groups_full_queues", |b| {
         let (mut network, mut kernel, mut cycle, mut next) = grouped_machine();
