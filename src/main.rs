@@ -42,9 +42,9 @@ struct ClockArgs {
     /// programs, as fast as they allow, the same run after run (a trace digest at the end).
     #[arg(long, value_enum, default_value_t = ClockKind::Realtime)]
     clock: ClockKind,
-    /// With `--clock sim`: at most N times real time, or `max`.
-    #[arg(long, default_value = "max", requires = "clock")]
-    speed: Speed,
+    /// With `--clock sim` or `--replay`: at most N times real time, or `max` (the default).
+    #[arg(long)]
+    speed: Option<Speed>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -59,7 +59,7 @@ impl ClockArgs {
     fn clock(&self) -> Clock {
         match self.clock {
             ClockKind::Realtime => Clock::RealTime,
-            ClockKind::Sim => Clock::Sim { speed: self.speed },
+            ClockKind::Sim => Clock::Sim { speed: self.speed.unwrap_or(Speed::Max) },
         }
     }
 }
@@ -451,8 +451,8 @@ fn run(
     let report = match (http, input_args.modbus_port()) {
         (None, None) => rt_core::run(config, options),
         (http, modbus) => {
-            let modbus = modbus.map(|port| (port, inputs.as_ref().map(|i| i.inputs.clone())));
-            run_served(config, options, http, modbus)?
+            let inputs = inputs.as_ref().map(|i| i.inputs.clone());
+            run_served(config, options, http, modbus.map(|port| (port, inputs.clone())), inputs)?
         }
     };
     drop(serial);
@@ -516,6 +516,7 @@ fn run_served(
     mut options: rt_core::RunOptions,
     http: Option<u16>,
     modbus: Option<(u16, Option<Arc<rt_core::replay::Inputs>>)>,
+    sim_inputs: Option<Arc<rt_core::replay::Inputs>>,
 ) -> Result<Result<rt_core::RunReport, rt_core::ControllerError>> {
     let ns = options.ns.clone();
     let mut console = None;
@@ -539,7 +540,7 @@ fn run_served(
         let web = match http {
             Some(port) => {
                 let (agent, thread) = drl::ascii::start_agent(ns.clone(), agent_task)?;
-                Some((web::WebView::start(ns, "127.0.0.1", port, agent, None)?, thread))
+                Some((web::WebView::start(ns, ("127.0.0.1", port), agent, None, sim_inputs)?, thread))
             }
             None => None,
         };

@@ -12,8 +12,8 @@ use rt_core::sim_clock::{Clock, Speed};
 #[derive(clap::Args)]
 pub struct InputArgs {
     /// With `--clock sim`: write the run's outside inputs (Modbus writes of DV, DH and
-    /// FUN147 words, the bytes serial port 1 receives in FreePort) with the cycle each took
-    /// effect at into FILE (docs/replay.md).
+    /// FUN147 words, the bytes serial port 1 receives in FreePort, the web view's simulated
+    /// inputs) with the cycle each took effect at into FILE (docs/replay.md).
     #[arg(long, value_name = "FILE")]
     record: Option<PathBuf>,
     /// Feed a `--record` FILE's inputs back at their cycles, without the outside peers
@@ -34,11 +34,13 @@ pub struct RunInputs {
 }
 
 impl InputArgs {
-    /// The clock of the run: `--replay` implies the simulation clock (at `speed`).
-    pub fn clock(&self, clock: Clock, speed: Speed) -> Result<Clock> {
+    /// The clock of the run: `--replay` implies the simulation clock (at `speed`, `max`
+    /// without it).
+    pub fn clock(&self, clock: Clock, speed: Option<Speed>) -> Result<Clock> {
         match clock {
-            Clock::RealTime if self.replay.is_some() => Ok(Clock::Sim { speed }),
+            Clock::RealTime if self.replay.is_some() => Ok(Clock::Sim { speed: speed.unwrap_or(Speed::Max) }),
             Clock::RealTime if self.record.is_some() => bail!("--record needs the simulation clock: --clock sim"),
+            Clock::RealTime if speed.is_some() => bail!("--speed needs the simulation clock: --clock sim or --replay"),
             clock => Ok(clock),
         }
     }
@@ -74,7 +76,7 @@ impl RunInputs {
         let replay = self.inputs.replaying().then(|| {
             let serial = self.replay.iter().filter_map(|s| match &s.input {
                 Input::Serial(bytes) => Some((s.cycle, bytes.clone())),
-                Input::Modbus { .. } => None,
+                _ => None,
             });
             serial.collect()
         });

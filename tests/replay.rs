@@ -1,5 +1,6 @@
 //! End to end: a run on the simulation clock fed from outside (Modbus TCP writes of DV
-//! words by mbpoll, serial port 1's bytes from socat) is recorded with `--record`, then
+//! words by mbpoll, serial port 1's bytes from socat, simulated inputs set through the web
+//! view by nc) is recorded with `--record`, then
 //! replayed with `--replay` without the outside peers: the same trace digest and the same
 //! output, replay after replay. Bad record files are refused with their line.
 
@@ -80,6 +81,53 @@ fn machine(dir: &Path) -> PathBuf {
     let path = dir.join("machine.toml");
     std::fs::write(&path, "[[axes]]\n").unwrap();
     path
+}
+
+/// One axis (slave 0) and an analog terminal (slave 1) with two inputs.
+fn machine_with_terminal(dir: &Path) -> PathBuf {
+    let path = dir.join("machine.toml");
+    std::fs::write(&path, "[[axes]]\n\n[[slaves]]\ndevice = \"analog_io\"\ninputs = 2\noutputs = 2\n").unwrap();
+    path
+}
+
+/// A program that prints controller input 3 and the terminal's input 1 whenever they
+/// change (and the DV word 0 with `dv`), moving the axis to the input word in um while
+/// input 3 is on; it ends when input 3 goes off again with the word at 5000.
+fn inputs_program(dir: &Path) -> PathBuf {
+    program(
+        dir,
+        "inputs.lua",
+        "Enable(0)\n\
+         Till(function() return IsEnabled(0) end)\n\
+         my_print('waiting for inputs')\n\
+         local start, seen = system_fclk, ''\n\
+         while system_fclk - start < 600000 do\n\
+           local g, a = GetGPI(3), GetSlvAIRaw(1, 1)\n\
+           local now = string.format('gpi %d ai %d dv %d', g, a, ReadModbusWord(0))\n\
+           if now ~= seen then\n\
+             seen = now\n\
+             Print('%s at %d', now, system_fclk)\n\
+             if g == 1 then MoveAbs(0, a / 1000) Till(function() return IsInPos(0) end) end\n\
+             if g == 0 and a == 5000 then break end\n\
+           end\n\
+           Sleep(1)\n\
+         end\n\
+         Print('at %.3f mm', GetPosFb(0))\n",
+    )
+}
+
+/// An HTTP POST by nc to the web view at `port`; the answer's body.
+fn post(port: &str, path: &str) -> String {
+    let mut nc = Command::new(debian_tool("nc"))
+        .args(["-w", "10", "127.0.0.1", port])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nc");
+    let request = format!("POST {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
+    nc.stdin.take().unwrap().write_all(request.as_bytes()).unwrap();
+    let out = nc.wait_with_output().expect("nc");
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 /// `mbpoll` on the controller's Modbus TCP port: holding registers from `reference`,
@@ -226,13 +274,17 @@ fn bad_records_are_refused_with_their_line() {
     let dir = tempfile::tempdir().unwrap();
     let program = program(dir.path(), "p.lua", "Print('ran')\n");
     let huge = format!("luamotion-inputs 1\n5 serial {}\n", "00".repeat(100_000));
-    let cases: [(&str, &[u8], &str); 6] = [
+    let cases: [(&str, &[u8], &str); 10] = [
         ("garbage", b"\x7fELF\x02\x01\x01\x00\x00\xff\xfe\n", "line 1: not a luamotion input record"),
         ("order", b"luamotion-inputs 1\n9 modbus 0x0000 1\n3 modbus 0x0000 2\n", "line 3: cycle 3 comes after cycle 9"),
         ("kind", b"luamotion-inputs 1\n1 modbus 0x0000 1\n2 freeport 0 6869\n", "line 3: unknown input `freeport`"),
         ("huge", huge.as_bytes(), "line 2: longer than 16384 bytes"),
         ("address", b"luamotion-inputs 1\n1 modbus 0x6B02 1\n", "line 2: 0x6B02 is not a DV, DH or FUN147 word"),
         ("empty", b"", "line 1: empty"),
+        ("pin", b"luamotion-inputs 1\n1 gpi 9 1\n", "line 2: `9` is not a controller input (1..8)"),
+        ("level", b"luamotion-inputs 1\n1 gpi 1 1\n2 gpi 1 5\n", "line 3: `5` is not a level (0 or 1)"),
+        ("word", b"luamotion-inputs 1\n1 ai 1 1 99999\n", "line 2: `99999` is not a word (0..65535)"),
+        ("channel", b"luamotion-inputs 1\n1 ai 1 x 1\n", "line 2: `x` is not an analog input (1..4)"),
     ];
     for (name, content, expected) in cases {
         let path = dir.path().join(name);
@@ -244,4 +296,111 @@ fn bad_records_are_refused_with_their_line() {
     }
     let missing = run(&unique_ns("bad-record"), &["--replay", "/nonexistent/inputs.txt", program.to_str().unwrap()]);
     assert!(missing.stderr.contains("cannot read /nonexistent/inputs.txt"), "{}", missing.stderr);
+}
+
+/// The web view's simulated inputs (controller input 3, the analog terminal's input 1),
+/// posted by nc while the program waits for them: recorded with their cycles, then
+/// replayed without the web view.
+#[test]
+fn simulated_inputs_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let (config, record, program) =
+        (machine_with_terminal(dir.path()), dir.path().join("inputs.txt"), inputs_program(dir.path()));
+    let ns = unique_ns("record-sim-inputs");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20", "--http", "0"];
+    let (child, lines) =
+        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    let address = until(&lines, "Web view on http://", &mut seen);
+    let port = address.trim_end_matches('/').rsplit(':').next().unwrap().to_string();
+    if !seen.iter().any(|l| l.contains("waiting for inputs")) {
+        until(&lines, "waiting for inputs", &mut seen);
+    }
+    let steps = [
+        ("/api/sim/ai/1/1/2000", "gpi 0 ai 2000"),
+        ("/api/sim/gpi/3/1", "gpi 1 ai 2000"),
+        ("/api/sim/ai/1/1/5000", "gpi 1 ai 5000"),
+        ("/api/sim/gpi/3/0", "gpi 0 ai 5000"),
+    ];
+    for (path, then) in steps {
+        let answer = post(&port, path);
+        assert!(answer.contains("queued for the next cycle"), "{path}: {answer}");
+        until(&lines, then, &mut seen);
+    }
+    assert!(post(&port, "/api/sim/gpi/9/1").contains("400 Bad Request"), "inputs are 1..8");
+    let recorded = end(child, lines, seen);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(inputs, ["ai 1 1 2000", "gpi 3 1", "ai 1 1 5000", "gpi 3 0"], "{text}");
+    let said: Vec<&str> = recorded.task_lines().into_iter().map(|l| l.split(" at ").next().unwrap()).collect();
+    assert_eq!(
+        said,
+        [
+            "waiting for inputs",
+            "gpi 0 ai 0 dv 0",
+            "gpi 0 ai 2000 dv 0",
+            "gpi 1 ai 2000 dv 0",
+            "gpi 1 ai 5000 dv 0",
+            "gpi 0 ai 5000 dv 0",
+            "at 5.000 mm"
+        ],
+        "{}",
+        recorded.out.stderr
+    );
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// A record written by hand: a controller input, a DV word and an analog word in one
+/// cycle, from what would be two servers (the web view, Modbus TCP): the program sees all
+/// three in its turn after that cycle. Replays without `--clock sim`, at `--speed 10` and
+/// `max`, give the same run.
+#[test]
+fn inputs_of_one_cycle_from_two_sources_land_together() {
+    let dir = tempfile::tempdir().unwrap();
+    let (config, program) = (machine_with_terminal(dir.path()), inputs_program(dir.path()));
+    let record = dir.path().join("inputs.txt");
+    std::fs::write(
+        &record,
+        "luamotion-inputs 1\n400 gpi 3 1\n400 modbus 0x0000 7\n400 ai 1 1 3000\n3000 ai 1 1 5000\n3000 gpi 3 0\n",
+    )
+    .unwrap();
+    let mut runs = Vec::new();
+    for speed in ["10", "max"] {
+        let ns = unique_ns("replay-one-cycle");
+        let args = ["--replay", record.to_str().unwrap(), "--speed", speed, "--config", config.to_str().unwrap()];
+        let out = finish(start_run(&ns, &[&args[..], &[program.to_str().unwrap()]].concat()), Duration::from_secs(240));
+        assert!(out.status.success(), "{}", out.stderr);
+        runs.push(out);
+    }
+    let said = runs[0].lines_of_task(0);
+    assert_eq!(
+        said,
+        [
+            "waiting for inputs",
+            "gpi 0 ai 0 dv 0 at 4",
+            "gpi 1 ai 3000 dv 7 at 400",
+            "gpi 0 ai 5000 dv 7 at 3000",
+            "at 3.000 mm"
+        ],
+        "{}",
+        runs[0].stderr
+    );
+    assert_eq!(runs[1].lines_of_task(0), said);
+    let digest = |out: &Finished| {
+        out.stderr
+            .lines()
+            .find(|l| l.contains("trace digest"))
+            .map(|l| l.split_once("trace digest ").unwrap().1.to_string())
+    };
+    assert_eq!(digest(&runs[0]), digest(&runs[1]), "{}", runs[1].stderr);
+    assert!(digest(&runs[0]).is_some(), "{}", runs[0].stderr);
+}
+
+/// `--speed` without the simulation clock is refused; `--replay` brings the clock.
+#[test]
+fn speed_needs_the_simulation_clock() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = program(dir.path(), "p.lua", "Print('ran')\n");
+    let out = run(&unique_ns("speed-alone"), &["--speed", "10", program.to_str().unwrap()]);
+    assert!(!out.status.success() && out.stderr.contains("--speed needs the simulation clock"), "{}", out.stderr);
 }
