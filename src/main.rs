@@ -184,6 +184,12 @@ enum Cmd {
         /// Where START_ASCII_AGENT listens, HOST:PORT.
         #[arg(long, default_value = script_host::bindings::DEFAULT_USER_ASCII)]
         ascii_user: String,
+        /// On the simulation clock: write FreePort.Eth's inputs into DIR/task-<id>.txt.
+        #[arg(long, value_name = "DIR")]
+        freeport_record: Option<PathBuf>,
+        /// On the simulation clock: FreePort.Eth's inputs are this record's, without sockets.
+        #[arg(long, value_name = "FILE", conflicts_with = "freeport_record")]
+        freeport_replay: Option<PathBuf>,
         /// Wait on this place of the pool's board until the core hands it a task, ready to
         /// run it at once: the controller's pool of started script processes.
         #[arg(long, value_name = "PLACE", conflicts_with_all = ["task", "program", "entry"])]
@@ -334,9 +340,16 @@ fn main() -> ExitCode {
             entry,
             freeport_bind,
             ascii_user,
+            freeport_record,
+            freeport_replay,
             pool,
             program,
         } => {
+            let freeport_inputs = match (freeport_record, freeport_replay) {
+                (Some(dir), _) => script_host::FreePortInputs::Record(dir),
+                (None, Some(file)) => script_host::FreePortInputs::Replay(file),
+                (None, None) => script_host::FreePortInputs::Live,
+            };
             let ns = match Namespace::new(&ns) {
                 Ok(ns) => ns,
                 Err(e) => {
@@ -354,6 +367,7 @@ fn main() -> ExitCode {
                     data_dir,
                     user_ascii: ascii_user,
                     freeport_bind,
+                    freeport_inputs,
                 };
                 return script(script_host::run_pooled(pooled));
             };
@@ -367,6 +381,7 @@ fn main() -> ExitCode {
                 program,
                 user_ascii: ascii_user,
                 freeport_bind,
+                freeport_inputs,
             };
             Ok(script(script_host::run(args)))
         }
@@ -422,7 +437,7 @@ fn run(
     let config_period_s = config.period_ns() as f64 * 1e-9;
     let ns = controller.namespace()?;
 
-    let launcher = controller.launcher(&config, &config.ascii.bind)?;
+    let mut launcher = controller.launcher(&config, &config.ascii.bind)?;
     if !config.tasks.iter().any(|t| t.autorun) {
         eprintln!(
             "error: nothing to run: name a program (`luamotion run a.lua`) or give a machine file with a task \
@@ -432,6 +447,9 @@ fn run(
     }
     let data_dir = controller.data_dir();
     let inputs = input_args.prepare(clock)?;
+    if let Some(inputs) = &inputs {
+        launcher.subcommand.extend(inputs.script_args());
+    }
     // Before the tasks start, so their first FreePort.Serial call finds it.
     let serial = controller.serial_port(&config, inputs.as_ref().map(|i| i.serial()));
     let scope_stop = Arc::new(AtomicBool::new(false));

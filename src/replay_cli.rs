@@ -31,6 +31,9 @@ pub struct RunInputs {
     pub inputs: Arc<Inputs>,
     replay: Vec<Stamped>,
     record: Option<PathBuf>,
+    replay_path: Option<PathBuf>,
+    /// With `--record`: where the tasks write their `FreePort.Eth` inputs, one file each.
+    freeport: Option<tempfile::TempDir>,
 }
 
 impl InputArgs {
@@ -60,7 +63,11 @@ impl InputArgs {
             None => Vec::new(),
         };
         let inputs = Inputs::new(self.record.is_some(), self.replay.is_some());
-        Ok(Some(RunInputs { inputs, replay, record: self.record.clone() }))
+        let freeport = match self.record {
+            Some(_) => Some(tempfile::Builder::new().prefix("luamotion-freeport-").tempdir()?),
+            None => None,
+        };
+        Ok(Some(RunInputs { inputs, replay, record: self.record.clone(), replay_path: self.replay.clone(), freeport }))
     }
 }
 
@@ -87,9 +94,29 @@ impl RunInputs {
         }
     }
 
-    /// Writes the record (with `--record`).
+    /// What the script processes are told: where their `FreePort.Eth` inputs are recorded
+    /// or replayed from.
+    pub fn script_args(&self) -> Vec<String> {
+        match (&self.freeport, &self.replay_path) {
+            (Some(dir), _) => vec!["--freeport-record".into(), dir.path().display().to_string()],
+            (None, Some(path)) => vec!["--freeport-replay".into(), path.display().to_string()],
+            (None, None) => Vec::new(),
+        }
+    }
+
+    /// Writes the record (with `--record`), the tasks' `FreePort.Eth` inputs merged in.
     pub fn finish(&self) -> Result<()> {
         let Some(path) = &self.record else { return Ok(()) };
+        if let Some(dir) = &self.freeport {
+            for file in std::fs::read_dir(dir.path())? {
+                let file = file?.path();
+                let text = format!("{}\n{}", replay::HEADER, std::fs::read_to_string(&file)?);
+                match replay::parse(text.as_bytes()) {
+                    Ok(inputs) => inputs.into_iter().for_each(|s| self.inputs.record(s.cycle, s.input)),
+                    Err(e) => eprintln!("warning: FreePort inputs of {} not recorded: {e}", file.display()),
+                }
+            }
+        }
         let record = self.inputs.take_record();
         std::fs::write(path, replay::format(&record)).with_context(|| format!("write {}", path.display()))?;
         eprintln!("recorded {} input(s) into {}", record.len(), path.display());

@@ -404,3 +404,140 @@ fn speed_needs_the_simulation_clock() {
     let out = run(&unique_ns("speed-alone"), &["--speed", "10", program.to_str().unwrap()]);
     assert!(!out.status.success() && out.stderr.contains("--speed needs the simulation clock"), "{}", out.stderr);
 }
+
+/// A free port in FreePort's range 3000..10000, asked of the OS by binding 127.0.0.1 to it.
+fn freeport_port() -> u16 {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let seed = std::process::id() as usize + NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed) * 997;
+    (0..7001)
+        .map(|i| 3000 + ((seed * 31 + i * 101) % 7001) as u16)
+        .find(|&p| std::net::TcpListener::bind(("127.0.0.1", p)).is_ok())
+        .expect("a free port in 3000..10000")
+}
+
+/// A `FreePort.Eth` server session fed by nc in two chunks that split a frame: each frame
+/// moves the axis and is echoed; recorded (the peer's connect, bytes and end with their
+/// cycles), then replayed without a peer: the same frames in the same turns.
+#[test]
+fn freeport_server_inputs_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let port = freeport_port();
+    let program = program(
+        dir.path(),
+        "server.lua",
+        &format!(
+            "Enable(0)\n\
+             Till(function() return IsEnabled(0) end)\n\
+             Print('open %d', FreePort.Eth.OpenAsServer(1, {port}, nil, ';'))\n\
+             my_print('listening')\n\
+             local start, peer = system_fclk, false\n\
+             while system_fclk - start < 600000 do\n\
+               if (FreePort.Eth.ConnectCheck(1) == 0) ~= peer then\n\
+                 peer = not peer\n\
+                 Print('peer %s at %d', tostring(peer), system_fclk)\n\
+               end\n\
+               local rc, data, n = FreePort.Eth.Rx(1)\n\
+               if rc == 0 and n > 0 then\n\
+                 Print('frame %s at %d', data, system_fclk)\n\
+                 if data == 'quit' then break end\n\
+                 MoveRel(0, n)\n\
+                 Print('tx %d', (FreePort.Eth.Tx(1, 'echo:' .. data)))\n\
+               end\n\
+               Sleep(1)\n\
+             end\n\
+             FreePort.Eth.Close(1)\n\
+             Till(function() return IsInPos(0) end)\n\
+             Print('at %.3f mm', GetPosFb(0))\n"
+        ),
+    );
+    let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
+    let ns = unique_ns("record-freeport");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20"];
+    let (child, lines) =
+        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    until(&lines, "listening", &mut seen);
+    let mut nc = Command::new(debian_tool("nc"))
+        .args(["-N", "-w", "10", "127.0.0.1", &port.to_string()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nc");
+    let mut to_nc = nc.stdin.take().unwrap();
+    to_nc.write_all(b"A1;BB").unwrap();
+    until(&lines, "frame A1", &mut seen);
+    to_nc.write_all(b"22;").unwrap();
+    until(&lines, "frame BB22", &mut seen);
+    to_nc.write_all(b"quit;").unwrap();
+    drop(to_nc);
+    let echoed = nc.wait_with_output().unwrap();
+    assert_eq!(String::from_utf8_lossy(&echoed.stdout), "echo:A1;echo:BB22;");
+    let recorded = end(child, lines, seen);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(inputs.first(), Some(&"eth 0 1 connect"), "{text}");
+    assert_eq!(inputs.last(), Some(&"eth 0 1 close"), "{text}");
+    let data: String = inputs.iter().filter_map(|l| l.strip_prefix("eth 0 1 data ")).collect();
+    assert_eq!(data, "41313b424232323b717569743b", "every byte, in order: {text}");
+    let said: Vec<&str> = recorded.task_lines().into_iter().map(|l| l.split(" at ").next().unwrap()).collect();
+    assert_eq!(
+        said,
+        ["open 0", "listening", "peer true", "frame A1", "tx 0", "frame BB22", "tx 0", "frame quit", "at 6.000 mm"],
+        "{}",
+        recorded.out.stderr
+    );
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// A `FreePort.Eth` client that opens until `nc -l` listens (the refused opens are inputs
+/// too), sends a request and reads the answer: replayed without nc, the opens fail and
+/// succeed as recorded.
+#[test]
+fn freeport_client_opens_and_answers_are_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let port = freeport_port();
+    let program = program(
+        dir.path(),
+        "client.lua",
+        &format!(
+            "my_print('connecting')\n\
+             local rc, tries, start = 1, 0, system_fclk\n\
+             repeat rc = FreePort.Eth.OpenAsClient(3, '127.0.0.1', {port}, nil, CR_LF); tries = tries + 1; Sleep(50)\n\
+             until rc == 0 or tries > 2000\n\
+             Print('open %d at %d', rc, system_fclk)\n\
+             Print('tx %d', (FreePort.Eth.Tx(3, 'barcode?')))\n\
+             local data, n = '', 0\n\
+             repeat rc, data, n = FreePort.Eth.Rx(3); Sleep(1) until n > 0 or system_fclk - start > 600000\n\
+             Print('answer %s at %d', data, system_fclk)\n\
+             FreePort.Eth.Close(3)\n\
+             Print('tries %d', tries)\n"
+        ),
+    );
+    let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
+    let ns = unique_ns("record-freeport-client");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20"];
+    let (child, lines) =
+        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    until(&lines, "connecting", &mut seen);
+    std::thread::sleep(Duration::from_millis(300));
+    let mut nc = Command::new(debian_tool("nc"))
+        .args(["-l", "127.0.0.1", &port.to_string()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nc -l");
+    until(&lines, "tx 0", &mut seen);
+    let mut to_nc = nc.stdin.take().unwrap();
+    to_nc.write_all(b"4711\r\n").unwrap();
+    until(&lines, "answer 4711", &mut seen);
+    drop(to_nc);
+    let recorded = end(child, lines, seen);
+    let _ = nc.kill();
+    let asked = nc.wait_with_output().unwrap();
+    assert_eq!(String::from_utf8_lossy(&asked.stdout), "barcode?\r\n");
+    let text = std::fs::read_to_string(&record).unwrap();
+    assert!(text.contains(" eth 0 3 refused\n") && text.contains(" eth 0 3 connect\n"), "{text}");
+    assert!(text.contains(" eth 0 3 data 343731310d0a\n"), "{text}");
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}

@@ -18,8 +18,9 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use calls::freeport::EthEvent;
 use crossbeam::queue::ArrayQueue;
-use ipc::messages::{GPIO_PINS, MAX_ANALOG_CHANNELS};
+use ipc::messages::{GPIO_PINS, MAX_ANALOG_CHANNELS, MAX_TASKS};
 use ipc::shared::SharedData;
 
 /// The first line of a record file; the number is the format's version.
@@ -41,6 +42,9 @@ pub enum Input {
     /// The word on input `channel` (1..4) of the analog terminal at slave `slave`, as
     /// `SimSetSlvAIRaw` sets it.
     Ai { slave: u16, channel: u8, raw: u16 },
+    /// What a `FreePort.Eth` session of task `task` got from its socket (the task records
+    /// it and replays it itself; the record keeps it).
+    Eth { task: u8, session: i64, event: EthEvent },
 }
 
 /// An input and the cycle it takes effect at.
@@ -144,7 +148,9 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
             let value = value.parse::<u16>().map_err(|_| format!("`{value}` is not a word (0..65535)"))?;
             Input::Modbus { address, value }
         }
-        ["serial", hex] => Input::Serial(from_hex(hex).ok_or_else(|| format!("`{hex}` is not bytes in hex"))?),
+        ["serial", hex] => {
+            Input::Serial(calls::freeport::from_hex(hex).ok_or_else(|| format!("`{hex}` is not bytes in hex"))?)
+        }
         ["gpi", pin, level] => Input::Gpi {
             pin: number(pin, 1..=GPIO_PINS as u64, "a controller input (1..8)")? as u8,
             on: number(level, 0..=1, "a level (0 or 1)")? == 1,
@@ -154,14 +160,21 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
             channel: number(channel, 1..=MAX_ANALOG_CHANNELS as u64, "an analog input (1..4)")? as u8,
             raw: number(raw, 0..=u16::MAX.into(), "a word (0..65535)")? as u16,
         },
-        [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "ai") => {
-            return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, ai)"));
+        ["eth", task, session, event @ ..] if !event.is_empty() => Input::Eth {
+            task: number(task, 0..=MAX_TASKS as u64 - 1, "a task (0..63)")? as u8,
+            session: session.parse().map_err(|_| format!("`{session}` is not a session id"))?,
+            event: EthEvent::parse(event)
+                .ok_or_else(|| format!("`{}` is not connect, refused, data <hex>, end or close", event.join(" ")))?,
+        },
+        [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "ai" | "eth") => {
+            return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, ai, eth)"));
         }
         [kind, ..] => {
             let takes = match *kind {
                 "modbus" => "an address and a value",
                 "serial" => "its bytes in hex",
                 "gpi" => "a pin and a level",
+                "eth" => "a task, a session and an event",
                 _ => "a slave, a channel and a word",
             };
             return Err(format!("`{kind}` takes {takes}"));
@@ -176,13 +189,6 @@ fn number(text: &str, range: std::ops::RangeInclusive<u64>, what: &str) -> Resul
     text.parse::<u64>().ok().filter(|n| range.contains(n)).ok_or_else(|| format!("`{text}` is not {what}"))
 }
 
-fn from_hex(hex: &str) -> Option<Vec<u8>> {
-    if !hex.len().is_multiple_of(2) {
-        return None;
-    }
-    (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok()).collect()
-}
-
 /// The record's text: the header, then the inputs in cycle order.
 pub fn format(inputs: &[Stamped]) -> String {
     let mut out = format!("{HEADER}\n");
@@ -195,6 +201,7 @@ pub fn format(inputs: &[Stamped]) -> String {
             }
             Input::Gpi { pin, on } => writeln!(out, "{cycle} gpi {pin} {}", u8::from(*on)),
             Input::Ai { slave, channel, raw } => writeln!(out, "{cycle} ai {slave} {channel} {raw}"),
+            Input::Eth { task, session, event } => writeln!(out, "{cycle} eth {task} {session} {event}"),
         };
     }
     out
@@ -273,7 +280,9 @@ pub struct Feed {
 impl Feed {
     /// `replay`: the record's inputs (its serial bytes go to serial port 1, not here).
     pub fn new(inputs: Arc<Inputs>, replay: &[Stamped]) -> Self {
-        let replay = replay.iter().filter(|s| !matches!(s.input, Input::Serial(_))).cloned().collect();
+        // Serial port 1 and the tasks feed theirs.
+        let replay =
+            replay.iter().filter(|s| !matches!(s.input, Input::Serial(_) | Input::Eth { .. })).cloned().collect();
         Feed { inputs, replay }
     }
 
@@ -285,7 +294,7 @@ impl Feed {
             let applied = match input {
                 Input::Modbus { address, value } => write_word(shared, address, value),
                 Input::Gpi { .. } | Input::Ai { .. } => simulate(&input),
-                Input::Serial(_) => false,
+                Input::Serial(_) | Input::Eth { .. } => false,
             };
             if applied {
                 self.inputs.record(cycle, input);
@@ -321,10 +330,15 @@ mod tests {
             Stamped { cycle: 91, input: Input::Gpi { pin: 8, on: true } },
             Stamped { cycle: 92, input: Input::Gpi { pin: 1, on: false } },
             Stamped { cycle: 92, input: Input::Ai { slave: 4, channel: 2, raw: 65535 } },
+            Stamped { cycle: 93, input: Input::Eth { task: 63, session: -2, event: EthEvent::Data(b"ok".to_vec()) } },
+            Stamped { cycle: 93, input: Input::Eth { task: 0, session: 1, event: EthEvent::Close } },
         ];
         let text = format(&inputs);
         assert!(text.starts_with("luamotion-inputs 1\n3 modbus 0x0000 7\n3 serial 68693b00ff\n"), "{text}");
-        assert!(text.ends_with("\n91 gpi 8 1\n92 gpi 1 0\n92 ai 4 2 65535\n"), "{text}");
+        assert!(
+            text.ends_with("\n91 gpi 8 1\n92 gpi 1 0\n92 ai 4 2 65535\n93 eth 63 -2 data 6f6b\n93 eth 0 1 close\n"),
+            "{text}"
+        );
         assert_eq!(parsed(&text).unwrap(), inputs);
         assert_eq!(parsed("luamotion-inputs 1\n# a comment\n\n5 modbus 0x0001 2\r\n").unwrap().len(), 1);
     }
@@ -337,7 +351,12 @@ mod tests {
             ("\u{7f}ELF\x02\x01\x01", "line 1: not a luamotion input record"),
             ("luamotion-inputs 2\n", "line 1: not a luamotion input record"),
             ("luamotion-inputs 1\n5 modbus 0x0000 1\n4 modbus 0x0000 2\n", "line 3: cycle 4 comes after cycle 5"),
-            ("luamotion-inputs 1\n5 do 3 1\n", "line 2: unknown input `do` (known: modbus, serial, gpi, ai)"),
+            ("luamotion-inputs 1\n5 do 3 1\n", "line 2: unknown input `do` (known: modbus, serial, gpi, ai, eth)"),
+            ("luamotion-inputs 1\n5 eth 64 1 end\n", "line 2: `64` is not a task (0..63)"),
+            ("luamotion-inputs 1\n5 eth 0 x end\n", "line 2: `x` is not a session id"),
+            ("luamotion-inputs 1\n5 eth 0 1 data 6g\n", "line 2: `data 6g` is not connect, refused, data <hex>"),
+            ("luamotion-inputs 1\n5 eth 0 1 open\n", "line 2: `open` is not connect"),
+            ("luamotion-inputs 1\n5 eth 0 1\n", "line 2: `eth` takes a task, a session and an event"),
             ("luamotion-inputs 1\n5 gpi 9 1\n", "line 2: `9` is not a controller input (1..8)"),
             ("luamotion-inputs 1\n5 gpi 0 1\n", "line 2: `0` is not a controller input"),
             ("luamotion-inputs 1\n5 gpi 1 2\n", "line 2: `2` is not a level (0 or 1)"),
