@@ -451,7 +451,7 @@ fn run(
         launcher.subcommand.extend(inputs.script_args());
     }
     // Before the tasks start, so their first FreePort.Serial call finds it.
-    let serial = controller.serial_port(&config, inputs.as_ref().map(|i| i.serial()));
+    let mut serial = controller.serial_port(&config, inputs.as_ref().map(|i| i.serial()));
     let scope_stop = Arc::new(AtomicBool::new(false));
     let recorder = (!scope.is_empty()).then(|| scope::record_run(ns.clone(), scope_options, scope, scope_stop.clone()));
     let options = rt_core::RunOptions {
@@ -470,7 +470,8 @@ fn run(
         (None, None) => rt_core::run(config, options),
         (http, modbus) => {
             let inputs = inputs.as_ref().map(|i| i.inputs.clone());
-            run_served(config, options, http, modbus.map(|port| (port, inputs.clone())), inputs)?
+            let modbus = modbus.map(|port| (port, inputs.clone()));
+            run_served(config, options, http, modbus, inputs, serial.take())?
         }
     };
     drop(serial);
@@ -528,13 +529,15 @@ fn run(
 }
 
 /// `run` with the web view (`--http`) or the Modbus TCP server (`--modbus-port`, with
-/// the simulation clock's inputs) beside the controller, until its programs end.
+/// the simulation clock's inputs; serial port 1 then answers Modbus RTU/ASCII with it)
+/// beside the controller, until its programs end.
 fn run_served(
     mut config: MachineConfig,
     mut options: rt_core::RunOptions,
     http: Option<u16>,
     modbus: Option<(u16, Option<Arc<rt_core::replay::Inputs>>)>,
     sim_inputs: Option<Arc<rt_core::replay::Inputs>>,
+    serial: Option<serial::Port>,
 ) -> Result<Result<rt_core::RunReport, rt_core::ControllerError>> {
     let ns = options.ns.clone();
     let mut console = None;
@@ -573,6 +576,11 @@ fn run_served(
     };
     if let Some(modbus) = &modbus {
         println!("Modbus TCP on {}", modbus.address);
+        if let Some(port) = &serial {
+            // Modbus RTU/ASCII on serial port 1: the same register logic, so on the
+            // simulation clock its writes are queued and recorded as Modbus TCP's are.
+            port.serve_modbus(Box::new(modbus.pdu_handler()));
+        }
     }
     if let Some((web, _)) = &web {
         println!("Web view on http://{}/", web.address);
@@ -583,6 +591,8 @@ fn run_served(
         drop(web);
         let _ = agent_thread.join();
     }
+    // The port holds a handle on the Modbus server's registers: it goes first.
+    drop(serial);
     drop(modbus);
     Ok(report)
 }

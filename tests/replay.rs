@@ -143,14 +143,11 @@ fn mbpoll(port: &str, reference: &str, values: &[&str]) -> String {
     said.lines().map(|l| l.split_whitespace().collect::<Vec<_>>().join(" ")).collect::<Vec<_>>().join("\n")
 }
 
-/// DV word 0 written three times by mbpoll (the second time with FC 16, DV 5 beside it,
-/// after a write of DH 0), each write moving the axis once the program sees it; the
-/// program acknowledges each value in DV 1, which mbpoll reads before it writes the next.
-#[test]
-fn modbus_writes_are_recorded_and_replayed() {
-    let dir = tempfile::tempdir().unwrap();
-    let program = program(
-        dir.path(),
+/// A program that moves the axis to 10 times DV word 0 whenever it changes and
+/// acknowledges each value in DV 1, until DV 0 is 3.
+fn dv_program(dir: &Path) -> PathBuf {
+    program(
+        dir,
         "dv.lua",
         "Enable(0)\n\
          Till(function() return IsEnabled(0) end)\n\
@@ -167,7 +164,16 @@ fn modbus_writes_are_recorded_and_replayed() {
            Sleep(2)\n\
          end\n\
          Print('last %d at %.3f mm', last, GetPosFb(0))\n",
-    );
+    )
+}
+
+/// DV word 0 written three times by mbpoll (the second time with FC 16, DV 5 beside it,
+/// after a write of DH 0), each write moving the axis once the program sees it; the
+/// program acknowledges each value in DV 1, which mbpoll reads before it writes the next.
+#[test]
+fn modbus_writes_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dv_program(dir.path());
     let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
     let ns = unique_ns("record-modbus");
     let paced = ["--config", config.to_str().unwrap(), "--speed", "20", "--modbus-port", "0"];
@@ -274,7 +280,7 @@ fn bad_records_are_refused_with_their_line() {
     let dir = tempfile::tempdir().unwrap();
     let program = program(dir.path(), "p.lua", "Print('ran')\n");
     let huge = format!("luamotion-inputs 1\n5 serial {}\n", "00".repeat(100_000));
-    let cases: [(&str, &[u8], &str); 10] = [
+    let cases: [(&str, &[u8], &str); 12] = [
         ("garbage", b"\x7fELF\x02\x01\x01\x00\x00\xff\xfe\n", "line 1: not a luamotion input record"),
         ("order", b"luamotion-inputs 1\n9 modbus 0x0000 1\n3 modbus 0x0000 2\n", "line 3: cycle 3 comes after cycle 9"),
         ("kind", b"luamotion-inputs 1\n1 modbus 0x0000 1\n2 freeport 0 6869\n", "line 3: unknown input `freeport`"),
@@ -285,6 +291,8 @@ fn bad_records_are_refused_with_their_line() {
         ("level", b"luamotion-inputs 1\n1 gpi 1 1\n2 gpi 1 5\n", "line 3: `5` is not a level (0 or 1)"),
         ("word", b"luamotion-inputs 1\n1 ai 1 1 99999\n", "line 2: `99999` is not a word (0..65535)"),
         ("channel", b"luamotion-inputs 1\n1 ai 1 x 1\n", "line 2: `x` is not an analog input (1..4)"),
+        ("eth", b"luamotion-inputs 1\n1 eth 0 1 connect\n2 eth 0 1 data 4z\n", "line 3: `data 4z` is not connect"),
+        ("task", b"luamotion-inputs 1\n1 eth 99 1 end\n", "line 2: `99` is not a task (0..63)"),
     ];
     for (name, content, expected) in cases {
         let path = dir.path().join(name);
@@ -539,5 +547,43 @@ fn freeport_client_opens_and_answers_are_replayed() {
     let text = std::fs::read_to_string(&record).unwrap();
     assert!(text.contains(" eth 0 3 refused\n") && text.contains(" eth 0 3 connect\n"), "{text}");
     assert!(text.contains(" eth 0 3 data 343731310d0a\n"), "{text}");
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// Modbus RTU on serial port 1 (`run --modbus-port` serves it with the same registers):
+/// mbpoll's writes of DV 0 over the pseudo-terminal are recorded as Modbus writes at
+/// their cycles and replayed without mbpoll or the TCP server.
+#[test]
+fn modbus_rtu_writes_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dv_program(dir.path());
+    let (config, record, link) = (machine(dir.path()), dir.path().join("inputs.txt"), dir.path().join("ttyS1"));
+    let ns = unique_ns("record-rtu");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20", "--modbus-port", "0"];
+    let serial = ["--serial-link", link.to_str().unwrap(), "--record", record.to_str().unwrap()];
+    let (child, lines) = start(&ns, &[&args[..], &serial, &[program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    until(&lines, "Modbus TCP on ", &mut seen);
+    let rtu = |reference: &str, values: &[&str]| {
+        let out = Command::new(debian_tool("mbpoll"))
+            .args(["-m", "rtu", "-b", "38400", "-P", "none", "-a", "1", "-0", "-1", "-o", "2", "-r", reference])
+            .arg(&link)
+            .args(values)
+            .output()
+            .expect("mbpoll");
+        let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        said.lines().map(|l| l.split_whitespace().collect::<Vec<_>>().join(" ")).collect::<Vec<_>>().join("\n")
+    };
+    for value in ["1", "2", "3"] {
+        assert!(rtu("0", &[value]).contains("Written"), "{seen:#?}");
+        let acked = format!("[1]: {value}");
+        assert!(eventually(Duration::from_secs(60), || rtu("1", &[]).contains(&acked)), "no {acked}: {seen:#?}");
+    }
+    let recorded = end(child, lines, seen);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(inputs, ["modbus 0x0000 1", "modbus 0x0000 2", "modbus 0x0000 3"], "{text}");
+    let said = recorded.task_lines();
+    assert!(said.last().is_some_and(|l| l.starts_with("last 3 at 30.000")), "{said:?}");
     replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
 }
