@@ -99,7 +99,11 @@ impl RunInputs {
     pub fn script_args(&self) -> Vec<String> {
         match (&self.freeport, &self.replay_path) {
             (Some(dir), _) => vec!["--freeport-record".into(), dir.path().display().to_string()],
-            (None, Some(path)) => vec!["--freeport-replay".into(), path.display().to_string()],
+            // Absolute: a script process may run elsewhere.
+            (None, Some(path)) => {
+                let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+                vec!["--freeport-replay".into(), path.display().to_string()]
+            }
             (None, None) => Vec::new(),
         }
     }
