@@ -15,19 +15,16 @@ pub enum EthEvent {
     Data(Vec<u8>),
     /// The peer ended its stream.
     End,
-    /// The program closed the session: the events before it were that session's.
-    Close,
 }
 
 impl EthEvent {
-    /// The words after `<session>` in a record line: `connect`, `refused`, `data <hex>`,
-    /// `end` or `close`.
+    /// The words after `<session>` in a record line: `connect`, `refused`, `data <hex>` or
+    /// `end`.
     pub fn parse(words: &[&str]) -> Option<EthEvent> {
         Some(match words {
             ["connect"] => EthEvent::Connect,
             ["refused"] => EthEvent::Refused,
             ["end"] => EthEvent::End,
-            ["close"] => EthEvent::Close,
             ["data", hex] => EthEvent::Data(from_hex(hex)?),
             _ => return None,
         })
@@ -44,7 +41,6 @@ impl fmt::Display for EthEvent {
                 bytes.iter().try_for_each(|b| write!(f, "{b:02x}"))
             }
             EthEvent::End => f.write_str("end"),
-            EthEvent::Close => f.write_str("close"),
         }
     }
 }
@@ -63,13 +59,13 @@ mod tests {
 
     #[test]
     fn events_survive_their_text() {
-        for event in
-            [EthEvent::Connect, EthEvent::Refused, EthEvent::Data(vec![0, 0xff, b'h']), EthEvent::End, EthEvent::Close]
-        {
+        for event in [EthEvent::Connect, EthEvent::Refused, EthEvent::Data(vec![0, 0xff, b'h']), EthEvent::End] {
             let text = event.to_string();
             assert_eq!(EthEvent::parse(&text.split(' ').collect::<Vec<_>>()), Some(event), "{text}");
         }
-        for bad in [&["data", "6g"][..], &["data", "abc"], &["data", ""], &["data"], &["open"], &["end", "1"]] {
+        for bad in
+            [&["data", "6g"][..], &["data", "abc"], &["data", ""], &["data"], &["open"], &["end", "1"], &["close"]]
+        {
             assert_eq!(EthEvent::parse(bad), None, "{bad:?}");
         }
     }

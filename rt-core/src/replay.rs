@@ -164,7 +164,7 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
             task: number(task, 0..=MAX_TASKS as u64 - 1, "a task (0..63)")? as u8,
             session: session.parse().map_err(|_| format!("`{session}` is not a session id"))?,
             event: EthEvent::parse(event)
-                .ok_or_else(|| format!("`{}` is not connect, refused, data <hex>, end or close", event.join(" ")))?,
+                .ok_or_else(|| format!("`{}` is not connect, refused, data <hex> or end", event.join(" ")))?,
         },
         [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "ai" | "eth") => {
             return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, ai, eth)"));
@@ -331,12 +331,12 @@ mod tests {
             Stamped { cycle: 92, input: Input::Gpi { pin: 1, on: false } },
             Stamped { cycle: 92, input: Input::Ai { slave: 4, channel: 2, raw: 65535 } },
             Stamped { cycle: 93, input: Input::Eth { task: 63, session: -2, event: EthEvent::Data(b"ok".to_vec()) } },
-            Stamped { cycle: 93, input: Input::Eth { task: 0, session: 1, event: EthEvent::Close } },
+            Stamped { cycle: 93, input: Input::Eth { task: 0, session: 1, event: EthEvent::End } },
         ];
         let text = format(&inputs);
         assert!(text.starts_with("luamotion-inputs 1\n3 modbus 0x0000 7\n3 serial 68693b00ff\n"), "{text}");
         assert!(
-            text.ends_with("\n91 gpi 8 1\n92 gpi 1 0\n92 ai 4 2 65535\n93 eth 63 -2 data 6f6b\n93 eth 0 1 close\n"),
+            text.ends_with("\n91 gpi 8 1\n92 gpi 1 0\n92 ai 4 2 65535\n93 eth 63 -2 data 6f6b\n93 eth 0 1 end\n"),
             "{text}"
         );
         assert_eq!(parsed(&text).unwrap(), inputs);

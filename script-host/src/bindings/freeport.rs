@@ -58,8 +58,7 @@ struct Turn<'a> {
 
 impl Turn<'_> {
     /// An input read from the socket now: it takes effect at the next cycle.
-    fn stamp(&mut self, due: &mut VecDeque<(u64, Event)>, event: Event) {
-        self.sim.note(self.cycle + 1, self.id, &event);
+    fn stamp(&self, due: &mut VecDeque<(u64, Event)>, event: Event) {
         due.push_back((self.cycle + 1, event));
     }
 }
@@ -115,15 +114,19 @@ impl Session {
             _ => self.poll_socket(turn.as_deref_mut()),
         }
         let Some(turn) = turn else { return };
+        // Recorded as the program sees it: what a session closed before it was due is not
+        // an input of the run.
         while self.due.front().is_some_and(|(at, _)| *at <= turn.cycle) {
-            match self.due.pop_front().expect("front").1 {
+            let (at, event) = self.due.pop_front().expect("front");
+            turn.sim.note(at, turn.id, &event);
+            match event {
                 Event::Connect => self.connected = true,
                 Event::Data(bytes) => self.received.receive(&bytes),
                 Event::End => {
                     self.peer_done = true;
                     self.received.drop_unfinished();
                 }
-                Event::Refused | Event::Close => {}
+                Event::Refused => {}
             }
         }
     }
@@ -293,16 +296,8 @@ fn with_session<T>(host: &Host, id: i64, f: impl FnOnce(&mut Session, Option<&mu
         .ok_or(Code::NoSession)
 }
 
-/// Closes session `id` (on the simulation clock, a `close` in the record).
-fn close(host: &Host, id: i64) -> Code {
-    with_turn(host, id, |turn| {
-        let closed = SESSIONS.with_borrow_mut(|s| s.remove(&id)).is_some();
-        if let Some(turn) = turn.filter(|_| closed) {
-            turn.sim.note(turn.cycle, id, &Event::Close);
-            turn.sim.drop_until_close(id);
-        }
-        if closed { Code::Ok } else { Code::NoSession }
-    })
+fn close(id: i64) -> Code {
+    SESSIONS.with_borrow_mut(|s| s.remove(&id)).map_or(Code::NoSession, |_| Code::Ok)
 }
 
 /// A start byte (at most one: nil, 0..0xFF or a 1-character string) or end bytes (nil, a
@@ -461,11 +456,11 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             Local::EthClose => {
                 let id = int_arg(lua, spec, &args, 0)?;
-                close(&host, id)
+                close(id)
             }
             Local::EthCloseAll => {
                 for id in SESSIONS.with_borrow(|s| s.keys().copied().collect::<Vec<_>>()) {
-                    close(&host, id);
+                    close(id);
                 }
                 Code::Ok
             }

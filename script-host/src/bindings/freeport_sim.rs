@@ -2,8 +2,9 @@
 //! connects, bytes, the end of its stream) is an outside input, stamped with the cycle it
 //! takes effect at, and a program sees in its turn after cycle c only what is stamped <= c.
 //! With `run --record` each task writes these inputs as record lines
-//! (`<cycle> eth <task> <session> <event>`, docs/replay.md) into a file of its own, which
-//! the controller merges into the record; with `run --replay` the task reads its lines from
+//! (`<cycle> eth <task> <session> <event>`, docs/replay.md) into a file of its own as its
+//! program sees them (so a session's lines are in the order they were seen, and what a
+//! closed session never showed is not in the record), which the controller merges in; with `run --replay` the task reads its lines from
 //! the record and its sessions have no sockets. The choices: docs/decisions.md, "Replay".
 
 use std::collections::VecDeque;
@@ -78,16 +79,6 @@ impl Sim {
             _ => false,
         }
     }
-
-    /// Replaying: the recorded events of a session up to its `close`, which end with it.
-    pub fn drop_until_close(&mut self, session: i64) {
-        let Some(replay) = self.replay.as_mut() else { return };
-        while let Some(at) = replay.iter().position(|(_, s, _)| *s == session) {
-            if replay.remove(at).expect("found").2 == Event::Close {
-                break;
-            }
-        }
-    }
 }
 
 /// The `eth` lines of `task` in a record's text (checked by the controller: a line that
@@ -114,15 +105,18 @@ mod tests {
     #[test]
     fn a_task_reads_its_own_lines_in_order() {
         let text = "luamotion-inputs 1\n3 eth 0 1 connect\n4 eth 1 1 connect\n5 eth 0 1 data 6869\n\
-                    5 modbus 0x0000 1\n6 eth 0 1 close\n7 eth 0 1 refused\n";
+                    5 modbus 0x0000 1\n6 eth 0 1 end\n7 eth 0 1 refused\n";
         let events = task_events(text, 0);
         let expected =
-            [(3, 1, Event::Connect), (5, 1, Event::Data(b"hi".to_vec())), (6, 1, Event::Close), (7, 1, Event::Refused)];
+            [(3, 1, Event::Connect), (5, 1, Event::Data(b"hi".to_vec())), (6, 1, Event::End), (7, 1, Event::Refused)];
         assert_eq!(events, expected);
         let mut sim = Sim { task: 0, record: None, replay: Some(events) };
         assert_eq!(sim.next_due(1, 2), None, "not before its cycle");
         assert_eq!(sim.next_due(1, 5), Some(Event::Connect));
-        sim.drop_until_close(1);
-        assert_eq!(sim.next_due(1, 9), Some(Event::Refused), "the next session's");
+        assert!(!sim.refused(1, 9), "not the next event");
+        assert_eq!(sim.next_due(1, 5), Some(Event::Data(b"hi".to_vec())));
+        assert_eq!(sim.next_due(1, 5), None, "the end is due at 6");
+        assert_eq!(sim.next_due(1, 6), Some(Event::End));
+        assert!(sim.refused(1, 7));
     }
 }
