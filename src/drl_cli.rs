@@ -93,10 +93,10 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
             let web_bind = args.bind.as_deref().unwrap_or("127.0.0.1");
             match crate::web::WebView::start(
                 ns,
-                web_bind,
-                http_port,
+                (web_bind, http_port),
                 ascii.agent(),
                 Some(Box::new(server.pdu_handler())),
+                None,
             ) {
                 Ok(web) => Some(web),
                 Err(e) => {

@@ -42,9 +42,9 @@ struct ClockArgs {
     /// programs, as fast as they allow, the same run after run (a trace digest at the end).
     #[arg(long, value_enum, default_value_t = ClockKind::Realtime)]
     clock: ClockKind,
-    /// With `--clock sim`: at most N times real time, or `max`.
-    #[arg(long, default_value = "max", requires = "clock")]
-    speed: Speed,
+    /// With `--clock sim` or `--replay`: at most N times real time, or `max` (the default).
+    #[arg(long)]
+    speed: Option<Speed>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -59,7 +59,7 @@ impl ClockArgs {
     fn clock(&self) -> Clock {
         match self.clock {
             ClockKind::Realtime => Clock::RealTime,
-            ClockKind::Sim => Clock::Sim { speed: self.speed },
+            ClockKind::Sim => Clock::Sim { speed: self.speed.unwrap_or(Speed::Max) },
         }
     }
 }
@@ -184,6 +184,12 @@ enum Cmd {
         /// Where START_ASCII_AGENT listens, HOST:PORT.
         #[arg(long, default_value = script_host::bindings::DEFAULT_USER_ASCII)]
         ascii_user: String,
+        /// On the simulation clock: write FreePort.Eth's inputs into DIR/task-<id>.txt.
+        #[arg(long, value_name = "DIR")]
+        freeport_record: Option<PathBuf>,
+        /// On the simulation clock: FreePort.Eth's inputs are this record's, without sockets.
+        #[arg(long, value_name = "FILE", conflicts_with = "freeport_record")]
+        freeport_replay: Option<PathBuf>,
         /// Wait on this place of the pool's board until the core hands it a task, ready to
         /// run it at once: the controller's pool of started script processes.
         #[arg(long, value_name = "PLACE", conflicts_with_all = ["task", "program", "entry"])]
@@ -334,9 +340,16 @@ fn main() -> ExitCode {
             entry,
             freeport_bind,
             ascii_user,
+            freeport_record,
+            freeport_replay,
             pool,
             program,
         } => {
+            let freeport_inputs = match (freeport_record, freeport_replay) {
+                (Some(dir), _) => script_host::FreePortInputs::Record(dir),
+                (None, Some(file)) => script_host::FreePortInputs::Replay(file),
+                (None, None) => script_host::FreePortInputs::Live,
+            };
             let ns = match Namespace::new(&ns) {
                 Ok(ns) => ns,
                 Err(e) => {
@@ -354,6 +367,7 @@ fn main() -> ExitCode {
                     data_dir,
                     user_ascii: ascii_user,
                     freeport_bind,
+                    freeport_inputs,
                 };
                 return script(script_host::run_pooled(pooled));
             };
@@ -367,6 +381,7 @@ fn main() -> ExitCode {
                 program,
                 user_ascii: ascii_user,
                 freeport_bind,
+                freeport_inputs,
             };
             Ok(script(script_host::run(args)))
         }
@@ -422,7 +437,7 @@ fn run(
     let config_period_s = config.period_ns() as f64 * 1e-9;
     let ns = controller.namespace()?;
 
-    let launcher = controller.launcher(&config, &config.ascii.bind)?;
+    let mut launcher = controller.launcher(&config, &config.ascii.bind)?;
     if !config.tasks.iter().any(|t| t.autorun) {
         eprintln!(
             "error: nothing to run: name a program (`luamotion run a.lua`) or give a machine file with a task \
@@ -432,8 +447,11 @@ fn run(
     }
     let data_dir = controller.data_dir();
     let inputs = input_args.prepare(clock)?;
+    if let Some(inputs) = &inputs {
+        launcher.subcommand.extend(inputs.script_args());
+    }
     // Before the tasks start, so their first FreePort.Serial call finds it.
-    let serial = controller.serial_port(&config, inputs.as_ref().map(|i| i.serial()));
+    let mut serial = controller.serial_port(&config, inputs.as_ref().map(|i| i.serial()));
     let scope_stop = Arc::new(AtomicBool::new(false));
     let recorder = (!scope.is_empty()).then(|| scope::record_run(ns.clone(), scope_options, scope, scope_stop.clone()));
     let options = rt_core::RunOptions {
@@ -451,8 +469,9 @@ fn run(
     let report = match (http, input_args.modbus_port()) {
         (None, None) => rt_core::run(config, options),
         (http, modbus) => {
-            let modbus = modbus.map(|port| (port, inputs.as_ref().map(|i| i.inputs.clone())));
-            run_served(config, options, http, modbus)?
+            let inputs = inputs.as_ref().map(|i| i.inputs.clone());
+            let modbus = modbus.map(|port| (port, inputs.clone()));
+            run_served(config, options, http, modbus, inputs, serial.take())?
         }
     };
     drop(serial);
@@ -510,12 +529,15 @@ fn run(
 }
 
 /// `run` with the web view (`--http`) or the Modbus TCP server (`--modbus-port`, with
-/// the simulation clock's inputs) beside the controller, until its programs end.
+/// the simulation clock's inputs; serial port 1 then answers Modbus RTU/ASCII with it)
+/// beside the controller, until its programs end.
 fn run_served(
     mut config: MachineConfig,
     mut options: rt_core::RunOptions,
     http: Option<u16>,
     modbus: Option<(u16, Option<Arc<rt_core::replay::Inputs>>)>,
+    sim_inputs: Option<Arc<rt_core::replay::Inputs>>,
+    serial: Option<serial::Port>,
 ) -> Result<Result<rt_core::RunReport, rt_core::ControllerError>> {
     let ns = options.ns.clone();
     let mut console = None;
@@ -539,7 +561,7 @@ fn run_served(
         let web = match http {
             Some(port) => {
                 let (agent, thread) = drl::ascii::start_agent(ns.clone(), agent_task)?;
-                Some((web::WebView::start(ns, "127.0.0.1", port, agent, None)?, thread))
+                Some((web::WebView::start(ns, ("127.0.0.1", port), agent, None, sim_inputs)?, thread))
             }
             None => None,
         };
@@ -554,6 +576,11 @@ fn run_served(
     };
     if let Some(modbus) = &modbus {
         println!("Modbus TCP on {}", modbus.address);
+        if let Some(port) = &serial {
+            // Modbus RTU/ASCII on serial port 1: the same register logic, so on the
+            // simulation clock its writes are queued and recorded as Modbus TCP's are.
+            port.serve_modbus(Box::new(modbus.pdu_handler()));
+        }
     }
     if let Some((web, _)) = &web {
         println!("Web view on http://{}/", web.address);
@@ -564,6 +591,8 @@ fn run_served(
         drop(web);
         let _ = agent_thread.join();
     }
+    // The port holds a handle on the Modbus server's registers: it goes first.
+    drop(serial);
     drop(modbus);
     Ok(report)
 }

@@ -12,8 +12,8 @@ use rt_core::sim_clock::{Clock, Speed};
 #[derive(clap::Args)]
 pub struct InputArgs {
     /// With `--clock sim`: write the run's outside inputs (Modbus writes of DV, DH and
-    /// FUN147 words, the bytes serial port 1 receives in FreePort) with the cycle each took
-    /// effect at into FILE (docs/replay.md).
+    /// FUN147 words, the bytes serial port 1 receives in FreePort, the web view's simulated
+    /// inputs) with the cycle each took effect at into FILE (docs/replay.md).
     #[arg(long, value_name = "FILE")]
     record: Option<PathBuf>,
     /// Feed a `--record` FILE's inputs back at their cycles, without the outside peers
@@ -31,14 +31,19 @@ pub struct RunInputs {
     pub inputs: Arc<Inputs>,
     replay: Vec<Stamped>,
     record: Option<PathBuf>,
+    replay_path: Option<PathBuf>,
+    /// With `--record`: where the tasks write their `FreePort.Eth` inputs, one file each.
+    freeport: Option<tempfile::TempDir>,
 }
 
 impl InputArgs {
-    /// The clock of the run: `--replay` implies the simulation clock (at `speed`).
-    pub fn clock(&self, clock: Clock, speed: Speed) -> Result<Clock> {
+    /// The clock of the run: `--replay` implies the simulation clock (at `speed`, `max`
+    /// without it).
+    pub fn clock(&self, clock: Clock, speed: Option<Speed>) -> Result<Clock> {
         match clock {
-            Clock::RealTime if self.replay.is_some() => Ok(Clock::Sim { speed }),
+            Clock::RealTime if self.replay.is_some() => Ok(Clock::Sim { speed: speed.unwrap_or(Speed::Max) }),
             Clock::RealTime if self.record.is_some() => bail!("--record needs the simulation clock: --clock sim"),
+            Clock::RealTime if speed.is_some() => bail!("--speed needs the simulation clock: --clock sim or --replay"),
             clock => Ok(clock),
         }
     }
@@ -58,7 +63,11 @@ impl InputArgs {
             None => Vec::new(),
         };
         let inputs = Inputs::new(self.record.is_some(), self.replay.is_some());
-        Ok(Some(RunInputs { inputs, replay, record: self.record.clone() }))
+        let freeport = match self.record {
+            Some(_) => Some(tempfile::Builder::new().prefix("luamotion-freeport-").tempdir()?),
+            None => None,
+        };
+        Ok(Some(RunInputs { inputs, replay, record: self.record.clone(), replay_path: self.replay.clone(), freeport }))
     }
 }
 
@@ -74,7 +83,7 @@ impl RunInputs {
         let replay = self.inputs.replaying().then(|| {
             let serial = self.replay.iter().filter_map(|s| match &s.input {
                 Input::Serial(bytes) => Some((s.cycle, bytes.clone())),
-                Input::Modbus { .. } => None,
+                _ => None,
             });
             serial.collect()
         });
@@ -85,9 +94,33 @@ impl RunInputs {
         }
     }
 
-    /// Writes the record (with `--record`).
+    /// What the script processes are told: where their `FreePort.Eth` inputs are recorded
+    /// or replayed from.
+    pub fn script_args(&self) -> Vec<String> {
+        match (&self.freeport, &self.replay_path) {
+            (Some(dir), _) => vec!["--freeport-record".into(), dir.path().display().to_string()],
+            // Absolute: a script process may run elsewhere.
+            (None, Some(path)) => {
+                let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+                vec!["--freeport-replay".into(), path.display().to_string()]
+            }
+            (None, None) => Vec::new(),
+        }
+    }
+
+    /// Writes the record (with `--record`), the tasks' `FreePort.Eth` inputs merged in.
     pub fn finish(&self) -> Result<()> {
         let Some(path) = &self.record else { return Ok(()) };
+        if let Some(dir) = &self.freeport {
+            for file in std::fs::read_dir(dir.path())? {
+                let file = file?.path();
+                let text = format!("{}\n{}", replay::HEADER, std::fs::read_to_string(&file)?);
+                match replay::parse(text.as_bytes()) {
+                    Ok(inputs) => inputs.into_iter().for_each(|s| self.inputs.record(s.cycle, s.input)),
+                    Err(e) => eprintln!("warning: FreePort inputs of {} not recorded: {e}", file.display()),
+                }
+            }
+        }
         let record = self.inputs.take_record();
         std::fs::write(path, replay::format(&record)).with_context(|| format!("write {}", path.display()))?;
         eprintln!("recorded {} input(s) into {}", record.len(), path.display());

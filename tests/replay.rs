@@ -1,5 +1,6 @@
 //! End to end: a run on the simulation clock fed from outside (Modbus TCP writes of DV
-//! words by mbpoll, serial port 1's bytes from socat) is recorded with `--record`, then
+//! words by mbpoll, serial port 1's bytes from socat, simulated inputs set through the web
+//! view by nc) is recorded with `--record`, then
 //! replayed with `--replay` without the outside peers: the same trace digest and the same
 //! output, replay after replay. Bad record files are refused with their line.
 
@@ -82,6 +83,53 @@ fn machine(dir: &Path) -> PathBuf {
     path
 }
 
+/// One axis (slave 0) and an analog terminal (slave 1) with two inputs.
+fn machine_with_terminal(dir: &Path) -> PathBuf {
+    let path = dir.join("machine.toml");
+    std::fs::write(&path, "[[axes]]\n\n[[slaves]]\ndevice = \"analog_io\"\ninputs = 2\noutputs = 2\n").unwrap();
+    path
+}
+
+/// A program that prints controller input 3 and the terminal's input 1 whenever they
+/// change (and the DV word 0 with `dv`), moving the axis to the input word in um while
+/// input 3 is on; it ends when input 3 goes off again with the word at 5000.
+fn inputs_program(dir: &Path) -> PathBuf {
+    program(
+        dir,
+        "inputs.lua",
+        "Enable(0)\n\
+         Till(function() return IsEnabled(0) end)\n\
+         my_print('waiting for inputs')\n\
+         local start, seen = system_fclk, ''\n\
+         while system_fclk - start < 600000 do\n\
+           local g, a = GetGPI(3), GetSlvAIRaw(1, 1)\n\
+           local now = string.format('gpi %d ai %d dv %d', g, a, ReadModbusWord(0))\n\
+           if now ~= seen then\n\
+             seen = now\n\
+             Print('%s at %d', now, system_fclk)\n\
+             if g == 1 then MoveAbs(0, a / 1000) Till(function() return IsInPos(0) end) end\n\
+             if g == 0 and a == 5000 then break end\n\
+           end\n\
+           Sleep(1)\n\
+         end\n\
+         Print('at %.3f mm', GetPosFb(0))\n",
+    )
+}
+
+/// An HTTP POST by nc to the web view at `port`; the answer's body.
+fn post(port: &str, path: &str) -> String {
+    let mut nc = Command::new(debian_tool("nc"))
+        .args(["-w", "10", "127.0.0.1", port])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nc");
+    let request = format!("POST {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
+    nc.stdin.take().unwrap().write_all(request.as_bytes()).unwrap();
+    let out = nc.wait_with_output().expect("nc");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// `mbpoll` on the controller's Modbus TCP port: holding registers from `reference`,
 /// 0-based; writes `values`, or reads one word without them.
 fn mbpoll(port: &str, reference: &str, values: &[&str]) -> String {
@@ -95,14 +143,11 @@ fn mbpoll(port: &str, reference: &str, values: &[&str]) -> String {
     said.lines().map(|l| l.split_whitespace().collect::<Vec<_>>().join(" ")).collect::<Vec<_>>().join("\n")
 }
 
-/// DV word 0 written three times by mbpoll (the second time with FC 16, DV 5 beside it,
-/// after a write of DH 0), each write moving the axis once the program sees it; the
-/// program acknowledges each value in DV 1, which mbpoll reads before it writes the next.
-#[test]
-fn modbus_writes_are_recorded_and_replayed() {
-    let dir = tempfile::tempdir().unwrap();
-    let program = program(
-        dir.path(),
+/// A program that moves the axis to 10 times DV word 0 whenever it changes and
+/// acknowledges each value in DV 1, until DV 0 is 3.
+fn dv_program(dir: &Path) -> PathBuf {
+    program(
+        dir,
         "dv.lua",
         "Enable(0)\n\
          Till(function() return IsEnabled(0) end)\n\
@@ -119,7 +164,16 @@ fn modbus_writes_are_recorded_and_replayed() {
            Sleep(2)\n\
          end\n\
          Print('last %d at %.3f mm', last, GetPosFb(0))\n",
-    );
+    )
+}
+
+/// DV word 0 written three times by mbpoll (the second time with FC 16, DV 5 beside it,
+/// after a write of DH 0), each write moving the axis once the program sees it; the
+/// program acknowledges each value in DV 1, which mbpoll reads before it writes the next.
+#[test]
+fn modbus_writes_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dv_program(dir.path());
     let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
     let ns = unique_ns("record-modbus");
     let paced = ["--config", config.to_str().unwrap(), "--speed", "20", "--modbus-port", "0"];
@@ -226,13 +280,19 @@ fn bad_records_are_refused_with_their_line() {
     let dir = tempfile::tempdir().unwrap();
     let program = program(dir.path(), "p.lua", "Print('ran')\n");
     let huge = format!("luamotion-inputs 1\n5 serial {}\n", "00".repeat(100_000));
-    let cases: [(&str, &[u8], &str); 6] = [
+    let cases: [(&str, &[u8], &str); 12] = [
         ("garbage", b"\x7fELF\x02\x01\x01\x00\x00\xff\xfe\n", "line 1: not a luamotion input record"),
         ("order", b"luamotion-inputs 1\n9 modbus 0x0000 1\n3 modbus 0x0000 2\n", "line 3: cycle 3 comes after cycle 9"),
         ("kind", b"luamotion-inputs 1\n1 modbus 0x0000 1\n2 freeport 0 6869\n", "line 3: unknown input `freeport`"),
         ("huge", huge.as_bytes(), "line 2: longer than 16384 bytes"),
         ("address", b"luamotion-inputs 1\n1 modbus 0x6B02 1\n", "line 2: 0x6B02 is not a DV, DH or FUN147 word"),
         ("empty", b"", "line 1: empty"),
+        ("pin", b"luamotion-inputs 1\n1 gpi 9 1\n", "line 2: `9` is not a controller input (1..8)"),
+        ("level", b"luamotion-inputs 1\n1 gpi 1 1\n2 gpi 1 5\n", "line 3: `5` is not a level (0 or 1)"),
+        ("word", b"luamotion-inputs 1\n1 ai 1 1 99999\n", "line 2: `99999` is not a word (0..65535)"),
+        ("channel", b"luamotion-inputs 1\n1 ai 1 x 1\n", "line 2: `x` is not an analog input (1..4)"),
+        ("eth", b"luamotion-inputs 1\n1 eth 0 1 connect\n2 eth 0 1 data 4z\n", "line 3: `data 4z` is not connect"),
+        ("task", b"luamotion-inputs 1\n1 eth 99 1 end\n", "line 2: `99` is not a task (0..63)"),
     ];
     for (name, content, expected) in cases {
         let path = dir.path().join(name);
@@ -244,4 +304,286 @@ fn bad_records_are_refused_with_their_line() {
     }
     let missing = run(&unique_ns("bad-record"), &["--replay", "/nonexistent/inputs.txt", program.to_str().unwrap()]);
     assert!(missing.stderr.contains("cannot read /nonexistent/inputs.txt"), "{}", missing.stderr);
+}
+
+/// The web view's simulated inputs (controller input 3, the analog terminal's input 1),
+/// posted by nc while the program waits for them: recorded with their cycles, then
+/// replayed without the web view.
+#[test]
+fn simulated_inputs_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let (config, record, program) =
+        (machine_with_terminal(dir.path()), dir.path().join("inputs.txt"), inputs_program(dir.path()));
+    let ns = unique_ns("record-sim-inputs");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20", "--http", "0"];
+    let (child, lines) =
+        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    let address = until(&lines, "Web view on http://", &mut seen);
+    let port = address.trim_end_matches('/').rsplit(':').next().unwrap().to_string();
+    if !seen.iter().any(|l| l.contains("waiting for inputs")) {
+        until(&lines, "waiting for inputs", &mut seen);
+    }
+    let steps = [
+        ("/api/sim/ai/1/1/2000", "gpi 0 ai 2000"),
+        ("/api/sim/gpi/3/1", "gpi 1 ai 2000"),
+        ("/api/sim/ai/1/1/5000", "gpi 1 ai 5000"),
+        ("/api/sim/gpi/3/0", "gpi 0 ai 5000"),
+    ];
+    for (path, then) in steps {
+        let answer = post(&port, path);
+        assert!(answer.contains("queued for the next cycle"), "{path}: {answer}");
+        until(&lines, then, &mut seen);
+    }
+    assert!(post(&port, "/api/sim/gpi/9/1").contains("400 Bad Request"), "inputs are 1..8");
+    let recorded = end(child, lines, seen);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(inputs, ["ai 1 1 2000", "gpi 3 1", "ai 1 1 5000", "gpi 3 0"], "{text}");
+    let said: Vec<&str> = recorded.task_lines().into_iter().map(|l| l.split(" at ").next().unwrap()).collect();
+    assert_eq!(
+        said,
+        [
+            "waiting for inputs",
+            "gpi 0 ai 0 dv 0",
+            "gpi 0 ai 2000 dv 0",
+            "gpi 1 ai 2000 dv 0",
+            "gpi 1 ai 5000 dv 0",
+            "gpi 0 ai 5000 dv 0",
+            "at 5.000 mm"
+        ],
+        "{}",
+        recorded.out.stderr
+    );
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// A record written by hand: a controller input, a DV word and an analog word in one
+/// cycle, from what would be two servers (the web view, Modbus TCP): the program sees all
+/// three in its turn after that cycle. Replays without `--clock sim`, at `--speed 10` and
+/// `max`, give the same run.
+#[test]
+fn inputs_of_one_cycle_from_two_sources_land_together() {
+    let dir = tempfile::tempdir().unwrap();
+    let (config, program) = (machine_with_terminal(dir.path()), inputs_program(dir.path()));
+    let record = dir.path().join("inputs.txt");
+    std::fs::write(
+        &record,
+        "luamotion-inputs 1\n400 gpi 3 1\n400 modbus 0x0000 7\n400 ai 1 1 3000\n3000 ai 1 1 5000\n3000 gpi 3 0\n",
+    )
+    .unwrap();
+    let mut runs = Vec::new();
+    for speed in ["10", "max"] {
+        let ns = unique_ns("replay-one-cycle");
+        let args = ["--replay", record.to_str().unwrap(), "--speed", speed, "--config", config.to_str().unwrap()];
+        let out = finish(start_run(&ns, &[&args[..], &[program.to_str().unwrap()]].concat()), Duration::from_secs(240));
+        assert!(out.status.success(), "{}", out.stderr);
+        runs.push(out);
+    }
+    let said = runs[0].lines_of_task(0);
+    assert_eq!(
+        said,
+        [
+            "waiting for inputs",
+            "gpi 0 ai 0 dv 0 at 4",
+            "gpi 1 ai 3000 dv 7 at 400",
+            "gpi 0 ai 5000 dv 7 at 3000",
+            "at 3.000 mm"
+        ],
+        "{}",
+        runs[0].stderr
+    );
+    assert_eq!(runs[1].lines_of_task(0), said);
+    let digest = |out: &Finished| {
+        out.stderr
+            .lines()
+            .find(|l| l.contains("trace digest"))
+            .map(|l| l.split_once("trace digest ").unwrap().1.to_string())
+    };
+    assert_eq!(digest(&runs[0]), digest(&runs[1]), "{}", runs[1].stderr);
+    assert!(digest(&runs[0]).is_some(), "{}", runs[0].stderr);
+}
+
+/// `--speed` without the simulation clock is refused; `--replay` brings the clock.
+#[test]
+fn speed_needs_the_simulation_clock() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = program(dir.path(), "p.lua", "Print('ran')\n");
+    let out = run(&unique_ns("speed-alone"), &["--speed", "10", program.to_str().unwrap()]);
+    assert!(!out.status.success() && out.stderr.contains("--speed needs the simulation clock"), "{}", out.stderr);
+}
+
+/// A free port in FreePort's range 3000..10000, asked of the OS by binding 127.0.0.1 to it.
+fn freeport_port() -> u16 {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let seed = std::process::id() as usize + NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed) * 997;
+    (0..7001)
+        .map(|i| 3000 + ((seed * 31 + i * 101) % 7001) as u16)
+        .find(|&p| std::net::TcpListener::bind(("127.0.0.1", p)).is_ok())
+        .expect("a free port in 3000..10000")
+}
+
+/// A `FreePort.Eth` server session fed by nc in two chunks that split a frame: each frame
+/// moves the axis and is echoed; recorded (the peer's connect, bytes and end with their
+/// cycles), then replayed without a peer: the same frames in the same turns.
+#[test]
+fn freeport_server_inputs_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let port = freeport_port();
+    let program = program(
+        dir.path(),
+        "server.lua",
+        &format!(
+            "Enable(0)\n\
+             Till(function() return IsEnabled(0) end)\n\
+             Print('open %d', FreePort.Eth.OpenAsServer(1, {port}, nil, ';'))\n\
+             my_print('listening')\n\
+             local start, peer = system_fclk, false\n\
+             while system_fclk - start < 600000 do\n\
+               if (FreePort.Eth.ConnectCheck(1) == 0) ~= peer then\n\
+                 peer = not peer\n\
+                 Print('peer %s at %d', tostring(peer), system_fclk)\n\
+               end\n\
+               local rc, data, n = FreePort.Eth.Rx(1)\n\
+               if rc == 0 and n > 0 then\n\
+                 Print('frame %s at %d', data, system_fclk)\n\
+                 if data == 'quit' then break end\n\
+                 MoveRel(0, n)\n\
+                 Print('tx %d', (FreePort.Eth.Tx(1, 'echo:' .. data)))\n\
+               end\n\
+               Sleep(1)\n\
+             end\n\
+             FreePort.Eth.Close(1)\n\
+             Till(function() return IsInPos(0) end)\n\
+             Print('at %.3f mm', GetPosFb(0))\n"
+        ),
+    );
+    let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
+    let ns = unique_ns("record-freeport");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20"];
+    let (child, lines) =
+        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    until(&lines, "listening", &mut seen);
+    let mut nc = Command::new(debian_tool("nc"))
+        .args(["-N", "-w", "10", "127.0.0.1", &port.to_string()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nc");
+    let mut to_nc = nc.stdin.take().unwrap();
+    to_nc.write_all(b"A1;BB").unwrap();
+    until(&lines, "frame A1", &mut seen);
+    to_nc.write_all(b"22;").unwrap();
+    until(&lines, "frame BB22", &mut seen);
+    to_nc.write_all(b"quit;").unwrap();
+    drop(to_nc);
+    let echoed = nc.wait_with_output().unwrap();
+    assert_eq!(String::from_utf8_lossy(&echoed.stdout), "echo:A1;echo:BB22;");
+    let recorded = end(child, lines, seen);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(inputs.first(), Some(&"eth 0 1 connect"), "{text}");
+    assert!(inputs.iter().all(|l| l.starts_with("eth 0 1 ")), "{text}");
+    let data: String = inputs.iter().filter_map(|l| l.strip_prefix("eth 0 1 data ")).collect();
+    assert_eq!(data, "41313b424232323b717569743b", "every byte, in order: {text}");
+    let said: Vec<&str> = recorded.task_lines().into_iter().map(|l| l.split(" at ").next().unwrap()).collect();
+    assert_eq!(
+        said,
+        ["open 0", "listening", "peer true", "frame A1", "tx 0", "frame BB22", "tx 0", "frame quit", "at 6.000 mm"],
+        "{}",
+        recorded.out.stderr
+    );
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// A `FreePort.Eth` client that opens until `nc -l` listens (the refused opens are inputs
+/// too), sends a request and reads the answer: replayed without nc, the opens fail and
+/// succeed as recorded.
+#[test]
+fn freeport_client_opens_and_answers_are_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let port = freeport_port();
+    let program = program(
+        dir.path(),
+        "client.lua",
+        &format!(
+            "my_print('connecting')\n\
+             local rc, tries, start = 1, 0, system_fclk\n\
+             repeat rc = FreePort.Eth.OpenAsClient(3, '127.0.0.1', {port}, nil, CR_LF); tries = tries + 1; Sleep(50)\n\
+             until rc == 0 or tries > 2000\n\
+             Print('open %d at %d', rc, system_fclk)\n\
+             Print('tx %d', (FreePort.Eth.Tx(3, 'barcode?')))\n\
+             local data, n = '', 0\n\
+             repeat rc, data, n = FreePort.Eth.Rx(3); Sleep(1) until n > 0 or system_fclk - start > 600000\n\
+             Print('answer %s at %d', data, system_fclk)\n\
+             FreePort.Eth.Close(3)\n\
+             Print('tries %d', tries)\n"
+        ),
+    );
+    let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
+    let ns = unique_ns("record-freeport-client");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20"];
+    let (child, lines) =
+        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    until(&lines, "connecting", &mut seen);
+    std::thread::sleep(Duration::from_millis(300));
+    let mut nc = Command::new(debian_tool("nc"))
+        .args(["-l", "127.0.0.1", &port.to_string()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nc -l");
+    until(&lines, "tx 0", &mut seen);
+    let mut to_nc = nc.stdin.take().unwrap();
+    to_nc.write_all(b"4711\r\n").unwrap();
+    until(&lines, "answer 4711", &mut seen);
+    drop(to_nc);
+    let recorded = end(child, lines, seen);
+    let _ = nc.kill();
+    let asked = nc.wait_with_output().unwrap();
+    assert_eq!(String::from_utf8_lossy(&asked.stdout), "barcode?\r\n");
+    let text = std::fs::read_to_string(&record).unwrap();
+    assert!(text.contains(" eth 0 3 refused\n") && text.contains(" eth 0 3 connect\n"), "{text}");
+    assert!(text.contains(" eth 0 3 data 343731310d0a\n"), "{text}");
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// Modbus RTU on serial port 1 (`run --modbus-port` serves it with the same registers):
+/// mbpoll's writes of DV 0 over the pseudo-terminal are recorded as Modbus writes at
+/// their cycles and replayed without mbpoll or the TCP server.
+#[test]
+fn modbus_rtu_writes_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dv_program(dir.path());
+    let (config, record, link) = (machine(dir.path()), dir.path().join("inputs.txt"), dir.path().join("ttyS1"));
+    let ns = unique_ns("record-rtu");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20", "--modbus-port", "0"];
+    let serial = ["--serial-link", link.to_str().unwrap(), "--record", record.to_str().unwrap()];
+    let (child, lines) = start(&ns, &[&args[..], &serial, &[program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    until(&lines, "Modbus TCP on ", &mut seen);
+    let rtu = |reference: &str, values: &[&str]| {
+        let out = Command::new(debian_tool("mbpoll"))
+            .args(["-m", "rtu", "-b", "38400", "-P", "none", "-a", "1", "-0", "-1", "-o", "2", "-r", reference])
+            .arg(&link)
+            .args(values)
+            .output()
+            .expect("mbpoll");
+        let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        said.lines().map(|l| l.split_whitespace().collect::<Vec<_>>().join(" ")).collect::<Vec<_>>().join("\n")
+    };
+    for value in ["1", "2", "3"] {
+        assert!(rtu("0", &[value]).contains("Written"), "{seen:#?}");
+        let acked = format!("[1]: {value}");
+        assert!(eventually(Duration::from_secs(60), || rtu("1", &[]).contains(&acked)), "no {acked}: {seen:#?}");
+    }
+    let recorded = end(child, lines, seen);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(inputs, ["modbus 0x0000 1", "modbus 0x0000 2", "modbus 0x0000 3"], "{text}");
+    let said = recorded.task_lines();
+    assert!(said.last().is_some_and(|l| l.starts_with("last 3 at 30.000")), "{said:?}");
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
 }

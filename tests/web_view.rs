@@ -421,3 +421,38 @@ fn measure_updates_with_five_clients_at_96_axes() {
         quiet.0, quiet.1, loaded.0, loaded.1, busy.0, busy.1
     );
 }
+
+/// In real time the web view's simulated inputs are the agent's `SimSetGPI` and
+/// `SimSetSlvAIRaw` calls (ASCII functions now): a Native ASCII client reads them back; a
+/// slave that is no analog terminal is the HMPL code, a pin outside 1..8 the client's error.
+#[test]
+fn simulated_inputs_go_through_the_agent_in_real_time() {
+    let ns = unique_ns("web-sim-inputs");
+    let dir = tempfile::tempdir().unwrap();
+    // Slave 4, after the four drives of the built-in machine.
+    let (serving, web) = serve_web(&ns, dir.path(), "[[slaves]]\ndevice = \"analog_io\"\ninputs = 2\noutputs = 2\n");
+    for (path, call) in [("gpi/3/1", "SimSetGPI(3, 1)"), ("ai/4/2/1234", "SimSetSlvAIRaw(4, 2, 1234)")] {
+        let (status, body) = post(&format!("{web}api/sim/{path}"));
+        let answer: Value = serde_json::from_str(&body).unwrap();
+        assert_eq!(
+            (status, answer["call"].as_str(), answer["answer"].as_str()),
+            (200, Some(call), Some("0")),
+            "{body}"
+        );
+    }
+    let (_, body) = post(&format!("{web}api/sim/ai/0/1/5"));
+    assert!(body.contains("\"ok\":false") && body.contains("ERROR 0x"), "a drive has no analog inputs: {body}");
+    assert_eq!(post(&format!("{web}api/sim/gpi/9/1")).0, 400);
+    assert_eq!(post(&format!("{web}api/sim/gpi/1/2")).0, 400);
+    let stream = std::net::TcpStream::connect(("127.0.0.1", serving.ascii_port)).unwrap();
+    let mut answers = BufReader::new(stream.try_clone().unwrap());
+    let mut ask = |line: &str| {
+        use std::io::Write as _;
+        (&stream).write_all(format!("{line}\r\n").as_bytes()).unwrap();
+        let mut answer = String::new();
+        answers.read_line(&mut answer).unwrap();
+        answer.trim_end().to_string()
+    };
+    assert!(eventually(Duration::from_secs(20), || ask("GetGPI(3)") == "1"));
+    assert!(eventually(Duration::from_secs(20), || ask("GetSlvAIRaw(4, 2)") == "1234"));
+}

@@ -271,11 +271,11 @@ declare_functions! {
     ["luamotion sim"] fn SimDriveFault(slv_id: Int, error_code: Int) -> Int;
     /// Simulator only: the electrical level of controller input `gpi_idx` (1..8), before
     /// inversion, as a switch wired to it would set it. Returns 0 or -1.
-    ["luamotion sim"] fn SimSetGPI(gpi_idx: Int, on_off: Int) -> Int;
+    ["luamotion sim", ascii] fn SimSetGPI(gpi_idx: Int, on_off: Int) -> Int;
     /// Simulator only: the switch on input `gpi_idx` (1..) of a digital I/O terminal
     /// (`[[slaves]] device = "digital_io"`), as wired to it. Returns 0, or -1 for no such
     /// terminal or input (a drive's inputs are not simulated).
-    ["luamotion sim"] fn SimSetSlvGPI(slv_slot_id: Int, gpi_idx: Int, on_off: Int) -> Int;
+    ["luamotion sim", ascii] fn SimSetSlvGPI(slv_slot_id: Int, gpi_idx: Int, on_off: Int) -> Int;
 
     // HMPL ch. 2: system.
     /// Disables every axis and clears its path planning.
@@ -381,7 +381,7 @@ declare_functions! {
     ["HMPL 10.4.2", ascii] fn SetSlvAOParam(slv_slot_id: Int, ao_idx: Int, ao_en_bind: Int, ao_scale: Double[Finite], ao_offset: Double[Finite]) -> Int;
     /// Simulator only: the word an analog terminal's converter reads on input `ai_idx`
     /// (0..65535, or -32768..32767), as a signal wired to it would make it. 0 or 0x138F.
-    ["luamotion sim"] fn SimSetSlvAIRaw(slv_slot_id: Int, ai_idx: Int, ai_raw_val: Int) -> Int;
+    ["luamotion sim", ascii] fn SimSetSlvAIRaw(slv_slot_id: Int, ai_idx: Int, ai_raw_val: Int) -> Int;
 
     // HMPL ch. 16: task control.
     /// Starts a task's program in its own process; returns once it runs. 0x0107 no such

@@ -365,7 +365,7 @@ pub fn run(
             // The run's record ends with its programs: what follows depends on when the
             // supervisor notices, which is wall time.
             work.recording &= work.cycle == 0 || !lockstep.all_ended(&work.machine.tasks, &work.endpoint);
-            lockstep.begin(work.cycle + 1, work.endpoint.shared());
+            lockstep.begin(work.cycle + 1, &mut work.machine, work.endpoint.shared());
         }
         work.run_cycle();
         control.cycle.store(work.cycle, Ordering::Release);

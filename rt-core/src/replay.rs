@@ -2,8 +2,9 @@
 //! takes effect at (`luamotion run --clock sim --record FILE`, `--replay FILE`; the format
 //! in docs/replay.md, the choices in docs/decisions.md, "Simulation clock").
 //!
-//! An input lands at a cycle boundary: a Modbus write of a DV, DH or FUN147 word is queued
-//! by the register console and applied by the lockstep gate at the start of cycle k,
+//! An input lands at a cycle boundary: a Modbus write of a DV, DH or FUN147 word (queued
+//! by the register console) or a simulated input (a controller input's level, an analog
+//! terminal's input word, set by the web view) is applied by the lockstep gate at the start of cycle k,
 //! before the cycle and before any task's turn after it; bytes serial port 1 receives are
 //! stamped with the cycle they take effect at, and a task's `FreePort.Serial.Rx` after
 //! cycle c returns only bytes stamped <= c. So the record says exactly what each turn saw,
@@ -17,15 +18,17 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use calls::freeport::EthEvent;
 use crossbeam::queue::ArrayQueue;
+use ipc::messages::{GPIO_PINS, MAX_ANALOG_CHANNELS, MAX_TASKS};
 use ipc::shared::SharedData;
 
 /// The first line of a record file; the number is the format's version.
 pub const HEADER: &str = "luamotion-inputs 1";
 /// Longest line a record file may have (a serial chunk of 4096 bytes in hex fits).
 pub const MAX_LINE: usize = 16 * 1024;
-/// Modbus writes in flight between the console and the next cycle.
-const MODBUS_QUEUE: usize = 4096;
+/// Modbus writes and simulated inputs in flight between the servers and the next cycle.
+const QUEUE: usize = 4096;
 
 /// One input from outside.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -34,6 +37,14 @@ pub enum Input {
     Modbus { address: u16, value: u16 },
     /// Bytes serial port 1 received from its peer (after the line's settings were checked).
     Serial(Vec<u8>),
+    /// The electrical level of controller input `pin` (1..8), as `SimSetGPI` sets it.
+    Gpi { pin: u8, on: bool },
+    /// The word on input `channel` (1..4) of the analog terminal at slave `slave`, as
+    /// `SimSetSlvAIRaw` sets it.
+    Ai { slave: u16, channel: u8, raw: u16 },
+    /// What a `FreePort.Eth` session of task `task` got from its socket (the task records
+    /// it and replays it itself; the record keeps it).
+    Eth { task: u8, session: i64, event: EthEvent },
 }
 
 /// An input and the cycle it takes effect at.
@@ -117,7 +128,8 @@ pub fn parse(mut reader: impl BufRead) -> Result<Vec<Stamped>, RecordError> {
     Ok(inputs)
 }
 
-/// `<cycle> modbus <address> <value>` or `<cycle> serial <hex bytes>`.
+/// `<cycle> modbus <address> <value>`, `<cycle> serial <hex bytes>`, `<cycle> gpi <pin>
+/// <0|1>` or `<cycle> ai <slave> <channel> <word>`.
 fn parse_input(text: &str) -> Result<Stamped, String> {
     let words: Vec<&str> = text.split_ascii_whitespace().collect();
     let cycle = words[0].parse::<u64>().map_err(|_| format!("`{}` is not a cycle number", words[0]))?;
@@ -136,26 +148,45 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
             let value = value.parse::<u16>().map_err(|_| format!("`{value}` is not a word (0..65535)"))?;
             Input::Modbus { address, value }
         }
-        ["serial", hex] => Input::Serial(from_hex(hex).ok_or_else(|| format!("`{hex}` is not bytes in hex"))?),
-        [kind, ..] if !matches!(*kind, "modbus" | "serial") => {
-            return Err(format!("unknown input `{kind}` (known: modbus, serial)"));
+        ["serial", hex] => {
+            Input::Serial(calls::freeport::from_hex(hex).ok_or_else(|| format!("`{hex}` is not bytes in hex"))?)
+        }
+        ["gpi", pin, level] => Input::Gpi {
+            pin: number(pin, 1..=GPIO_PINS as u64, "a controller input (1..8)")? as u8,
+            on: number(level, 0..=1, "a level (0 or 1)")? == 1,
+        },
+        ["ai", slave, channel, raw] => Input::Ai {
+            slave: number(slave, 0..=u16::MAX.into(), "a slave (0..65535)")? as u16,
+            channel: number(channel, 1..=MAX_ANALOG_CHANNELS as u64, "an analog input (1..4)")? as u8,
+            raw: number(raw, 0..=u16::MAX.into(), "a word (0..65535)")? as u16,
+        },
+        ["eth", task, session, event @ ..] if !event.is_empty() => Input::Eth {
+            task: number(task, 0..=MAX_TASKS as u64 - 1, "a task (0..63)")? as u8,
+            session: session.parse().map_err(|_| format!("`{session}` is not a session id"))?,
+            event: EthEvent::parse(event)
+                .ok_or_else(|| format!("`{}` is not connect, refused, data <hex> or end", event.join(" ")))?,
+        },
+        [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "ai" | "eth") => {
+            return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, ai, eth)"));
         }
         [kind, ..] => {
-            return Err(format!(
-                "`{kind}` takes {}",
-                if *kind == "modbus" { "an address and a value" } else { "its bytes in hex" }
-            ));
+            let takes = match *kind {
+                "modbus" => "an address and a value",
+                "serial" => "its bytes in hex",
+                "gpi" => "a pin and a level",
+                "eth" => "a task, a session and an event",
+                _ => "a slave, a channel and a word",
+            };
+            return Err(format!("`{kind}` takes {takes}"));
         }
         [] => return Err("a cycle without an input".into()),
     };
     Ok(Stamped { cycle, input })
 }
 
-fn from_hex(hex: &str) -> Option<Vec<u8>> {
-    if !hex.len().is_multiple_of(2) {
-        return None;
-    }
-    (0..hex.len()).step_by(2).map(|i| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok()).collect()
+/// A decimal number in `range`, or what it should have been.
+fn number(text: &str, range: std::ops::RangeInclusive<u64>, what: &str) -> Result<u64, String> {
+    text.parse::<u64>().ok().filter(|n| range.contains(n)).ok_or_else(|| format!("`{text}` is not {what}"))
 }
 
 /// The record's text: the header, then the inputs in cycle order.
@@ -168,16 +199,20 @@ pub fn format(inputs: &[Stamped]) -> String {
                 let hex: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
                 writeln!(out, "{cycle} serial {hex}")
             }
+            Input::Gpi { pin, on } => writeln!(out, "{cycle} gpi {pin} {}", u8::from(*on)),
+            Input::Ai { slave, channel, raw } => writeln!(out, "{cycle} ai {slave} {channel} {raw}"),
+            Input::Eth { task, session, event } => writeln!(out, "{cycle} eth {task} {session} {event}"),
         };
     }
     out
 }
 
 /// What the run's outside inputs share: the cycle an input arriving now takes effect at,
-/// the console's queued Modbus writes and, with `--record`, the record.
+/// the servers' queued inputs (Modbus writes, simulated inputs, in the order they came)
+/// and, with `--record`, the record.
 pub struct Inputs {
     landing: Arc<AtomicU64>,
-    modbus: ArrayQueue<(u16, u16)>,
+    queue: ArrayQueue<Input>,
     record: Option<Mutex<Vec<Stamped>>>,
     /// Replaying: the outside peers' inputs are dropped, the record's fed instead.
     replaying: bool,
@@ -188,7 +223,7 @@ impl Inputs {
     pub fn new(record: bool, replaying: bool) -> Arc<Self> {
         Arc::new(Inputs {
             landing: Arc::new(AtomicU64::new(1)),
-            modbus: ArrayQueue::new(MODBUS_QUEUE),
+            queue: ArrayQueue::new(QUEUE),
             record: record.then(|| Mutex::new(Vec::new())),
             replaying,
         })
@@ -206,7 +241,14 @@ impl Inputs {
     /// A Modbus write from outside, applied at the start of the next cycle; false when the
     /// queue is full or a replay ignores outside writes.
     pub fn modbus_write(&self, address: u16, value: u16) -> bool {
-        !self.replaying && self.modbus.push((address, value)).is_ok()
+        !self.replaying && self.queue.push(Input::Modbus { address, value }).is_ok()
+    }
+
+    /// A simulated input set from outside (`Input::Gpi`, `Input::Ai`), applied at the start
+    /// of the next cycle; false when the queue is full or a replay ignores outside inputs.
+    pub fn sim_input(&self, input: Input) -> bool {
+        debug_assert!(matches!(input, Input::Gpi { .. } | Input::Ai { .. }));
+        !self.replaying && self.queue.push(input).is_ok()
     }
 
     /// Keeps an input for the record (nothing without `--record`).
@@ -228,38 +270,43 @@ impl Inputs {
     }
 }
 
-/// The lockstep gate's part: the Modbus writes, queued or replayed, applied at the start
-/// of their cycle.
+/// The lockstep gate's part: the Modbus writes and simulated inputs, queued or replayed,
+/// applied at the start of their cycle.
 pub struct Feed {
     inputs: Arc<Inputs>,
-    replay: VecDeque<(u64, u16, u16)>,
+    replay: VecDeque<Stamped>,
 }
 
 impl Feed {
     /// `replay`: the record's inputs (its serial bytes go to serial port 1, not here).
     pub fn new(inputs: Arc<Inputs>, replay: &[Stamped]) -> Self {
-        let replay = replay
-            .iter()
-            .filter_map(|s| match s.input {
-                Input::Modbus { address, value } => Some((s.cycle, address, value)),
-                Input::Serial(_) => None,
-            })
-            .collect();
+        // Serial port 1 and the tasks feed theirs.
+        let replay =
+            replay.iter().filter(|s| !matches!(s.input, Input::Serial(_) | Input::Eth { .. })).cloned().collect();
         Feed { inputs, replay }
     }
 
-    /// Before cycle `cycle`: applies its inputs; from now on, arrivals land at the next one.
-    pub fn begin(&mut self, cycle: u64, shared: &SharedData) {
-        while let Some(&(at, address, value)) = self.replay.front()
-            && at <= cycle
-        {
-            self.replay.pop_front();
-            write_word(shared, address, value);
-            self.inputs.record(cycle, Input::Modbus { address, value });
+    /// Before cycle `cycle`: applies its inputs, a simulated one with `simulate` (false: the
+    /// machine lacks that input, and it is not recorded); from now on, arrivals land at the
+    /// next cycle.
+    pub fn begin(&mut self, cycle: u64, shared: &SharedData, mut simulate: impl FnMut(&Input) -> bool) {
+        let mut apply = |input: Input| {
+            let applied = match input {
+                Input::Modbus { address, value } => write_word(shared, address, value),
+                Input::Gpi { .. } | Input::Ai { .. } => simulate(&input),
+                Input::Serial(_) | Input::Eth { .. } => false,
+            };
+            if applied {
+                self.inputs.record(cycle, input);
+            } else {
+                tracing::warn!(cycle, ?input, "an outside input the machine has no place for: dropped");
+            }
+        };
+        while self.replay.front().is_some_and(|s| s.cycle <= cycle) {
+            apply(self.replay.pop_front().expect("front").input);
         }
-        while let Some((address, value)) = self.inputs.modbus.pop() {
-            write_word(shared, address, value);
-            self.inputs.record(cycle, Input::Modbus { address, value });
+        while let Some(input) = self.inputs.queue.pop() {
+            apply(input);
         }
         self.inputs.landing.store(cycle + 1, Ordering::Release);
     }
@@ -280,9 +327,18 @@ mod tests {
             Stamped { cycle: 3, input: Input::Serial(b"hi;\x00\xff".to_vec()) },
             Stamped { cycle: 90, input: Input::Modbus { address: 0x8001, value: 65535 } },
             Stamped { cycle: 91, input: Input::Modbus { address: 0x3000, value: 1 } },
+            Stamped { cycle: 91, input: Input::Gpi { pin: 8, on: true } },
+            Stamped { cycle: 92, input: Input::Gpi { pin: 1, on: false } },
+            Stamped { cycle: 92, input: Input::Ai { slave: 4, channel: 2, raw: 65535 } },
+            Stamped { cycle: 93, input: Input::Eth { task: 63, session: -2, event: EthEvent::Data(b"ok".to_vec()) } },
+            Stamped { cycle: 93, input: Input::Eth { task: 0, session: 1, event: EthEvent::End } },
         ];
         let text = format(&inputs);
         assert!(text.starts_with("luamotion-inputs 1\n3 modbus 0x0000 7\n3 serial 68693b00ff\n"), "{text}");
+        assert!(
+            text.ends_with("\n91 gpi 8 1\n92 gpi 1 0\n92 ai 4 2 65535\n93 eth 63 -2 data 6f6b\n93 eth 0 1 end\n"),
+            "{text}"
+        );
         assert_eq!(parsed(&text).unwrap(), inputs);
         assert_eq!(parsed("luamotion-inputs 1\n# a comment\n\n5 modbus 0x0001 2\r\n").unwrap().len(), 1);
     }
@@ -295,7 +351,22 @@ mod tests {
             ("\u{7f}ELF\x02\x01\x01", "line 1: not a luamotion input record"),
             ("luamotion-inputs 2\n", "line 1: not a luamotion input record"),
             ("luamotion-inputs 1\n5 modbus 0x0000 1\n4 modbus 0x0000 2\n", "line 3: cycle 4 comes after cycle 5"),
-            ("luamotion-inputs 1\n5 gpi 3 1\n", "line 2: unknown input `gpi`"),
+            ("luamotion-inputs 1\n5 do 3 1\n", "line 2: unknown input `do` (known: modbus, serial, gpi, ai, eth)"),
+            ("luamotion-inputs 1\n5 eth 64 1 end\n", "line 2: `64` is not a task (0..63)"),
+            ("luamotion-inputs 1\n5 eth 0 x end\n", "line 2: `x` is not a session id"),
+            ("luamotion-inputs 1\n5 eth 0 1 data 6g\n", "line 2: `data 6g` is not connect, refused, data <hex>"),
+            ("luamotion-inputs 1\n5 eth 0 1 open\n", "line 2: `open` is not connect"),
+            ("luamotion-inputs 1\n5 eth 0 1\n", "line 2: `eth` takes a task, a session and an event"),
+            ("luamotion-inputs 1\n5 gpi 9 1\n", "line 2: `9` is not a controller input (1..8)"),
+            ("luamotion-inputs 1\n5 gpi 0 1\n", "line 2: `0` is not a controller input"),
+            ("luamotion-inputs 1\n5 gpi 1 2\n", "line 2: `2` is not a level (0 or 1)"),
+            ("luamotion-inputs 1\n5 gpi -1 1\n", "line 2: `-1` is not a controller input"),
+            ("luamotion-inputs 1\n5 gpi 1\n", "line 2: `gpi` takes a pin and a level"),
+            ("luamotion-inputs 1\n5 ai 1 5 0\n", "line 2: `5` is not an analog input (1..4)"),
+            ("luamotion-inputs 1\n5 ai 1 1 65536\n", "line 2: `65536` is not a word (0..65535)"),
+            ("luamotion-inputs 1\n5 ai 70000 1 1\n", "line 2: `70000` is not a slave"),
+            ("luamotion-inputs 1\n5 ai 1 0x10 1\n", "line 2: `0x10` is not an analog input"),
+            ("luamotion-inputs 1\n5 ai 1 1 1 1\n", "line 2: `ai` takes a slave, a channel and a word"),
             ("luamotion-inputs 1\nfive modbus 0x0000 1\n", "line 2: `five` is not a cycle number"),
             ("luamotion-inputs 1\n0 modbus 0x0000 1\n", "line 2: cycle 0"),
             ("luamotion-inputs 1\n1 modbus 0x6B10 1\n", "line 2: 0x6B10 is not a DV, DH or FUN147 word"),
@@ -327,21 +398,31 @@ mod tests {
         ];
         let mut feed = Feed::new(inputs.clone(), &replay);
         assert!(inputs.modbus_write(0x0000, 5));
+        assert!(inputs.sim_input(Input::Gpi { pin: 3, on: true }));
         assert_eq!(shared.dv_word(0), Some(0), "not before the cycle");
-        feed.begin(1, &shared);
+        let mut simulated = Vec::new();
+        feed.begin(1, &shared, |input| {
+            simulated.push(input.clone());
+            true
+        });
         assert_eq!((shared.dv_word(0), shared.dv_word(1)), (Some(5), Some(0)));
+        assert_eq!(simulated, [Input::Gpi { pin: 3, on: true }]);
         assert_eq!(inputs.landing().load(Ordering::Acquire), 2);
-        feed.begin(2, &shared);
+        // A simulated input the machine lacks is dropped, not recorded.
+        assert!(inputs.sim_input(Input::Ai { slave: 9, channel: 1, raw: 1 }));
+        feed.begin(2, &shared, |_| false);
         assert_eq!(shared.dv_word(1), Some(11));
         let record = inputs.take_record();
         assert_eq!(
             record,
             [
                 Stamped { cycle: 1, input: Input::Modbus { address: 0, value: 5 } },
+                Stamped { cycle: 1, input: Input::Gpi { pin: 3, on: true } },
                 Stamped { cycle: 2, input: Input::Modbus { address: 1, value: 11 } },
             ]
         );
         let replaying = Inputs::new(false, true);
         assert!(!replaying.modbus_write(0x0000, 1), "a replay takes no outside writes");
+        assert!(!replaying.sim_input(Input::Gpi { pin: 1, on: true }), "nor outside simulated inputs");
     }
 }

@@ -27,6 +27,7 @@ use ipc::messages::{Snapshot, TaskState};
 use ipc::shared::SharedData;
 use ipc::task_table::{Baton, RunState, TaskSlot, TaskTable};
 
+use crate::machine::Machine;
 use crate::replay::Feed;
 use crate::tasks::Tasks;
 
@@ -126,9 +127,9 @@ impl Lockstep {
     }
 
     /// Before cycle `cycle`, with no task's turn in progress: its outside inputs.
-    pub fn begin(&mut self, cycle: u64, shared: &SharedData) {
+    pub fn begin(&mut self, cycle: u64, machine: &mut Machine, shared: &SharedData) {
         if let Some(feed) = &mut self.feed {
-            feed.begin(cycle, shared);
+            feed.begin(cycle, shared, |input| crate::dispatch::simulate(machine, input));
         }
     }
 

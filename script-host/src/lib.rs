@@ -24,6 +24,7 @@ use ipc::task_table::{EndCode, RunState, TaskSlot, TaskTable};
 use ipc::{IpcError, Namespace, PreparedEndpoint, TaskEndpoint};
 
 use bindings::Host;
+pub use bindings::freeport_sim::FreePortInputs;
 use debugger::{Debugger, SharedTable};
 
 pub struct ScriptArgs {
@@ -40,6 +41,8 @@ pub struct ScriptArgs {
     pub user_ascii: String,
     /// Where `FreePort.Eth.OpenAsServer` listens.
     pub freeport_bind: std::net::IpAddr,
+    /// On the simulation clock: where FreePort's inputs are recorded or replayed from.
+    pub freeport_inputs: FreePortInputs,
 }
 
 /// A pooled process (`script --pool <place>`): what it knows before the core hands it a task.
@@ -51,6 +54,7 @@ pub struct PoolArgs {
     pub data_dir: PathBuf,
     pub user_ascii: String,
     pub freeport_bind: std::net::IpAddr,
+    pub freeport_inputs: FreePortInputs,
 }
 
 impl PoolArgs {
@@ -65,6 +69,7 @@ impl PoolArgs {
             program,
             user_ascii: self.user_ascii,
             freeport_bind: self.freeport_bind,
+            freeport_inputs: self.freeport_inputs,
         }
     }
 }
@@ -184,7 +189,9 @@ fn run_attached(args: ScriptArgs, source: &str, host: Host) -> Result<(), Script
 
     let memory_limit = args.memory_limit_mib as usize * 1024 * 1024;
     let lua = sandbox::new_vm(memory_limit).map_err(|e| ScriptError::lua(e.to_string()))?;
-    let host = Rc::new(host.with_user_ascii(args.user_ascii.clone()).with_freeport_bind(args.freeport_bind));
+    let host = Rc::new(
+        host.with_user_ascii(args.user_ascii.clone()).with_freeport(args.freeport_bind, args.freeport_inputs.clone()),
+    );
     bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_system_variables(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
     bindings::install_print(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;

@@ -26,6 +26,7 @@ use ipc::events::EventReader;
 use ipc::messages::{Snapshot, TaskState, motion_status};
 use ipc::task_table::TaskTable;
 use ipc::{IpcError, Monitor, Namespace};
+use rt_core::replay::{Input, Inputs};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use tokio::sync::watch;
@@ -49,6 +50,8 @@ struct App {
     agent: Agent,
     /// None in `run`, which has no DRL console.
     drl: Option<Arc<Mutex<DrlHandler>>>,
+    /// On the simulation clock: where the simulated inputs go, to land at a cycle boundary.
+    inputs: Option<Arc<Inputs>>,
 }
 
 /// A running web view: its server and the thread that reads the controller's state. Drop
@@ -62,8 +65,14 @@ pub struct WebView {
 
 impl WebView {
     /// Follows the controller in `ns` and serves the page on `bind:port` (0: a free port,
-    /// see `address`).
-    pub fn start(ns: Namespace, bind: &str, port: u16, agent: Agent, drl: Option<DrlHandler>) -> Result<Self> {
+    /// see `address`); `inputs`: the simulation clock's (`run --clock sim`).
+    pub fn start(
+        ns: Namespace,
+        (bind, port): (&str, u16),
+        agent: Agent,
+        drl: Option<DrlHandler>,
+        inputs: Option<Arc<Inputs>>,
+    ) -> Result<Self> {
         let (publish, state) = watch::channel(Arc::<str>::from("{}"));
         let stop = Arc::new(AtomicBool::new(false));
         let stopped = stop.clone();
@@ -76,7 +85,9 @@ impl WebView {
             .route("/api/axis/{id}/{action}", post(axis_command))
             .route("/api/drl", get(drl_status))
             .route("/api/drl/{op}", post(drl_command))
-            .with_state(App { state, agent, drl: drl.map(|drl| Arc::new(Mutex::new(drl))) });
+            .route("/api/sim/gpi/{pin}/{level}", post(sim_gpi))
+            .route("/api/sim/ai/{slave}/{channel}/{raw}", post(sim_ai))
+            .with_state(App { state, agent, drl: drl.map(|drl| Arc::new(Mutex::new(drl))), inputs });
         runtime.spawn(async move {
             if let Err(e) = axum::serve(listener, app).await {
                 tracing::warn!("web view: {e}");
@@ -220,6 +231,30 @@ async fn axis_command(
     };
     let answer = app.agent.call(&line).await;
     Ok(Json(json!({"call": line, "ok": !answer.starts_with("ERROR"), "answer": answer})))
+}
+
+/// A controller input's level as a switch wired to it sets it (`SimSetGPI`).
+async fn sim_gpi(State(app): State<App>, Path((pin, level)): Path<(u8, u8)>) -> impl IntoResponse {
+    if level > 1 || !(1..=ipc::messages::GPIO_PINS as u8).contains(&pin) {
+        return Err((axum::http::StatusCode::BAD_REQUEST, "inputs are 1..8, levels 0 or 1".to_string()));
+    }
+    Ok(simulate(&app, format!("SimSetGPI({pin}, {level})"), Input::Gpi { pin, on: level == 1 }).await)
+}
+
+/// The word on an analog terminal's input (`SimSetSlvAIRaw`).
+async fn sim_ai(State(app): State<App>, Path((slave, channel, raw)): Path<(u16, u8, u16)>) -> impl IntoResponse {
+    simulate(&app, format!("SimSetSlvAIRaw({slave}, {channel}, {raw})"), Input::Ai { slave, channel, raw }).await
+}
+
+/// A simulated input: on the simulation clock queued to land at the next cycle boundary
+/// (and be recorded, docs/replay.md), in real time the agent's call.
+async fn simulate(app: &App, line: String, input: Input) -> Json<Value> {
+    let answer = match &app.inputs {
+        Some(inputs) if inputs.sim_input(input) => "queued for the next cycle".to_string(),
+        Some(_) => "ERROR not taken: a replay's inputs are the record's, or the queue is full".to_string(),
+        None => app.agent.call(&line).await,
+    };
+    Json(json!({"call": line, "ok": !answer.starts_with("ERROR"), "answer": answer}))
 }
 
 /// DXMC A.3 registers.

@@ -89,6 +89,20 @@ pub fn execute(machine: &mut Machine, caller: u8, request: &Request, reply: &mut
     Disposition::Reply
 }
 
+/// A simulated input set from outside (`replay::Input::Gpi`, `Input::Ai`), applied by the
+/// lockstep gate with the code of the command a program would call for it (`SimSetGPI`,
+/// `SimSetSlvAIRaw`); false when the machine has no such input.
+pub fn simulate(machine: &mut Machine, input: &crate::replay::Input) -> bool {
+    use crate::replay::Input;
+    match *input {
+        Input::Gpi { pin, on } => machine.io.set_level(pin.into(), on.into()).is_ok(),
+        Input::Ai { slave, channel, raw } => {
+            analog::sim_set_input(machine, slave.into(), channel.into(), raw.into()).is_ok()
+        }
+        Input::Modbus { .. } | Input::Serial(_) | Input::Eth { .. } => false,
+    }
+}
+
 /// Completes a deferred call once its operation is over; false while it still runs.
 pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bool {
     let result = match wire::decode(request) {

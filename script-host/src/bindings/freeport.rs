@@ -4,7 +4,7 @@
 //! listener's port can be bound again at once (std sets SO_REUSEADDR on Unix).
 
 use std::cell::RefCell;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 use std::io::{ErrorKind, Read, Write};
 use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream};
 use std::rc::Rc;
@@ -14,6 +14,7 @@ use api::Local;
 use mlua::{Function, Lua, MultiValue, Value};
 use serial::framing::{Deframer, Framing, Received};
 
+use super::freeport_sim::{Event, Sim};
 use super::{Host, int_arg, lua_string_arg};
 
 /// DXMC 8.3 FreePort: "0 = success, other = error"; the manual numbers no errors, these
@@ -48,36 +49,109 @@ const READ_PER_CALL: usize = 64 * 1024;
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
 const SEND_TIMEOUT: Duration = Duration::from_secs(1);
 
+/// On the simulation clock: the task's inputs, the cycle of its turn, the session's id.
+struct Turn<'a> {
+    sim: &'a mut Sim,
+    cycle: u64,
+    id: i64,
+}
+
+impl Turn<'_> {
+    /// An input read from the socket now: it takes effect at the next cycle.
+    fn stamp(&self, due: &mut VecDeque<(u64, Event)>, event: Event) {
+        due.push_back((self.cycle + 1, event));
+    }
+}
+
 struct Session {
     listener: Option<TcpListener>,
     peer: Option<TcpStream>,
     received: Deframer,
-    /// The peer has sent its last byte (end of stream).
+    /// The peer has sent its last byte (end of stream), as the program sees it.
     peer_done: bool,
+    /// On the simulation clock: the socket's inputs not yet due, with their cycles.
+    due: VecDeque<(u64, Event)>,
+    /// On the simulation clock: the program sees a peer (its `Connect` is due).
+    connected: bool,
+    /// On the simulation clock: the socket's peer has ended its stream (its `End` may not
+    /// be due yet).
+    socket_done: bool,
 }
 
 impl Session {
     fn new(listener: Option<TcpListener>, peer: Option<TcpStream>, framing: Framing) -> Self {
         // The frames a task has not read are not bounded here: a peer sends at most
         // `READ_PER_CALL` bytes a call.
-        Session { listener, peer, received: Deframer::new(framing, MAX_DATA, usize::MAX), peer_done: false }
+        Session {
+            listener,
+            peer,
+            received: Deframer::new(framing, MAX_DATA, usize::MAX),
+            peer_done: false,
+            due: VecDeque::new(),
+            connected: false,
+            socket_done: false,
+        }
     }
 
-    /// Takes a waiting peer (server) and reads it.
-    fn poll(&mut self) {
+    /// Whether the program sees a peer.
+    fn has_peer(&self, sim: bool) -> bool {
+        if sim { self.connected } else { self.peer.is_some() }
+    }
+
+    fn forget_peer(&mut self) {
+        (self.peer, self.peer_done, self.connected, self.socket_done) = (None, false, false, false);
+    }
+
+    /// Takes a waiting peer (server) and reads it; on the simulation clock, stamps what
+    /// came and applies what is due by the turn's cycle (a replay's, without sockets).
+    fn poll(&mut self, mut turn: Option<&mut Turn>) {
+        match turn.as_deref_mut() {
+            Some(turn) if turn.sim.replaying() => {
+                while let Some(event) = turn.sim.next_due(turn.id, turn.cycle) {
+                    self.due.push_back((turn.cycle, event));
+                }
+            }
+            _ => self.poll_socket(turn.as_deref_mut()),
+        }
+        let Some(turn) = turn else { return };
+        // Recorded as the program sees it: what a session closed before it was due is not
+        // an input of the run.
+        while self.due.front().is_some_and(|(at, _)| *at <= turn.cycle) {
+            let (at, event) = self.due.pop_front().expect("front");
+            turn.sim.note(at, turn.id, &event);
+            match event {
+                Event::Connect => self.connected = true,
+                Event::Data(bytes) => self.received.receive(&bytes),
+                Event::End => {
+                    self.peer_done = true;
+                    self.received.drop_unfinished();
+                }
+                Event::Refused => {}
+            }
+        }
+    }
+
+    fn poll_socket(&mut self, mut turn: Option<&mut Turn>) {
+        // On the simulation clock the next peer waits until the program has seen the
+        // last one's end.
         if self.peer.is_none()
+            && !self.socket_done
             && let Some(listener) = &self.listener
             && let Ok((stream, _)) = listener.accept()
             && stream.set_nonblocking(true).is_ok()
         {
             self.peer = Some(stream);
+            if let Some(turn) = turn.as_deref_mut() {
+                turn.stamp(&mut self.due, Event::Connect);
+            }
         }
-        self.read_peer();
+        self.read_peer(turn);
         // A session has one peer: later ones are closed at once rather than left waiting
         // in the backlog, bounded per call so that a flood cannot stall the task. The peer
         // is read first, and one that has stopped sending keeps its successor waiting.
         if self.peer.is_some()
             && !self.peer_done
+            && !self.socket_done
             && let Some(listener) = &self.listener
         {
             for _ in 0..REFUSED_PER_CALL {
@@ -90,8 +164,8 @@ impl Session {
 
     /// Reads what arrived and cuts it into frames; the unfinished frame of a peer that has
     /// stopped sending is dropped.
-    fn read_peer(&mut self) {
-        if self.peer_done {
+    fn read_peer(&mut self, turn: Option<&mut Turn>) {
+        if self.peer_done || self.socket_done {
             return;
         }
         let Some(peer) = &mut self.peer else { return };
@@ -110,58 +184,120 @@ impl Session {
                 break false;
             }
         };
-        self.received.receive(&arrived);
-        if gone {
-            self.peer_done = true;
-            self.received.drop_unfinished();
+        match turn {
+            Some(turn) => {
+                if !arrived.is_empty() {
+                    turn.stamp(&mut self.due, Event::Data(arrived));
+                }
+                if gone {
+                    self.socket_done = true;
+                    turn.stamp(&mut self.due, Event::End);
+                }
+            }
+            None => {
+                self.received.receive(&arrived);
+                if gone {
+                    self.peer_done = true;
+                    self.received.drop_unfinished();
+                }
+            }
         }
     }
 
     /// Rx: the oldest frame. A peer that has stopped sending stays until Rx finds none of
     /// its frames left, so the answers to its last requests still go out (a half-closed
     /// connection, as `nc -N` leaves it); a peer that has gone altogether fails those sends.
-    fn next_frame(&mut self) -> (Code, Vec<u8>) {
-        self.poll();
+    fn next_frame(&mut self, turn: Option<&mut Turn>) -> (Code, Vec<u8>) {
+        let sim = turn.is_some();
+        self.poll(turn);
         match self.received.pop() {
             Some(Received::Frame(data)) => (Code::Ok, data),
             // No overrun: the queue is unbounded.
             Some(Received::TooLong | Received::Overrun(_)) => (Code::TooLong, Vec::new()),
             None if self.peer_done => {
-                self.peer = None;
-                self.peer_done = false;
+                self.forget_peer();
                 (Code::NotConnected, Vec::new())
             }
-            None if self.peer.is_none() => (Code::NotConnected, Vec::new()),
+            None if !self.has_peer(sim) => (Code::NotConnected, Vec::new()),
             None => (Code::Ok, Vec::new()),
         }
     }
 
-    fn send(&mut self, data: &[u8]) -> Code {
-        self.poll();
-        let Some(peer) = &mut self.peer else { return Code::NotConnected };
-        let packet = self.received.framing().frame(data);
-        let sent = peer
-            .set_nonblocking(false)
-            .and_then(|()| peer.set_write_timeout(Some(SEND_TIMEOUT)))
-            .and_then(|()| peer.write_all(&packet))
-            .and_then(|()| peer.set_nonblocking(true));
-        if sent.is_ok() {
+    fn send(&mut self, data: &[u8], turn: Option<&mut Turn>) -> Code {
+        let Some(turn) = turn else {
+            self.poll(None);
+            return self.send_now(data);
+        };
+        self.poll(Some(&mut *turn));
+        if !self.connected {
+            return Code::NotConnected;
+        }
+        // On the simulation clock a send to a peer the program sees is accepted (a
+        // replay's is dropped); a socket that refuses it is the peer's end, an input.
+        if self.peer.is_some() && !self.write(data) {
+            self.peer = None;
+            if !std::mem::replace(&mut self.socket_done, true) {
+                turn.stamp(&mut self.due, Event::End);
+            }
+        }
+        Code::Ok
+    }
+
+    fn send_now(&mut self, data: &[u8]) -> Code {
+        if self.peer.is_none() {
+            return Code::NotConnected;
+        }
+        if self.write(data) {
             Code::Ok
         } else {
-            self.peer = None;
-            self.peer_done = false;
+            self.forget_peer();
             Code::SendFailed
         }
+    }
+
+    /// Writes a frame of `data` to the socket's peer; false if it fails.
+    fn write(&mut self, data: &[u8]) -> bool {
+        let packet = self.received.framing().frame(data);
+        let Some(peer) = &mut self.peer else { return false };
+        peer.set_nonblocking(false)
+            .and_then(|()| peer.set_write_timeout(Some(SEND_TIMEOUT)))
+            .and_then(|()| peer.write_all(&packet))
+            .and_then(|()| peer.set_nonblocking(true))
+            .is_ok()
     }
 }
 
 thread_local! {
     /// The task's sessions by id; the Lua state runs on one thread.
     static SESSIONS: RefCell<BTreeMap<i64, Session>> = const { RefCell::new(BTreeMap::new()) };
+    /// On the simulation clock: the task's FreePort inputs (made on first use).
+    static SIM: RefCell<Option<Sim>> = const { RefCell::new(None) };
 }
 
-fn with_session<T>(id: i64, f: impl FnOnce(&mut Session) -> T) -> Result<T, Code> {
-    SESSIONS.with_borrow_mut(|sessions| sessions.get_mut(&id).map(f).ok_or(Code::NoSession))
+/// `f` with the turn of session `id` on the simulation clock, `None` in real time.
+fn with_turn<T>(host: &Host, id: i64, f: impl FnOnce(Option<&mut Turn>) -> T) -> T {
+    let cycle = {
+        let mut endpoint = host.endpoint.borrow_mut();
+        endpoint.lockstep().then(|| endpoint.snapshot().cycle)
+    };
+    let Some(cycle) = cycle else { return f(None) };
+    SIM.with_borrow_mut(|sim| {
+        if sim.is_none() {
+            // Inputs that cannot be written or read: stamped, not recorded or replayed.
+            let made = Sim::new(host.task, &host.freeport_inputs);
+            *sim = Some(made.unwrap_or_else(|_| Sim::new(host.task, &Default::default()).expect("live")));
+        }
+        f(Some(&mut Turn { sim: sim.as_mut().expect("made"), cycle, id }))
+    })
+}
+
+fn with_session<T>(host: &Host, id: i64, f: impl FnOnce(&mut Session, Option<&mut Turn>) -> T) -> Result<T, Code> {
+    with_turn(host, id, |turn| SESSIONS.with_borrow_mut(|sessions| sessions.get_mut(&id).map(|s| f(s, turn))))
+        .ok_or(Code::NoSession)
+}
+
+fn close(id: i64) -> Code {
+    SESSIONS.with_borrow_mut(|s| s.remove(&id)).map_or(Code::NoSession, |_| Code::Ok)
 }
 
 /// A start byte (at most one: nil, 0..0xFF or a 1-character string) or end bytes (nil, a
@@ -186,22 +322,50 @@ fn port(n: i64) -> Option<u16> {
     PORTS.contains(&n).then_some(n as u16)
 }
 
-/// Adds a session made by `open` unless the id is taken or the task has too many.
-fn open(id: i64, open: impl FnOnce() -> Result<Session, Code>) -> Code {
-    SESSIONS.with_borrow_mut(|sessions| {
-        if sessions.contains_key(&id) {
-            return Code::SessionInUse;
-        }
-        if sessions.len() >= MAX_SESSIONS {
-            return Code::TooManySessions;
-        }
-        match open() {
-            Ok(session) => {
-                sessions.insert(id, session);
-                Code::Ok
+/// Adds a session made by `open` (told whether it replays: no socket) unless the id is
+/// taken or the task has too many. On the simulation clock whether it opens is an input:
+/// recorded, or replayed from the record (`connect` for a client, `refused` for either).
+fn open(host: &Host, id: i64, open: impl FnOnce(bool) -> Result<Session, Code>) -> Code {
+    with_turn(host, id, |turn| {
+        SESSIONS.with_borrow_mut(|sessions| {
+            if sessions.contains_key(&id) {
+                return Code::SessionInUse;
             }
-            Err(code) => code,
-        }
+            if sessions.len() >= MAX_SESSIONS {
+                return Code::TooManySessions;
+            }
+            let opened = match turn {
+                None => open(false),
+                Some(turn) if turn.sim.replaying() => match open(true) {
+                    // A client's open is its `connect`; a server's fails only as recorded.
+                    Ok(session) if session.connected => match turn.sim.next_due(id, turn.cycle) {
+                        Some(Event::Connect) => Ok(session),
+                        _ => Err(Code::OpenFailed),
+                    },
+                    Ok(_) if turn.sim.refused(id, turn.cycle) => Err(Code::OpenFailed),
+                    opened => opened,
+                },
+                Some(turn) => {
+                    let opened = open(false);
+                    let event = match &opened {
+                        Ok(session) if session.connected => Some(Event::Connect),
+                        Ok(_) => None,
+                        Err(_) => Some(Event::Refused),
+                    };
+                    if let Some(event) = event {
+                        turn.sim.note(turn.cycle, id, &event);
+                    }
+                    opened
+                }
+            };
+            match opened {
+                Ok(session) => {
+                    sessions.insert(id, session);
+                    Code::Ok
+                }
+                Err(code) => code,
+            }
+        })
     })
 }
 
@@ -240,7 +404,10 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 let (Some(port), Some(framing)) = (port(int_arg(lua, spec, &args, 1)?), framing(&args, 2)) else {
                     return Ok(MultiValue::from_vec(vec![Value::Integer(code(Code::BadArgument))]));
                 };
-                open(id, || {
+                open(&host, id, |replaying| {
+                    if replaying {
+                        return Ok(Session::new(None, None, framing));
+                    }
                     let address = SocketAddr::new(host.freeport_bind, port);
                     let listener = TcpListener::bind(address).map_err(|_| Code::OpenFailed)?;
                     listener.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
@@ -255,11 +422,17 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 else {
                     return Ok(MultiValue::from_vec(vec![Value::Integer(code(Code::BadArgument))]));
                 };
-                open(id, || {
-                    let stream = TcpStream::connect_timeout(&SocketAddr::new(ip, port), CONNECT_TIMEOUT)
-                        .map_err(|_| Code::OpenFailed)?;
-                    stream.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
-                    Ok(Session::new(None, Some(stream), framing))
+                open(&host, id, |replaying| {
+                    let mut session = Session::new(None, None, framing);
+                    // On the simulation clock the program sees the peer at once.
+                    session.connected = true;
+                    if !replaying {
+                        let stream = TcpStream::connect_timeout(&SocketAddr::new(ip, port), CONNECT_TIMEOUT)
+                            .map_err(|_| Code::OpenFailed)?;
+                        stream.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
+                        session.peer = Some(stream);
+                    }
+                    Ok(session)
                 })
             }
             Local::EthTx => {
@@ -268,14 +441,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 let status = match message_bytes(&msg) {
                     None => Code::BadArgument,
                     Some(bytes) if bytes.len() > MAX_DATA => Code::TooLong,
-                    Some(bytes) => with_session(id, |s| s.send(&bytes)).unwrap_or_else(|c| c),
+                    Some(bytes) => with_session(&host, id, |s, turn| s.send(&bytes, turn)).unwrap_or_else(|c| c),
                 };
                 results.push_back(msg);
                 status
             }
             Local::EthRx => {
                 let id = int_arg(lua, spec, &args, 0)?;
-                let frame = with_session(id, Session::next_frame);
+                let frame = with_session(&host, id, Session::next_frame);
                 let (status, data) = frame.unwrap_or_else(|c| (c, Vec::new()));
                 results.push_back(Value::String(lua.create_string(&data)?));
                 results.push_back(Value::Integer(data.len() as i64));
@@ -283,16 +456,18 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             Local::EthClose => {
                 let id = int_arg(lua, spec, &args, 0)?;
-                SESSIONS.with_borrow_mut(|s| s.remove(&id)).map_or(Code::NoSession, |_| Code::Ok)
+                close(id)
             }
             Local::EthCloseAll => {
-                SESSIONS.with_borrow_mut(BTreeMap::clear);
+                for id in SESSIONS.with_borrow(|s| s.keys().copied().collect::<Vec<_>>()) {
+                    close(id);
+                }
                 Code::Ok
             }
             Local::EthBuffClear => {
                 let id = int_arg(lua, spec, &args, 0)?;
-                with_session(id, |s| {
-                    s.poll();
+                with_session(&host, id, |s, turn| {
+                    s.poll(turn);
                     s.received.clear();
                     Code::Ok
                 })
@@ -305,9 +480,10 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             Local::EthConnectCheck => {
                 let id = int_arg(lua, spec, &args, 0)?;
-                with_session(id, |s| {
-                    s.poll();
-                    if s.peer.is_some() { Code::Ok } else { Code::NotConnected }
+                with_session(&host, id, |s, turn| {
+                    let sim = turn.is_some();
+                    s.poll(turn);
+                    if s.has_peer(sim) { Code::Ok } else { Code::NotConnected }
                 })
                 .unwrap_or_else(|c| c)
             }

@@ -8,6 +8,7 @@ mod agent;
 mod clients;
 mod expect;
 mod freeport;
+pub mod freeport_sim;
 mod library;
 mod locals;
 mod plc;
@@ -53,6 +54,8 @@ pub struct Host {
     pub user_ascii: String,
     /// Where `FreePort.Eth.OpenAsServer` listens (`[freeport] bind`).
     pub freeport_bind: std::net::IpAddr,
+    /// On the simulation clock: where FreePort's inputs are recorded or replayed from.
+    pub freeport_inputs: freeport_sim::FreePortInputs,
     events: EventSender,
     throttle: Cell<Throttle>,
     /// The program's expectations so far (`luamotion test`).
@@ -86,6 +89,7 @@ impl Host {
             data_dir,
             user_ascii: agent::DEFAULT_ADDRESS.to_string(),
             freeport_bind: std::net::IpAddr::from([127, 0, 0, 1]),
+            freeport_inputs: freeport_sim::FreePortInputs::Live,
             events,
             throttle: Cell::new(Throttle::default()),
             tally: Cell::new(expect::Tally::default()),
@@ -99,9 +103,11 @@ impl Host {
         self
     }
 
-    /// FreePort servers listen on `address`.
-    pub fn with_freeport_bind(mut self, address: std::net::IpAddr) -> Self {
+    /// FreePort servers listen on `address`; on the simulation clock their inputs are
+    /// recorded or replayed as `inputs` says.
+    pub fn with_freeport(mut self, address: std::net::IpAddr, inputs: freeport_sim::FreePortInputs) -> Self {
         self.freeport_bind = address;
+        self.freeport_inputs = inputs;
         self
     }
 
