@@ -92,7 +92,7 @@ fn a_call_posted_behind_a_deferred_one_waits_for_it() {
 
 /// A task that gave up on a call (its reply timeout) and calls again sees the late reply
 /// of the first in its mailbox while it waits: counted once as out of order, however often
-/// it looks, and its own call is answered after it. A task the controller does not serve
+/// it looks, and its own call is answered after it (not lost behind the deferred one). A task the controller does not serve
 /// cannot attach.
 #[test]
 fn a_late_reply_to_a_call_given_up_on_is_counted_once() {
@@ -106,22 +106,25 @@ fn a_late_reply_to_a_call_given_up_on_is_counted_once() {
             let mut core = CoreEndpoint::create(&ns, &[4]).unwrap();
             ready_tx.send(()).unwrap();
             let mut snapshot = Snapshot::default();
-            let mut deferred_at = None;
+            let mut deferred = None;
             while !stop.load(Ordering::Acquire) {
                 snapshot.cycle += 1;
                 let cycle = snapshot.cycle;
                 core.serve(cycle, |_, request, reply| {
                     reply.values[0] = request.int(0) as u64;
                     reply.valuec = 1;
-                    // The first call takes 150 cycles (a MoveHome), the others none.
-                    if request.int(0) == 1 {
-                        deferred_at = Some(cycle);
-                        Disposition::Defer
-                    } else {
-                        Disposition::Reply
+                    // The first call takes 150 cycles (a MoveHome), the second 300 (its
+                    // task looks at its mailbox on each liveness check meanwhile), the
+                    // third none.
+                    match request.int(0) {
+                        1 | 2 => {
+                            deferred = Some(cycle + 150 * request.int(0) as u64);
+                            Disposition::Defer
+                        }
+                        _ => Disposition::Reply,
                     }
                 });
-                core.resume(cycle, |_, _, _| deferred_at.is_some_and(|at| cycle >= at + 150));
+                core.resume(cycle, |_, _, _| deferred.is_some_and(|done| cycle >= done));
                 let mut sample = core.loan_snapshot(&snapshot, 0).expect("a sample");
                 sample.payload_mut().cycle = cycle;
                 core.send_snapshot(sample);
@@ -136,7 +139,7 @@ fn a_late_reply_to_a_call_given_up_on_is_counted_once() {
     let mut task = TaskEndpoint::open(&ns, 4, std::process::id()).unwrap();
     task.set_reply_timeout(Some(Duration::from_millis(20)));
     assert!(matches!(task.call(&mut request(0, 1)), Err(ipc::IpcError::ReplyLost(_))));
-    task.set_reply_timeout(None);
+    task.set_reply_timeout(Some(Duration::from_secs(20)));
     let reply = task.call(&mut request(0, 2)).unwrap();
     assert_eq!(reply.values[0], 2);
     let counters = task.reply_counters();
