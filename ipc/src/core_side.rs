@@ -20,9 +20,6 @@ use crate::{IpcError, Namespace, futex};
 /// Name of the controller's node; a live node of this name owns the namespace.
 pub const CORE_NODE_NAME: &str = "luamotion-core";
 
-/// `CoreEndpoint::channel_of` for a task the core does not serve.
-const NO_CHANNEL: u8 = u8::MAX;
-
 /// What the core does with a request it has taken.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Disposition {
@@ -178,8 +175,8 @@ impl Drop for TaskWaker {
 pub struct CoreEndpoint {
     state: StatePublisher,
     tasks: Vec<TaskChannel>,
-    /// `tasks`' index of task t, `NO_CHANNEL` for a task not served.
-    channel_of: [u8; MAX_TASKS],
+    /// The tasks served, bit t for task t.
+    served: u64,
     /// Tasks whose posted call waits until their deferred one is answered.
     held: u64,
     /// Where the request being served is copied to (boxed: 1.6 KB, taken every cycle).
@@ -201,19 +198,19 @@ impl CoreEndpoint {
             .publisher_builder()
             .create()
             .map_err(|e| too_big("state publisher", e))?;
-        let mut tasks = Vec::with_capacity(task_ids.len());
-        let mut channel_of = [NO_CHANNEL; MAX_TASKS];
-        for &id in task_ids.iter().filter(|&&id| (id as usize) < MAX_TASKS) {
-            channel_of[id as usize] = tasks.len() as u8;
-            tasks.push(TaskChannel { id, last_taken: 0, last_woken_wait: None, replied: false, deferred: None });
-        }
+        let tasks: Vec<TaskChannel> = task_ids
+            .iter()
+            .filter(|&&id| (id as usize) < MAX_TASKS)
+            .map(|&id| TaskChannel { id, last_taken: 0, last_woken_wait: None, replied: false, deferred: None })
+            .collect();
+        let served = tasks.iter().fold(0, |mask, t| mask | 1 << t.id);
         let table = Region::<TaskTable>::create(ns, "tasks")?;
-        table.calls.set_configured(tasks.iter().fold(0, |mask, t| mask | 1 << t.id));
+        table.calls.set_configured(served);
         let shared = Region::<SharedData>::create(ns, "shared")?;
         Ok(CoreEndpoint {
             state,
             tasks,
-            channel_of,
+            served,
             held: 0,
             scratch: Box::new(Request::new(0)),
             table,
@@ -250,15 +247,13 @@ impl CoreEndpoint {
     /// `wake`, after the snapshot that shows the command's effect is published. A task with
     /// a deferred call is served nothing else until it is answered.
     pub fn serve(&mut self, cycle: u64, mut handle: impl FnMut(u8, &Request, &mut Reply) -> Disposition) {
-        // One load for every task: a task that sleeps or runs Lua costs nothing here.
-        let mut posted = self.table.calls.take_posted() | std::mem::take(&mut self.held);
-        while posted != 0 {
-            let id = posted.trailing_zeros() as u8;
-            posted &= posted - 1;
-            let Some(task) = self.tasks.get_mut(self.channel_of[id as usize] as usize) else {
-                self.stats.refused += 1;
-                continue;
-            };
+        // One load for every task: a task that sleeps or runs Lua costs no more than a bit test.
+        let posted = self.table.calls.take_posted() | std::mem::take(&mut self.held);
+        self.stats.refused += (posted & !self.served).count_ones() as u64;
+        // In the machine file's order, as before: of two tasks commanding one axis in one
+        // cycle, the later one is refused (docs/decisions.md, "Two tasks on one axis").
+        for task in self.tasks.iter_mut().filter(|t| posted & 1 << t.id != 0) {
+            let id = task.id;
             if task.deferred.is_some() {
                 self.held |= 1 << id;
                 continue;

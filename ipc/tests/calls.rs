@@ -152,3 +152,19 @@ fn a_late_reply_to_a_call_given_up_on_is_counted_once() {
     drop(task);
     ipc::remove_namespace_files(&ns);
 }
+
+/// Tasks are served in the order the controller was given them (the machine file's), not
+/// by id: of two commands on one axis in a cycle the later is refused, as it always was.
+#[test]
+fn calls_are_served_in_the_order_the_tasks_were_configured() {
+    let ns = unique_ns("order");
+    ipc::claim_namespace(&ns).unwrap();
+    let mut core = CoreEndpoint::create(&ns, &[63, 2, 62]).unwrap();
+    for (task, pid) in [(2u8, 20u64), (62, 620), (63, 630)] {
+        core.table().slots[task as usize].set_pid(pid as u32);
+        core.table().calls.post(task, &request(pid << 32 | 1, task.into()));
+    }
+    assert_eq!(serve(&mut core, 1), [(63, 63), (2, 2), (62, 62)]);
+    drop(core);
+    ipc::remove_namespace_files(&ns);
+}
