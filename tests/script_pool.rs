@@ -193,6 +193,9 @@ fn places_come_back_while_their_tasks_run_and_every_script_dies_with_the_control
         }
         started = k;
     }
+    // The last start's replacement named itself a waiting process: the two lists below
+    // are read one after the other and must not see it change sides in between.
+    let refilled = eventually(Duration::from_secs(30), || ready() == 2);
     let scripts: Vec<u32> = [children_of(pid), waiting_children_of(pid)].concat();
     // SAFETY: killing this test's controller as a crash would.
     unsafe { libc::kill(pid as i32, libc::SIGKILL) };
@@ -202,6 +205,7 @@ fn places_come_back_while_their_tasks_run_and_every_script_dies_with_the_control
     std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut stderr).unwrap();
     ipc::remove_namespace_files(&namespace);
     assert_eq!(started, starts, "every start got a ready waiting process: {stderr}");
+    assert!(refilled, "the pool refilled after the last start: {stderr}");
     let pooled = stderr.lines().filter(|l| l.contains(" started") && l.contains("pooled=true")).count();
     assert_eq!(pooled, starts, "all from the pool: {stderr}");
     assert_eq!(scripts.len(), 1 + starts + 2, "main, the started tasks, two waiting: {scripts:?}");

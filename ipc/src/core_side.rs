@@ -10,8 +10,8 @@ use iceoryx2::prelude::*;
 use iceoryx2::sample_mut::SampleMut;
 
 use crate::clock::monotonic_ns;
-use crate::messages::{Reply, Request, Snapshot};
-use crate::services::{self, Ipc, Open, ReplyPublisher, RequestSubscriber, StatePublisher, too_big};
+use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
+use crate::services::{self, Ipc, Open, StatePublisher, too_big};
 use crate::shared::SharedData;
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskTable};
@@ -38,8 +38,9 @@ struct Deferred {
 
 struct TaskChannel {
     id: u8,
-    requests: RequestSubscriber,
-    replies: ReplyPublisher,
+    /// The sequence number of the last request taken: a hostile process that posts the
+    /// same call again is not served twice.
+    last_taken: u64,
     /// Sequence number of the last wait request this task was woken for.
     last_woken_wait: Option<u16>,
     replied: bool,
@@ -81,10 +82,12 @@ impl KnownSamples {
 pub struct CoreIpcStats {
     /// Requests received from tasks.
     pub requests: u64,
-    /// Replies published.
+    /// Replies written.
     pub replies: u64,
-    /// Replies that could not be published.
-    pub send_failures: u64,
+    /// Posted requests not taken: rewritten while copied (a new call of a task that gave
+    /// up on the last), of another process than the slot's, taken already, or of a task
+    /// the core does not serve.
+    pub refused: u64,
     /// Futex wakes of tasks.
     pub wakes: u64,
     /// Snapshots that could not be published.
@@ -172,6 +175,12 @@ impl Drop for TaskWaker {
 pub struct CoreEndpoint {
     state: StatePublisher,
     tasks: Vec<TaskChannel>,
+    /// The tasks served, bit t for task t.
+    served: u64,
+    /// Tasks whose posted call waits until their deferred one is answered.
+    held: u64,
+    /// Where the request being served is copied to (boxed: 1.6 KB, taken every cycle).
+    scratch: Box<Request>,
     table: Region<TaskTable>,
     shared: Region<SharedData>,
     stats: CoreIpcStats,
@@ -182,30 +191,28 @@ pub struct CoreEndpoint {
 }
 
 impl CoreEndpoint {
-    /// Creates the services of the configured tasks and the task table.
+    /// Creates the state service and the task table, with a mailbox for each configured task.
     pub fn create(ns: &Namespace, task_ids: &[u8]) -> Result<Self, IpcError> {
         let node = services::node(ns, CORE_NODE_NAME)?;
         let state = services::state(&node, ns, Open::Create)?
             .publisher_builder()
             .create()
             .map_err(|e| too_big("state publisher", e))?;
-        let mut tasks = Vec::with_capacity(task_ids.len());
-        for &id in task_ids {
-            let requests = services::requests(&node, ns, id, Open::Create)?
-                .subscriber_builder()
-                .create()
-                .map_err(|e| too_big(&format!("task {id} requests"), e))?;
-            let replies = services::replies(&node, ns, id, Open::Create)?
-                .publisher_builder()
-                .create()
-                .map_err(|e| too_big(&format!("task {id} replies"), e))?;
-            tasks.push(TaskChannel { id, requests, replies, last_woken_wait: None, replied: false, deferred: None });
-        }
+        let tasks: Vec<TaskChannel> = task_ids
+            .iter()
+            .filter(|&&id| (id as usize) < MAX_TASKS)
+            .map(|&id| TaskChannel { id, last_taken: 0, last_woken_wait: None, replied: false, deferred: None })
+            .collect();
+        let served = tasks.iter().fold(0, |mask, t| mask | 1 << t.id);
         let table = Region::<TaskTable>::create(ns, "tasks")?;
+        table.calls.set_configured(served);
         let shared = Region::<SharedData>::create(ns, "shared")?;
         Ok(CoreEndpoint {
             state,
             tasks,
+            served,
+            held: 0,
+            scratch: Box::new(Request::new(0)),
             table,
             shared,
             stats: CoreIpcStats::default(),
@@ -235,38 +242,43 @@ impl CoreEndpoint {
         CoreIpcStats { waker_cpu_ns: self.waker.as_ref().map_or(0, TaskWaker::cpu_ns), ..self.stats }
     }
 
-    /// Takes up to `max_per_task` pending requests of every task and answers each with
-    /// `handle(task, request, reply)`. A reply is sent at once unless the handler defers
-    /// it; the task is woken by `wake`, after the snapshot that shows the command's effect
-    /// is published. A task with a deferred call sends nothing else until it is answered.
-    pub fn serve(
-        &mut self,
-        cycle: u64,
-        max_per_task: usize,
-        mut handle: impl FnMut(u8, &Request, &mut Reply) -> Disposition,
-    ) {
-        for task in &mut self.tasks {
-            // A task sends a request only in a call, which marks its slot first
-            // (`TaskEndpoint::call`): a task that sleeps or runs Lua costs no receive.
-            if self.table.slots[task.id as usize].state() != RunState::InCall {
+    /// Takes each task's posted call and answers it with `handle(task, request, reply)`.
+    /// A reply is written at once unless the handler defers it; the task is woken by
+    /// `wake`, after the snapshot that shows the command's effect is published. A task with
+    /// a deferred call is served nothing else until it is answered.
+    pub fn serve(&mut self, cycle: u64, mut handle: impl FnMut(u8, &Request, &mut Reply) -> Disposition) {
+        // One load for every task: a task that sleeps or runs Lua costs no more than a bit test.
+        let posted = self.table.calls.take_posted() | std::mem::take(&mut self.held);
+        self.stats.refused += (posted & !self.served).count_ones() as u64;
+        // In the machine file's order, as before: of two tasks commanding one axis in one
+        // cycle, the later one is refused (docs/decisions.md, "Two tasks on one axis").
+        for task in self.tasks.iter_mut().filter(|t| posted & 1 << t.id != 0) {
+            let id = task.id;
+            if task.deferred.is_some() {
+                self.held |= 1 << id;
                 continue;
             }
-            for _ in 0..max_per_task {
-                if task.deferred.is_some() {
-                    break;
-                }
-                let Ok(Some(request)) = task.requests.receive() else { break };
-                let received_ns = monotonic_ns();
-                self.stats.requests += 1;
-                let mut reply = Reply::to(request.payload());
-                reply.received_ns = received_ns;
-                reply.cycle = cycle;
-                match handle(task.id, request.payload(), &mut reply) {
-                    Disposition::Reply => Self::send(task, &mut self.stats, reply),
-                    Disposition::Defer => {
-                        let pid = self.table.slots[task.id as usize].pid();
-                        task.deferred = Some(Deferred { request: *request.payload(), reply, pid });
-                    }
+            let slot = &self.table.slots[id as usize];
+            let request = &mut *self.scratch;
+            let Some(seq) = self.table.calls.mailbox(id).read_request(request) else {
+                // Rewritten while copied: the writer posts it again.
+                self.stats.refused += 1;
+                continue;
+            };
+            if seq == task.last_taken || seq >> 32 != slot.pid() as u64 {
+                self.stats.refused += 1;
+                continue;
+            }
+            task.last_taken = seq;
+            let received_ns = monotonic_ns();
+            self.stats.requests += 1;
+            let mut reply = Reply::to(request);
+            reply.received_ns = received_ns;
+            reply.cycle = cycle;
+            match handle(id, request, &mut reply) {
+                Disposition::Reply => Self::send(&self.table, task, &mut self.stats, reply),
+                Disposition::Defer => {
+                    task.deferred = Some(Deferred { request: *request, reply, pid: slot.pid() });
                 }
             }
         }
@@ -286,17 +298,15 @@ impl CoreEndpoint {
                 let mut reply = deferred.reply;
                 reply.cycle = cycle;
                 task.deferred = None;
-                Self::send(task, &mut self.stats, reply);
+                Self::send(&self.table, task, &mut self.stats, reply);
             }
         }
     }
 
-    fn send(task: &mut TaskChannel, stats: &mut CoreIpcStats, mut reply: Reply) {
+    fn send(table: &TaskTable, task: &mut TaskChannel, stats: &mut CoreIpcStats, mut reply: Reply) {
         reply.sent_ns = monotonic_ns();
-        match task.replies.send_copy(reply) {
-            Ok(_) => stats.replies += 1,
-            Err(_) => stats.send_failures += 1,
-        }
+        table.calls.mailbox(task.id).write_reply(&reply);
+        stats.replies += 1;
         task.replied = true;
     }
 

@@ -3,8 +3,8 @@
 //! | what | pattern | direction |
 //! |---|---|---|
 //! | `state` | publish-subscribe, latest value | core -> everyone |
-//! | `task/<id>/cmd` | request-response | task <-> core |
-//! | `task/<id>/cmd` wake-up | futex in the task table | core -> task |
+//! | `tasks`, calls | a mailbox per task in the task table (`mailbox.rs`) | task <-> core |
+//! | `tasks`, wake-up | futex in the task table | core -> task |
 //! | `tasks` | shared memory (atomics) | task -> core: heartbeat, run state, wait requests |
 //! | `shared` | shared memory (atomics) | all: user table, test variables, mutexes, task variables |
 //! | `events` | publish-subscribe | tasks and controller -> tools: SendEvent, SendMsgEvent, alarms |
@@ -18,6 +18,7 @@ pub mod debug;
 pub mod events;
 pub mod files;
 mod futex;
+pub mod mailbox;
 pub mod messages;
 mod monitor;
 mod namespace;

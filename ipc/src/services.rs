@@ -8,7 +8,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 
-use crate::messages::{EventRecord, MAX_TASKS, Reply, Request, Snapshot};
+use crate::messages::{EventRecord, MAX_TASKS, Snapshot};
 use crate::shared::SharedData;
 use crate::task_table::TaskTable;
 use crate::{IpcError, Namespace, files};
@@ -21,14 +21,6 @@ pub type IpcNode = Node<Ipc>;
 pub type StatePublisher = Publisher<Ipc, Snapshot, ()>;
 /// A reader of the `state` snapshot.
 pub type StateSubscriber = Subscriber<Ipc, Snapshot, ()>;
-/// A task's publisher of its requests.
-pub type RequestPublisher = Publisher<Ipc, Request, ()>;
-/// The controller's subscriber to one task's requests.
-pub type RequestSubscriber = Subscriber<Ipc, Request, ()>;
-/// The controller's publisher of one task's replies.
-pub type ReplyPublisher = Publisher<Ipc, Reply, ()>;
-/// A task's subscriber to its replies.
-pub type ReplySubscriber = Subscriber<Ipc, Reply, ()>;
 /// The notifier of the soak's event floor.
 pub type WakeNotifier = Notifier<Ipc>;
 /// A publisher of `events` records.
@@ -42,8 +34,8 @@ pub type WakeListener = Listener<Ipc>;
 // these few numbers; iceoryx2's defaults (20 nodes per publish-subscribe service) would
 // stop the 20th script.
 
-/// Processes of one task at a time: a restarted task's new process opens its ports while
-/// the dead one's may still be being cleaned up.
+/// Processes of one task at a time on the soak floor's wake events (`wake`): a restarted
+/// side opens its port while the dead one's may still be being cleaned up.
 const PROCESSES_PER_TASK: usize = 2;
 /// Tools attached to a controller at once, each a node of its own: `luamotion tasks`,
 /// `luamotion events`, the soak's monitor, the DRL console, the start-up probe, and at
@@ -60,8 +52,6 @@ const CONTROLLER_NODES: usize = 2;
 /// Nodes of the services every process opens (`state`, `events`). A dead process' node
 /// is cleaned when the next one opens the service, so each task counts once.
 pub const MAX_NODES: usize = CONTROLLER_NODES + MAX_TASKS + MAX_POOL + MAX_TOOLS;
-/// Requests one task may have in flight; scripts send one at a time.
-pub const MAX_REQUESTS_IN_FLIGHT: usize = 4;
 /// Records a reader may fall behind one writer by before the oldest are dropped: more
 /// than a task's burst of events (100) or the supervisor's alarms when all 64 tasks fail
 /// at once. Each writer's segment holds this many per reader.
@@ -113,7 +103,8 @@ pub(crate) fn too_big(what: &str, e: impl std::fmt::Debug) -> IpcError {
 
 /// Shared memory one controller takes when every task and tool is attached, bytes:
 /// iceoryx2 gives each publisher a data segment of `subscribers * (buffer + borrowed) +
-/// history + loaned` samples, each with a header; plus the task table and shared data.
+/// history + loaned` samples, each with a header; plus the task table (the tasks' call
+/// mailboxes in it) and shared data.
 pub fn planned_shm_bytes() -> usize {
     const LOANED: usize = 2;
     // iceoryx2's sample header and alignment, as measured in 0.10 (52 bytes).
@@ -125,9 +116,7 @@ pub fn planned_shm_bytes() -> usize {
     // One writer per task, the supervisor and the DRL console.
     let events = (MAX_TASKS + 2)
         * segment(MAX_EVENT_READERS, EVENT_BUFFER, EVENT_BORROWED, EVENT_HISTORY, size_of::<EventRecord>());
-    let call = |sample| segment(PROCESSES_PER_TASK, MAX_REQUESTS_IN_FLIGHT, MAX_REQUESTS_IN_FLIGHT, 0, sample);
-    let calls = MAX_TASKS * (call(size_of::<Request>()) + call(size_of::<Reply>()));
-    state + events + calls + size_of::<TaskTable>() + size_of::<SharedData>()
+    state + events + size_of::<TaskTable>() + size_of::<SharedData>()
 }
 
 /// Refuses to start a controller where `/dev/shm` has no room for `planned_shm_bytes`,
@@ -173,52 +162,6 @@ pub fn state(
         Open::Create => builder.create().map_err(|e| too_big("state", e)),
         Open::Existing => builder.open().map_err(|e| failed("open state service", e)),
     }
-}
-
-/// `<ns>/task/<id>/request` and `<ns>/task/<id>/reply`: one task's API calls to the core
-/// and the core's replies, matched by sequence number. A publish-subscribe pair rather than
-/// iceoryx2's request-response, whose server allocates per request (the RT thread must not).
-fn call_channel<T: std::fmt::Debug + ZeroCopySend>(
-    node: &Node<Ipc>,
-    ns: &Namespace,
-    task: u8,
-    what: &str,
-    open: Open,
-) -> Result<publish_subscribe::PortFactory<Ipc, T, ()>, IpcError> {
-    let builder = node
-        .service_builder(&ns.service_name(&format!("task/{task}/{what}"))?)
-        .publish_subscribe::<T>()
-        .history_size(0)
-        .subscriber_max_buffer_size(MAX_REQUESTS_IN_FLIGHT)
-        .subscriber_max_borrowed_samples(MAX_REQUESTS_IN_FLIGHT)
-        .enable_safe_overflow(false)
-        .max_publishers(PROCESSES_PER_TASK)
-        .max_subscribers(PROCESSES_PER_TASK)
-        .max_nodes(1 + PROCESSES_PER_TASK);
-    match open {
-        Open::Create => builder.create().map_err(|e| too_big(&format!("task {task} {what}"), e)),
-        Open::Existing => builder.open().map_err(|e| failed(&format!("open {what} service"), e)),
-    }
-}
-
-/// The `task/<id>/request` service of task `task`.
-pub fn requests(
-    node: &Node<Ipc>,
-    ns: &Namespace,
-    task: u8,
-    open: Open,
-) -> Result<publish_subscribe::PortFactory<Ipc, Request, ()>, IpcError> {
-    call_channel(node, ns, task, "request", open)
-}
-
-/// The `task/<id>/reply` service of task `task`.
-pub fn replies(
-    node: &Node<Ipc>,
-    ns: &Namespace,
-    task: u8,
-    open: Open,
-) -> Result<publish_subscribe::PortFactory<Ipc, Reply, ()>, IpcError> {
-    call_channel(node, ns, task, "reply", open)
 }
 
 /// `<ns>/task/<id>/wake`: an iceoryx2 event. Tasks are woken through a futex in the task

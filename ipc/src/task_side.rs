@@ -10,9 +10,9 @@ use iceoryx2::sample::Sample;
 
 use crate::clock::monotonic_ns;
 use crate::events::EventSender;
-use crate::messages::{Reply, Request, Snapshot};
+use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
 use crate::services::failed;
-use crate::services::{self, Ipc, Open, ReplySubscriber, RequestPublisher, StateSubscriber};
+use crate::services::{self, Ipc, Open, StateSubscriber};
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskSlot, TaskTable, WaitRequest, WatchEntry};
 use crate::{IpcError, Namespace};
@@ -52,9 +52,9 @@ pub struct ReplyCounters {
 }
 
 /// What a script process opens before it knows its task (a pooled process waits with it,
-/// `rt-core/src/pool.rs`): its node, the state subscriber, the task table. The subscriber
-/// is connected by the time a task is handed over, so `attach` does not wait a cycle for
-/// the first snapshot.
+/// `rt-core/src/pool.rs`): its node, the state subscriber, the task table (which holds
+/// every task's mailbox). The subscriber is connected by the time a task is handed over,
+/// so `attach` opens nothing and does not wait a cycle for the first snapshot.
 pub struct PreparedEndpoint {
     controller_pid: u32,
     state: StateSubscriber,
@@ -79,17 +79,12 @@ impl PreparedEndpoint {
         EventSender::new(&self.node, ns, Open::Existing)
     }
 
-    /// Opens task `task`'s channels and takes over its slot.
-    pub fn attach(self, ns: &Namespace, task: u8) -> Result<TaskEndpoint, IpcError> {
+    /// Takes over task `task`'s slot and mailbox; fails for a task the controller does not serve.
+    pub fn attach(self, task: u8) -> Result<TaskEndpoint, IpcError> {
         let PreparedEndpoint { controller_pid, state, table, node } = self;
-        let requests = services::requests(&node, ns, task, Open::Existing)?
-            .publisher_builder()
-            .create()
-            .map_err(|e| failed(&format!("task {task} requests"), e))?;
-        let replies = services::replies(&node, ns, task, Open::Existing)?
-            .subscriber_builder()
-            .create()
-            .map_err(|e| failed(&format!("task {task} replies"), e))?;
+        if (task as usize) >= MAX_TASKS || table.calls.configured() & 1 << task == 0 {
+            return Err(IpcError::Service(format!("task {task} is not configured in this controller")));
+        }
         let wait_seq = table.slots[task as usize].wait_request().seq;
         let lockstep = table.slots[task as usize].lockstep();
         let mut endpoint = TaskEndpoint {
@@ -100,6 +95,8 @@ impl PreparedEndpoint {
             seq: (std::process::id() as u64) << 32,
             answered: 0,
             given_up: [0; 8],
+            last_unexpected: 0,
+            reply: Box::new(Reply::to(&Request::new(0))),
             reply_timeout: None,
             counters: ReplyCounters::default(),
             last_call: CallTiming::default(),
@@ -109,8 +106,6 @@ impl PreparedEndpoint {
             share_cycle: 0,
             latest: None,
             state,
-            requests,
-            replies,
             table,
             _node: node,
         };
@@ -129,6 +124,10 @@ pub struct TaskEndpoint {
     /// The last call that got its reply, and the calls given up on (the newest few).
     answered: u64,
     given_up: [u64; 8],
+    /// The last reply of another call counted (the mailbox shows it until the next reply).
+    last_unexpected: u64,
+    /// Where a reply is copied out of the mailbox.
+    reply: Box<Reply>,
     reply_timeout: Option<Duration>,
     counters: ReplyCounters,
     last_call: CallTiming,
@@ -140,16 +139,14 @@ pub struct TaskEndpoint {
     share_cycle: u64,
     latest: Option<Sample<Ipc, Snapshot, ()>>,
     state: StateSubscriber,
-    requests: RequestPublisher,
-    replies: ReplySubscriber,
     table: Region<TaskTable>,
     _node: Node<Ipc>,
 }
 
 impl TaskEndpoint {
-    /// Opens task `task`'s channels in namespace `ns`; `controller_pid` is watched while blocked.
+    /// Opens task `task`'s endpoint in namespace `ns`; `controller_pid` is watched while blocked.
     pub fn open(ns: &Namespace, task: u8, controller_pid: u32) -> Result<Self, IpcError> {
-        PreparedEndpoint::new(ns, &format!("luamotion-task-{task}"), controller_pid)?.attach(ns, task)
+        PreparedEndpoint::new(ns, &format!("luamotion-task-{task}"), controller_pid)?.attach(task)
     }
 
     /// The task id.
@@ -241,7 +238,7 @@ impl TaskEndpoint {
     }
 
     fn exchange(&mut self, request: &Request) -> Result<(Reply, u64), IpcError> {
-        self.send(request)?;
+        self.send(request);
         let deadline = self.reply_timeout.map(|t| request.sent_ns + t.as_nanos() as u64);
         loop {
             let seen = self.slot().wake_count();
@@ -261,7 +258,7 @@ impl TaskEndpoint {
     /// takes its next turn in the cycle the core answers (no reply timeout: the core
     /// answers every call it takes, and a lost controller ends the wait).
     fn exchange_in_lockstep(&mut self, request: &Request) -> Result<(Reply, u64), IpcError> {
-        self.send(request)?;
+        self.send(request);
         self.park();
         let mut reply = Ok(None);
         self.next_turn(|endpoint| {
@@ -271,31 +268,32 @@ impl TaskEndpoint {
         Ok((reply?.expect("a turn is taken with the reply"), monotonic_ns()))
     }
 
-    fn send(&mut self, request: &Request) -> Result<(), IpcError> {
-        let delivered = self.requests.send_copy(*request).map_err(|e| failed("send request", e))?;
-        if delivered == 0 {
-            return Err(IpcError::ControllerGone);
-        }
-        Ok(())
+    /// Posts the request into the task's mailbox (the controller's liveness is watched
+    /// while the task waits for the reply).
+    fn send(&self, request: &Request) {
+        self.table.calls.post(self.task, request);
     }
 
-    /// The reply to call `seq`, if it has come; replies to other calls are counted and dropped.
+    /// The reply to call `seq`, if it has come; a reply to another call is counted once.
     fn take_reply(&mut self, seq: u64) -> Result<Option<Reply>, IpcError> {
-        loop {
-            match self.replies.receive() {
-                Ok(Some(reply)) if reply.payload().seq == seq => return Ok(Some(*reply.payload())),
-                Ok(Some(reply)) => self.unexpected(reply.payload().seq),
-                Ok(None) => return Ok(None),
-                Err(e) => return Err(IpcError::Service(format!("receive reply: {e:?}"))),
+        match self.table.calls.mailbox(self.task).read_reply(&mut self.reply) {
+            Some(got) if got == seq => Ok(Some(*self.reply)),
+            Some(got) => {
+                if std::mem::replace(&mut self.last_unexpected, got) != got {
+                    self.unexpected(got);
+                }
+                Ok(None)
             }
+            None => Ok(None),
         }
     }
 
-    /// A reply for another call than the one waiting: an earlier process' late reply is
-    /// skipped quietly; anything else is counted.
+    /// A reply for another call than the one waiting: an earlier process' reply, or the
+    /// last call's (the mailbox holds it until the next), is skipped quietly; anything
+    /// else is counted.
     fn unexpected(&mut self, seq: u64) {
         let ours = seq >> 32 == self.seq >> 32;
-        if !ours {
+        if !ours || seq == self.answered {
             return;
         }
         if seq <= self.answered && !self.given_up.contains(&seq) {

@@ -9,6 +9,7 @@ use num_enum::{FromPrimitive, IntoPrimitive};
 
 use crate::debug::DebugBlock;
 use crate::futex;
+use crate::mailbox::Calls;
 use crate::messages::MAX_TASKS;
 use crate::pool::Board;
 use crate::shm::Shareable;
@@ -406,6 +407,8 @@ pub struct TaskTable {
     gate: AtomicU32,
     /// The script pool's waiting processes, handed their tasks by the core.
     pub pool: Board,
+    /// Each task's calls to the core and their replies.
+    pub calls: Calls,
 }
 
 impl TaskTable {
@@ -428,7 +431,8 @@ impl TaskTable {
     }
 }
 
-// SAFETY: repr(C), only atomics, valid when zeroed (Idle, no heartbeat, no pooled process).
+// SAFETY: repr(C), only atomics, valid when zeroed (Idle, no heartbeat, no pooled process,
+// empty mailboxes).
 unsafe impl Shareable for TaskTable {}
 
 #[cfg(test)]

@@ -39,7 +39,7 @@ fn run_core(ns: Namespace, waker: bool, stop: Arc<AtomicBool>, ready: Arc<Atomic
     ready.store(true, Ordering::Release);
     while !stop.load(Ordering::Acquire) {
         snapshot.cycle += 1;
-        core.serve(snapshot.cycle, 4, |task, request, reply| {
+        core.serve(snapshot.cycle, |task, request, reply| {
             assert!((1..=3).contains(&task));
             reply.rc = 0;
             reply.values[0] = (request.int(0) * 2) as u64;

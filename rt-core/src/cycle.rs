@@ -30,8 +30,6 @@ use crate::scope::ScopeSampler;
 use crate::sim_clock::Lockstep;
 use crate::trace::{Digest, TraceRow, TraceSender};
 
-/// Requests one task may have applied per cycle; the rest wait for the next cycle.
-const MAX_COMMANDS_PER_TASK_AND_CYCLE: usize = 4;
 /// How long a shutdown waits for the drives to disable.
 const SHUTDOWN_CYCLES: u64 = 500;
 
@@ -216,9 +214,7 @@ impl CycleWork {
         self.machine.network.exchange(period as f64 * 1e-9);
         self.simulation_ns += monotonic_ns() - exchange_start;
         let machine = &mut self.machine;
-        self.endpoint.serve(cycle, MAX_COMMANDS_PER_TASK_AND_CYCLE, |task, request, reply| {
-            dispatch::execute(machine, task, request, reply)
-        });
+        self.endpoint.serve(cycle, |task, request, reply| dispatch::execute(machine, task, request, reply));
         if std::mem::take(&mut self.machine.rescanned) {
             master::describe_slaves(&self.machine.network, &mut self.snapshot);
             self.snapshot.system_error = self.machine.network.start_error().is_some() as u32;

@@ -147,7 +147,7 @@ pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
     let program = PathBuf::from(table.slots[assignment.task as usize].program());
     let args = pool.assign(assignment, program);
     let source = read_program(&args)?;
-    let endpoint = prepared.attach(&args.ns, args.task)?;
+    let endpoint = prepared.attach(args.task)?;
     let host = Host::from_parts(endpoint, events, shared, &args.ns, args.data_dir.clone());
     run_attached(args, &source, host)
 }

@@ -1,6 +1,7 @@
-//! The transport floor of the soak test: a ping-pong between two processes over the same
-//! services, payloads and settings a task's calls use (`task/0/request`, `task/0/reply`),
-//! with nothing else in between. Each side is woken either by an iceoryx2 event (what
+//! The transport floor of the soak test: a ping-pong between two processes over iceoryx2
+//! publish-subscribe services (`floor/request`, `floor/reply`) with a task's call and reply
+//! as payloads, with nothing else in between: what the tasks' calls cost before they went
+//! through mailboxes in the task table. Each side is woken either by an iceoryx2 event (what
 //! iceoryx2 alone costs on this machine) or as the core wakes a task: through its futex
 //! word in a task table (`TaskSlot::wake`), the pong side sleeping as a task does, watching
 //! its word for a moment first (`sleep_for_turn`), and the ping side, in the core's place,
@@ -9,21 +10,46 @@
 
 use std::time::Duration;
 
-use iceoryx2::prelude::Node;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::{Node, ZeroCopySend};
+use iceoryx2::service::port_factory::publish_subscribe;
 
 use ::ipc::clock::monotonic_ns;
 use ::ipc::messages::{Reply, Request};
-use ::ipc::services::{
-    self, Ipc, Open, ReplyPublisher, ReplySubscriber, RequestPublisher, RequestSubscriber, WakeListener, WakeNotifier,
-    failed,
-};
+use ::ipc::services::{self, Ipc, Open, WakeListener, WakeNotifier, failed};
 use ::ipc::shm::Region;
 use ::ipc::task_table::TaskTable;
 use ::ipc::{IpcError, Namespace};
 
-/// The task id whose services the floor borrows, and the one whose wake event carries pings.
+/// The task ids whose wake events (or futex words) carry the echoes and the pings.
 const CHANNEL: u8 = 0;
 const PING_WAKE: u8 = 1;
+/// Pings or echoes a side may hold unread: one is in flight at a time.
+const IN_FLIGHT: usize = 4;
+
+/// `<ns>/floor/<what>`: one direction of the ping-pong.
+fn channel<T: std::fmt::Debug + ZeroCopySend>(
+    node: &Node<Ipc>,
+    ns: &Namespace,
+    what: &str,
+    open: Open,
+) -> Result<publish_subscribe::PortFactory<Ipc, T, ()>, IpcError> {
+    let builder = node
+        .service_builder(&ns.service_name(&format!("floor/{what}"))?)
+        .publish_subscribe::<T>()
+        .history_size(0)
+        .subscriber_max_buffer_size(IN_FLIGHT)
+        .subscriber_max_borrowed_samples(IN_FLIGHT)
+        .enable_safe_overflow(false)
+        .max_publishers(1)
+        .max_subscribers(1)
+        .max_nodes(2);
+    match open {
+        Open::Create => builder.create().map_err(|e| failed(&format!("floor {what}"), e)),
+        Open::Existing => builder.open().map_err(|e| failed(&format!("open floor {what}"), e)),
+    }
+}
 
 /// How long a blocked side waits before it looks whether it should stop.
 const PATIENCE: Duration = Duration::from_millis(100);
@@ -109,8 +135,8 @@ impl Waker {
 
 /// The echoing side, in its own process.
 pub struct Pong {
-    requests: RequestSubscriber,
-    replies: ReplyPublisher,
+    requests: Subscriber<Ipc, Request, ()>,
+    replies: Publisher<Ipc, Reply, ()>,
     waker: Waker,
     _node: Node<Ipc>,
 }
@@ -134,11 +160,11 @@ impl Pong {
     /// Creates the services; the ping side opens them.
     pub fn create(ns: &Namespace, by: WakeBy) -> Result<Self, IpcError> {
         let node = services::node(ns, "luamotion-floor-pong")?;
-        let requests = services::requests(&node, ns, CHANNEL, Open::Create)?
+        let requests = channel::<Request>(&node, ns, "request", Open::Create)?
             .subscriber_builder()
             .create()
             .map_err(|e| failed("floor requests", e))?;
-        let replies = services::replies(&node, ns, CHANNEL, Open::Create)?
+        let replies = channel::<Reply>(&node, ns, "reply", Open::Create)?
             .publisher_builder()
             .create()
             .map_err(|e| failed("floor replies", e))?;
@@ -178,8 +204,8 @@ impl Pong {
 
 /// The measuring side.
 pub struct Ping {
-    requests: RequestPublisher,
-    replies: ReplySubscriber,
+    requests: Publisher<Ipc, Request, ()>,
+    replies: Subscriber<Ipc, Reply, ()>,
     waker: Waker,
     seq: u64,
     _node: Node<Ipc>,
@@ -189,11 +215,11 @@ impl Ping {
     /// Opens the ping-pong services of namespace `ns`.
     pub fn open(ns: &Namespace, by: WakeBy) -> Result<Self, IpcError> {
         let node = services::node(ns, "luamotion-floor-ping")?;
-        let requests = services::requests(&node, ns, CHANNEL, Open::Existing)?
+        let requests = channel::<Request>(&node, ns, "request", Open::Existing)?
             .publisher_builder()
             .create()
             .map_err(|e| failed("floor requests", e))?;
-        let replies = services::replies(&node, ns, CHANNEL, Open::Existing)?
+        let replies = channel::<Reply>(&node, ns, "reply", Open::Existing)?
             .subscriber_builder()
             .create()
             .map_err(|e| failed("floor replies", e))?;
