@@ -8,8 +8,10 @@
 //! waits for has not come: its wake cycle (Sleep, Till, DELAY, TON/TOF polling, its
 //! share of the cycle used), the reply to its call, a mutex another task holds; or when
 //! it is paused by its debugger, has ended, or its process is gone. A task that holds
-//! the turn without an API call for its watchdog time (wall time) is let go: the clock
-//! goes on without it, and the watchdog, which counts cycles, catches it.
+//! the turn without an API call for its watchdog time (of its process' CPU time: a
+//! process the OS has not run meanwhile has not hung, and letting it go would make the run
+//! depend on the machine's load) is let go: the clock goes on without it, and the
+//! watchdog, which counts cycles, catches it.
 //!
 //! Between two cycles the RT thread waits for the tasks on the task table's gate word
 //! (a futex the parking task bumps). It watches the word for a few tens of microseconds
@@ -36,6 +38,9 @@ use crate::tasks::Tasks;
 const START_PATIENCE_NS: u64 = 5_000_000_000;
 /// How long an ended program's process may take to be gone.
 const EXIT_PATIENCE_NS: u64 = 1_000_000_000;
+/// Wall time a process that uses no CPU (stopped, or not scheduled at all) may hold the
+/// turn without an API call: the clock must not wait for ever.
+const WALL_PATIENCE_NS: u64 = 60_000_000_000;
 /// How long the gate sleeps before it looks again at tasks that cannot wake it (a
 /// process that died, a program paused by its debugger).
 const GATE_SLICE: std::time::Duration = std::time::Duration::from_millis(2);
@@ -90,7 +95,7 @@ impl Speed {
 /// One task in lockstep.
 struct Member {
     id: u8,
-    /// Wall time the task may hold the turn without an API call, ns.
+    /// CPU time the task's process may use holding the turn without an API call, ns.
     patience_ns: u64,
     /// Let go after holding the turn too long; back in lockstep once it parks.
     released: bool,
@@ -223,7 +228,7 @@ fn wait_parked(
 ) -> bool {
     let table = endpoint.table();
     let mut beat = slot.heartbeat();
-    let mut since = monotonic_ns();
+    let (mut since, mut cpu_since) = (monotonic_ns(), process_cpu_ns(slot.pid()));
     loop {
         let seen = table.gate_count();
         let state = tasks.state(member.id);
@@ -250,9 +255,10 @@ fn wait_parked(
             (_, RunState::Finished) => member.patience_ns.max(EXIT_PATIENCE_NS),
             _ => member.patience_ns,
         };
+        let cpu = process_cpu_ns(slot.pid());
         if slot.heartbeat() != beat {
-            (beat, since) = (slot.heartbeat(), now);
-        } else if now - since > patience {
+            (beat, since, cpu_since) = (slot.heartbeat(), now, cpu);
+        } else if held_too_long(state, slot.state(), now - since, cpu.saturating_sub(cpu_since), patience) {
             member.released = true;
             return false;
         }
@@ -262,6 +268,28 @@ fn wait_parked(
         }
         table.gate_sleep(seen, GATE_SLICE);
     }
+}
+
+/// Whether a task that made no API call for `wall_ns` (its process using `cpu_ns`) has
+/// held the turn too long. A starting or ending process is given wall time, as before its
+/// first line and after its last its CPU time says little.
+fn held_too_long(state: TaskState, run: RunState, wall_ns: u64, cpu_ns: u64, patience: u64) -> bool {
+    match (state, run) {
+        (TaskState::Starting, _) | (_, RunState::Finished) => wall_ns > patience,
+        _ => cpu_ns > patience || wall_ns > patience.max(WALL_PATIENCE_NS),
+    }
+}
+
+/// The CPU time process `pid` has used, ns; 0 when it cannot be read (not registered yet,
+/// gone).
+fn process_cpu_ns(pid: u32) -> u64 {
+    let mut clock: libc::clockid_t = 0;
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: both out-pointers are valid for the calls.
+    let read = pid != 0
+        && unsafe { libc::clock_getcpuclockid(pid as libc::pid_t, &mut clock) } == 0
+        && unsafe { libc::clock_gettime(clock, &mut ts) } == 0;
+    if read { ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64 } else { 0 }
 }
 
 /// A process that has not registered yet (pid 0) counts as alive: it is starting.
