@@ -303,6 +303,30 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_running_task_is_let_go_on_its_cpu_time_a_starting_or_ending_one_on_wall_time() {
+        const MS: u64 = 1_000_000;
+        let (running, starting) = (TaskState::Running, TaskState::Starting);
+        // (task state, run state, wall ns, CPU ns, patience ns, let go)
+        let rows = [
+            (running, RunState::Running, 5_000 * MS, 10 * MS, 500 * MS, false),
+            (running, RunState::Running, 600 * MS, 501 * MS, 500 * MS, true),
+            (running, RunState::InCall, 61_000 * MS, 0, 500 * MS, true),
+            (starting, RunState::Idle, 5_001 * MS, 0, 5_000 * MS, true),
+            (starting, RunState::Idle, 4_000 * MS, 4_500 * MS, 5_000 * MS, false),
+            (running, RunState::Finished, 1_001 * MS, 0, 1_000 * MS, true),
+        ];
+        for (state, run, wall, cpu, patience, let_go) in rows {
+            assert_eq!(held_too_long(state, run, wall, cpu, patience), let_go, "{state:?} {run:?} {wall} {cpu}");
+        }
+    }
+
+    #[test]
+    fn process_cpu_time_is_read_for_this_process_and_0_for_none() {
+        assert!(process_cpu_ns(std::process::id()) > 0);
+        assert_eq!(process_cpu_ns(0), 0);
+    }
+
+    #[test]
     fn speeds_parse() {
         assert_eq!("max".parse::<Speed>().unwrap(), Speed::Max);
         assert_eq!("10".parse::<Speed>().unwrap(), Speed::Times(10.0));
