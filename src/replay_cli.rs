@@ -108,7 +108,7 @@ impl RunInputs {
         }
     }
 
-    /// Writes the record (with `--record`), the tasks' `FreePort.Eth` inputs merged in.
+    /// Writes the record (with `--record`), the tasks' `FreePort.Eth` and client inputs merged in.
     pub fn finish(&self) -> Result<()> {
         let Some(path) = &self.record else { return Ok(()) };
         if let Some(dir) = &self.freeport {
@@ -117,7 +117,7 @@ impl RunInputs {
                 let text = format!("{}\n{}", replay::HEADER, std::fs::read_to_string(&file)?);
                 match replay::parse(text.as_bytes()) {
                     Ok(inputs) => inputs.into_iter().for_each(|s| self.inputs.record(s.cycle, s.input)),
-                    Err(e) => eprintln!("warning: FreePort inputs of {} not recorded: {e}", file.display()),
+                    Err(e) => eprintln!("warning: the task inputs of {} not recorded: {e}", file.display()),
                 }
             }
         }
