@@ -13,7 +13,8 @@ use rt_core::sim_clock::{Clock, Speed};
 pub struct InputArgs {
     /// With `--clock sim`: write the run's outside inputs (Modbus writes of DV, DH and
     /// FUN147 words, the bytes serial port 1 receives in FreePort, the web view's simulated
-    /// inputs) with the cycle each took effect at into FILE (docs/replay.md).
+    /// inputs, `FreePort.Eth` sessions, the ch. 22 clients' answers) with the cycle each took
+    /// effect at into FILE (docs/replay.md).
     #[arg(long, value_name = "FILE")]
     record: Option<PathBuf>,
     /// Feed a `--record` FILE's inputs back at their cycles, without the outside peers
