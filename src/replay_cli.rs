@@ -13,7 +13,8 @@ use rt_core::sim_clock::{Clock, Speed};
 pub struct InputArgs {
     /// With `--clock sim`: write the run's outside inputs (Modbus writes of DV, DH and
     /// FUN147 words, the bytes serial port 1 receives in FreePort, the web view's simulated
-    /// inputs) with the cycle each took effect at into FILE (docs/replay.md).
+    /// inputs, `FreePort.Eth` sessions, the ch. 22 clients' answers) with the cycle each took
+    /// effect at into FILE (docs/replay.md).
     #[arg(long, value_name = "FILE")]
     record: Option<PathBuf>,
     /// Feed a `--record` FILE's inputs back at their cycles, without the outside peers
@@ -108,7 +109,7 @@ impl RunInputs {
         }
     }
 
-    /// Writes the record (with `--record`), the tasks' `FreePort.Eth` inputs merged in.
+    /// Writes the record (with `--record`), the tasks' `FreePort.Eth` and client inputs merged in.
     pub fn finish(&self) -> Result<()> {
         let Some(path) = &self.record else { return Ok(()) };
         if let Some(dir) = &self.freeport {
@@ -117,7 +118,7 @@ impl RunInputs {
                 let text = format!("{}\n{}", replay::HEADER, std::fs::read_to_string(&file)?);
                 match replay::parse(text.as_bytes()) {
                     Ok(inputs) => inputs.into_iter().for_each(|s| self.inputs.record(s.cycle, s.input)),
-                    Err(e) => eprintln!("warning: FreePort inputs of {} not recorded: {e}", file.display()),
+                    Err(e) => eprintln!("warning: the task inputs of {} not recorded: {e}", file.display()),
                 }
             }
         }

@@ -8,7 +8,6 @@ mod common;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
-use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use common::serve::serve;
@@ -125,33 +124,6 @@ Print("bad ip %x", (ASCII_ClientConnect("no.such.host", "{port}")))
         ],
     );
     assert_eq!(talker.join().unwrap(), ["hello\n", "quit\n"], "the server got the first `length` bytes only");
-}
-
-/// `python modbus_server.py PORT`, killed when dropped.
-struct PyServer(Child);
-
-impl Drop for PyServer {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn pymodbus_server() -> (PyServer, u16) {
-    let port = closed_port();
-    let child = Command::new(pymodbus_python())
-        .arg(repo_path("tests/python/modbus_server.py"))
-        .arg(port.to_string())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start the pymodbus server");
-    let server = PyServer(child);
-    assert!(
-        eventually(Duration::from_secs(30), || TcpStream::connect(("127.0.0.1", port)).is_ok()),
-        "the pymodbus server does not listen on {port}"
-    );
-    (server, port)
 }
 
 #[test]

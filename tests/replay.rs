@@ -280,7 +280,7 @@ fn bad_records_are_refused_with_their_line() {
     let dir = tempfile::tempdir().unwrap();
     let program = program(dir.path(), "p.lua", "Print('ran')\n");
     let huge = format!("luamotion-inputs 1\n5 serial {}\n", "00".repeat(100_000));
-    let cases: [(&str, &[u8], &str); 12] = [
+    let cases: [(&str, &[u8], &str); 15] = [
         ("garbage", b"\x7fELF\x02\x01\x01\x00\x00\xff\xfe\n", "line 1: not a luamotion input record"),
         ("order", b"luamotion-inputs 1\n9 modbus 0x0000 1\n3 modbus 0x0000 2\n", "line 3: cycle 3 comes after cycle 9"),
         ("kind", b"luamotion-inputs 1\n1 modbus 0x0000 1\n2 freeport 0 6869\n", "line 3: unknown input `freeport`"),
@@ -293,6 +293,17 @@ fn bad_records_are_refused_with_their_line() {
         ("channel", b"luamotion-inputs 1\n1 ai 1 x 1\n", "line 2: `x` is not an analog input (1..4)"),
         ("eth", b"luamotion-inputs 1\n1 eth 0 1 connect\n2 eth 0 1 data 4z\n", "line 3: `data 4z` is not connect"),
         ("task", b"luamotion-inputs 1\n1 eth 99 1 end\n", "line 2: `99` is not a task (0..63)"),
+        ("client", b"luamotion-inputs 1\n1 client 0 GetPosFb 0\n", "line 2: `GetPosFb 0` is not a ch. 22 client"),
+        (
+            "client bytes",
+            b"luamotion-inputs 1\n1 client 0 Modbus_ClientConnect 0 1\n2 client 0 Modbus_ClientRead_Coils 0 0z\n",
+            "line 3: `Modbus_ClientRead_Coils 0 0z` is not",
+        ),
+        (
+            "client id",
+            b"luamotion-inputs 1\n1 client 0 ASCII_ClientConnect 0\n",
+            "line 2: `ASCII_ClientConnect 0` is not",
+        ),
     ];
     for (name, content, expected) in cases {
         let path = dir.path().join(name);
@@ -586,4 +597,136 @@ fn modbus_rtu_writes_are_recorded_and_replayed() {
     let said = recorded.task_lines();
     assert!(said.last().is_some_and(|l| l.starts_with("last 3 at 30.000")), "{said:?}");
     replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// A Modbus client (HMPL 22.3) of an outside pymodbus server: it writes holding registers,
+/// reads them and the input registers back and moves the axis by a word it read; recorded
+/// (each call's outcome a `client` line), then replayed twice without the server.
+#[test]
+fn modbus_client_calls_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let (server, port) = pymodbus_server();
+    let program = program(
+        dir.path(),
+        "mbclient.lua",
+        &format!(
+            "Enable(0)\n\
+             Till(function() return IsEnabled(0) end)\n\
+             local rc, s = Modbus_ClientConnect('127.0.0.1:{port}')\n\
+             Print('connect %d %d at %d', rc, s, system_fclk)\n\
+             Print('write %d', (Modbus_ClientWrite_HoldReg(s, 10, 2, {{3, 700}})))\n\
+             local rc, b, n = Modbus_ClientRead_HoldReg(s, 10, 2)\n\
+             local steps = b[3] * 256 + b[4]\n\
+             Print('read %d: %d %d words at %d', rc, b[1] * 256 + b[2], steps, system_fclk)\n\
+             rc, b, n = Modbus_ClientRead_InputReg(s, 5, 1)\n\
+             Print('input %d: %d', rc, b[1] * 256 + b[2])\n\
+             MoveRel(0, steps / 100)\n\
+             Till(function() return IsInPos(0) end)\n\
+             Print('disconnect %d at %d', Modbus_ClientDisconnect(s), system_fclk)\n\
+             Print('at %.3f mm', GetPosFb(0))\n"
+        ),
+    );
+    let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
+    let (child, lines) = start(
+        &unique_ns("record-mbclient"),
+        &["--config", config.to_str().unwrap(), "--record", record.to_str().unwrap(), program.to_str().unwrap()],
+    );
+    let recorded = end(child, lines, Vec::new());
+    drop(server);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(
+        inputs,
+        [
+            "client 0 Modbus_ClientConnect 0 1",
+            "client 0 Modbus_ClientWrite_HoldReg 0 000a0002",
+            "client 0 Modbus_ClientRead_HoldReg 0 000302bc",
+            "client 0 Modbus_ClientRead_InputReg 0 03ed",
+            "client 0 Modbus_ClientDisconnect 0",
+        ],
+        "{text}\n{}",
+        recorded.out.stderr
+    );
+    let said: Vec<&str> = recorded.task_lines().into_iter().map(|l| l.split(" at ").next().unwrap()).collect();
+    assert_eq!(
+        said,
+        ["connect 0 1", "write 0", "read 0: 3 700 words", "input 0: 1005", "disconnect 0", "at 7.000 mm"],
+        "{}",
+        recorded.out.stderr
+    );
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// An ASCII client (HMPL 22.2) of `nc -l`: it sends a request and prints the answer nc
+/// gives; replayed twice without nc, the same answer at the same cycle.
+#[test]
+fn ascii_client_calls_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+    let mut nc = Command::new(debian_tool("nc"))
+        .args(["-l", "127.0.0.1", &port.to_string()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nc -l");
+    let program = program(
+        dir.path(),
+        "asciiclient.lua",
+        &format!(
+            "local rc, s, tries = 1, 0, 0\n\
+             repeat rc, s = ASCII_ClientConnect('127.0.0.1', '{port}'); tries = tries + 1; Sleep(10)\n\
+             until rc == 0 or tries > 1000\n\
+             Print('connect %d at %d', rc, system_fclk)\n\
+             Print('sent %d', ASCII_ClientSend(s, 9, 'barcode?\\n'))\n\
+             local data = ''\n\
+             repeat rc, data = ASCII_ClientRecv(s, 64) until rc == 0 or tries > 1000\n\
+             Print('answer %s at %d', data, system_fclk)\n\
+             Print('disconnect %d', ASCII_ClientDisconnect(s))\n"
+        ),
+    );
+    let (config, record) = (machine(dir.path()), dir.path().join("inputs.txt"));
+    let (child, lines) = start(
+        &unique_ns("record-asciiclient"),
+        &["--config", config.to_str().unwrap(), "--record", record.to_str().unwrap(), program.to_str().unwrap()],
+    );
+    let mut seen = Vec::new();
+    until(&lines, "sent 0", &mut seen);
+    let mut to_nc = nc.stdin.take().unwrap();
+    to_nc.write_all(b"4711").unwrap();
+    until(&lines, "answer 4711", &mut seen);
+    drop(to_nc);
+    let recorded = end(child, lines, seen);
+    let _ = nc.kill();
+    let asked = nc.wait_with_output().unwrap();
+    assert_eq!(String::from_utf8_lossy(&asked.stdout), "barcode?\n");
+    let text = std::fs::read_to_string(&record).unwrap();
+    assert!(text.contains(" client 0 ASCII_ClientConnect 0 1\n"), "{text}");
+    assert!(text.contains(" client 0 ASCII_ClientSend 0\n"), "{text}");
+    assert!(text.contains(" client 0 ASCII_ClientRecv 0 34373131\n"), "{text}");
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
+/// A record whose client calls are not the program's (another call next, or none left)
+/// stops the task with an error naming the record; nothing panics.
+#[test]
+fn a_program_that_differs_from_its_client_record_is_told() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = program(
+        dir.path(),
+        "p.lua",
+        "local rc, s = Modbus_ClientConnect('127.0.0.1:1502')\nPrint('connect %d', rc)\n\
+         Print('disconnect %d', Modbus_ClientDisconnect(s))\n",
+    );
+    let cases = [
+        ("other", "2 client 0 ASCII_ClientConnect 0 1\n", "has ASCII_ClientConnect next for task 0 (cycle 2)"),
+        ("short", "2 client 0 Modbus_ClientConnect 0 1\n", "has no more client calls of task 0"),
+    ];
+    for (name, lines, expected) in cases {
+        let path = dir.path().join(name);
+        std::fs::write(&path, format!("luamotion-inputs 1\n{lines}")).unwrap();
+        let out = run(&unique_ns("client-record"), &["--replay", path.to_str().unwrap(), program.to_str().unwrap()]);
+        let said = format!("{}{}", out.stdout, out.stderr);
+        assert!(said.contains(expected) && said.contains(path.to_str().unwrap()), "{name}: {said}");
+        assert!(!said.contains("panicked"), "{name}: {said}");
+    }
 }

@@ -6,6 +6,7 @@
 // Every public item is part of a contract with other processes or crates: say what it is.
 #![warn(missing_docs)]
 
+pub mod clients;
 pub mod freeport;
 pub mod plc;
 pub mod query;

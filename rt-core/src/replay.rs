@@ -18,6 +18,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use calls::clients::ClientOutcome;
 use calls::freeport::EthEvent;
 use crossbeam::queue::ArrayQueue;
 use ipc::messages::{GPIO_PINS, MAX_ANALOG_CHANNELS, MAX_TASKS};
@@ -45,6 +46,9 @@ pub enum Input {
     /// What a `FreePort.Eth` session of task `task` got from its socket (the task records
     /// it and replays it itself; the record keeps it).
     Eth { task: u8, session: i64, event: EthEvent },
+    /// What an HMPL ch. 22 client call of task `task` returned (the task records it and
+    /// replays it itself).
+    Client { task: u8, outcome: ClientOutcome },
 }
 
 /// An input and the cycle it takes effect at.
@@ -166,8 +170,14 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
             event: EthEvent::parse(event)
                 .ok_or_else(|| format!("`{}` is not connect, refused, data <hex> or end", event.join(" ")))?,
         },
-        [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "ai" | "eth") => {
-            return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, ai, eth)"));
+        ["client", task, outcome @ ..] if !outcome.is_empty() => Input::Client {
+            task: number(task, 0..=MAX_TASKS as u64 - 1, "a task (0..63)")? as u8,
+            outcome: ClientOutcome::parse(outcome).ok_or_else(|| {
+                format!("`{}` is not a ch. 22 client function, its code and what it returned", outcome.join(" "))
+            })?,
+        },
+        [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "ai" | "eth" | "client") => {
+            return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, ai, eth, client)"));
         }
         [kind, ..] => {
             let takes = match *kind {
@@ -175,6 +185,7 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
                 "serial" => "its bytes in hex",
                 "gpi" => "a pin and a level",
                 "eth" => "a task, a session and an event",
+                "client" => "a task, a function, its code and what it returned",
                 _ => "a slave, a channel and a word",
             };
             return Err(format!("`{kind}` takes {takes}"));
@@ -202,6 +213,7 @@ pub fn format(inputs: &[Stamped]) -> String {
             Input::Gpi { pin, on } => writeln!(out, "{cycle} gpi {pin} {}", u8::from(*on)),
             Input::Ai { slave, channel, raw } => writeln!(out, "{cycle} ai {slave} {channel} {raw}"),
             Input::Eth { task, session, event } => writeln!(out, "{cycle} eth {task} {session} {event}"),
+            Input::Client { task, outcome } => writeln!(out, "{cycle} client {task} {outcome}"),
         };
     }
     out
@@ -281,8 +293,11 @@ impl Feed {
     /// `replay`: the record's inputs (its serial bytes go to serial port 1, not here).
     pub fn new(inputs: Arc<Inputs>, replay: &[Stamped]) -> Self {
         // Serial port 1 and the tasks feed theirs.
-        let replay =
-            replay.iter().filter(|s| !matches!(s.input, Input::Serial(_) | Input::Eth { .. })).cloned().collect();
+        let replay = replay
+            .iter()
+            .filter(|s| !matches!(s.input, Input::Serial(_) | Input::Eth { .. } | Input::Client { .. }))
+            .cloned()
+            .collect();
         Feed { inputs, replay }
     }
 
@@ -294,7 +309,7 @@ impl Feed {
             let applied = match input {
                 Input::Modbus { address, value } => write_word(shared, address, value),
                 Input::Gpi { .. } | Input::Ai { .. } => simulate(&input),
-                Input::Serial(_) | Input::Eth { .. } => false,
+                Input::Serial(_) | Input::Eth { .. } | Input::Client { .. } => false,
             };
             if applied {
                 self.inputs.record(cycle, input);
@@ -332,11 +347,25 @@ mod tests {
             Stamped { cycle: 92, input: Input::Ai { slave: 4, channel: 2, raw: 65535 } },
             Stamped { cycle: 93, input: Input::Eth { task: 63, session: -2, event: EthEvent::Data(b"ok".to_vec()) } },
             Stamped { cycle: 93, input: Input::Eth { task: 0, session: 1, event: EthEvent::End } },
+            Stamped {
+                cycle: 94,
+                input: Input::Client {
+                    task: 2,
+                    outcome: ClientOutcome {
+                        function: api::Local::ASCII_ClientRecv,
+                        rc: 0,
+                        value: b"ok".to_vec(),
+                        socket: 0,
+                    },
+                },
+            },
         ];
         let text = format(&inputs);
         assert!(text.starts_with("luamotion-inputs 1\n3 modbus 0x0000 7\n3 serial 68693b00ff\n"), "{text}");
         assert!(
-            text.ends_with("\n91 gpi 8 1\n92 gpi 1 0\n92 ai 4 2 65535\n93 eth 63 -2 data 6f6b\n93 eth 0 1 end\n"),
+            text.ends_with(
+                "\n92 ai 4 2 65535\n93 eth 63 -2 data 6f6b\n93 eth 0 1 end\n94 client 2 ASCII_ClientRecv 0 6f6b\n"
+            ),
             "{text}"
         );
         assert_eq!(parsed(&text).unwrap(), inputs);
@@ -351,7 +380,14 @@ mod tests {
             ("\u{7f}ELF\x02\x01\x01", "line 1: not a luamotion input record"),
             ("luamotion-inputs 2\n", "line 1: not a luamotion input record"),
             ("luamotion-inputs 1\n5 modbus 0x0000 1\n4 modbus 0x0000 2\n", "line 3: cycle 4 comes after cycle 5"),
-            ("luamotion-inputs 1\n5 do 3 1\n", "line 2: unknown input `do` (known: modbus, serial, gpi, ai, eth)"),
+            (
+                "luamotion-inputs 1\n5 do 3 1\n",
+                "line 2: unknown input `do` (known: modbus, serial, gpi, ai, eth, client)",
+            ),
+            ("luamotion-inputs 1\n5 client 64 ASCII_ClientSend 0\n", "line 2: `64` is not a task (0..63)"),
+            ("luamotion-inputs 1\n5 client 0 Sleep 0\n", "line 2: `Sleep 0` is not a ch. 22 client function"),
+            ("luamotion-inputs 1\n5 client 0 ASCII_ClientRecv 0 6g\n", "line 2: `ASCII_ClientRecv 0 6g` is not"),
+            ("luamotion-inputs 1\n5 client 0\n", "line 2: `client` takes a task, a function"),
             ("luamotion-inputs 1\n5 eth 64 1 end\n", "line 2: `64` is not a task (0..63)"),
             ("luamotion-inputs 1\n5 eth 0 x end\n", "line 2: `x` is not a session id"),
             ("luamotion-inputs 1\n5 eth 0 1 data 6g\n", "line 2: `data 6g` is not connect, refused, data <hex>"),

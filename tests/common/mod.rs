@@ -247,3 +247,32 @@ pub fn try_debian_tool(command: &str) -> Result<PathBuf, String> {
     }
     find().ok_or_else(|| format!("{command} is still missing after installing tests/debian-packages.txt"))
 }
+
+/// `tests/python/modbus_server.py` (pymodbus, a Modbus TCP server luamotion did not write),
+/// killed when dropped.
+pub struct PyServer(Child);
+
+impl Drop for PyServer {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Starts the pymodbus server on a free port; returns it and its port once it listens.
+pub fn pymodbus_server() -> (PyServer, u16) {
+    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+    let child = Command::new(pymodbus_python())
+        .arg(repo_path("tests/python/modbus_server.py"))
+        .arg(port.to_string())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start the pymodbus server");
+    let server = PyServer(child);
+    assert!(
+        eventually(Duration::from_secs(30), || std::net::TcpStream::connect(("127.0.0.1", port)).is_ok()),
+        "the pymodbus server does not listen on {port}"
+    );
+    (server, port)
+}

@@ -99,7 +99,7 @@ pub fn simulate(machine: &mut Machine, input: &crate::replay::Input) -> bool {
         Input::Ai { slave, channel, raw } => {
             analog::sim_set_input(machine, slave.into(), channel.into(), raw.into()).is_ok()
         }
-        Input::Modbus { .. } | Input::Serial(_) | Input::Eth { .. } => false,
+        Input::Modbus { .. } | Input::Serial(_) | Input::Eth { .. } | Input::Client { .. } => false,
     }
 }
 

@@ -4,7 +4,10 @@
 //! The I/O runs on a current-thread tokio runtime owned by the task (tokio-modbus is
 //! asynchronous); every wait is cut into short slices so the task's heartbeat goes on
 //! (the watchdog) and is bounded by the call's timeout (a silent peer never hangs it).
+//! On the simulation clock each call's outcome is an input, recorded or replayed
+//! (`clients_sim`).
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::future::Future;
 use std::net::{IpAddr, SocketAddr};
@@ -19,6 +22,7 @@ use tokio::runtime::Runtime;
 use tokio_modbus::client::{Context, Reader, Writer};
 use tokio_modbus::prelude::Client;
 
+use super::clients_sim::{Outcome, Sim};
 use super::{Host, bytes_table, doubles_arg, error_here, int_arg, lua_string_arg};
 
 /// How long a connect may take (HMPL 22.2.3, 22.3.1: the manual gives no figure).
@@ -85,6 +89,51 @@ fn with_clients<R>(lua: &Lua, body: impl FnOnce(&mut Clients) -> R) -> mlua::Res
     Ok(body(&mut clients))
 }
 
+thread_local! {
+    /// On the simulation clock: the task's client outcomes (made on first use).
+    static SIM: RefCell<Option<Sim>> = const { RefCell::new(None) };
+}
+
+/// A call's outcome: in real time what `live` did on the sockets; on the simulation clock
+/// an input (`live`'s, recorded, or the record's, without sockets) that the program sees
+/// in its turn after the cycle the call ended in, so a replay returns it at the same cycle.
+fn outcome(
+    lua: &Lua,
+    host: &Host,
+    function: Local,
+    live: impl FnOnce(&mut Clients) -> Outcome,
+) -> mlua::Result<Outcome> {
+    if !host.endpoint.borrow().lockstep() {
+        return with_clients(lua, live);
+    }
+    let replaying = SIM
+        .with_borrow_mut(|sim| {
+            // Outcomes that cannot be written or read: not recorded or replayed.
+            let made =
+                || Sim::new(host.task, &host.freeport_inputs).or_else(|_| Sim::new(host.task, &Default::default()));
+            match sim {
+                Some(sim) => Ok(sim.replaying()),
+                None => Ok(sim.insert(made()?).replaying()),
+            }
+        })
+        .map_err(|e: std::io::Error| error_here(lua, format!("client record: {e}")))?;
+    let (cycle, outcome) = if replaying {
+        SIM.with_borrow_mut(|sim| sim.as_mut().expect("made").next(function)).map_err(|e| error_here(lua, e))?
+    } else {
+        let outcome = with_clients(lua, live)?;
+        let cycle = host.endpoint.borrow_mut().snapshot().cycle + 1;
+        SIM.with_borrow_mut(|sim| sim.as_mut().expect("made").note(cycle, &outcome));
+        (cycle, outcome)
+    };
+    host.endpoint.borrow_mut().wait_until_cycle(cycle).map_err(mlua::Error::external)?;
+    Ok(outcome)
+}
+
+/// An outcome of `function` with nothing returned besides `rc`.
+fn code_only(function: Local, rc: i64) -> Outcome {
+    Outcome { function, rc, value: Vec::new(), socket: 0 }
+}
+
 fn text_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
     Ok(lua_string_arg(lua, spec, args, i)?.to_string_lossy())
 }
@@ -107,105 +156,125 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         Local::ASCII_ClientConnect => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let (ip, port) = (text_arg(lua, spec, &args, 0)?, text_arg(lua, spec, &args, 1)?);
-            with_clients(lua, |c| {
+            let connected = |rc, socket| Outcome { function: local, rc, value: Vec::new(), socket };
+            let o = outcome(lua, &host, local, |c| {
                 let Some(addr) = socket_addr(&ip, Some(&port)) else {
-                    return (code(SystemError::AsciiConnectFailed), 0);
+                    return connected(code(SystemError::AsciiConnectFailed), 0);
                 };
                 if c.ascii.len() >= MAX_SOCKETS {
-                    return (code(SystemError::AsciiConnectFailed), 0);
+                    return connected(code(SystemError::AsciiConnectFailed), 0);
                 }
                 match wait(&host, &c.runtime, CONNECT_TIMEOUT, TcpStream::connect(addr)) {
-                    None => (code(SystemError::AsciiConnectTimeout), 0),
-                    Some(Err(_)) => (code(SystemError::AsciiConnectFailed), 0),
+                    None => connected(code(SystemError::AsciiConnectTimeout), 0),
+                    Some(Err(_)) => connected(code(SystemError::AsciiConnectFailed), 0),
                     Some(Ok(stream)) => {
                         let id = c.id();
                         c.ascii.insert(id, stream);
-                        (0, id)
+                        connected(0, id)
                     }
                 }
-            })
+            })?;
+            Ok((o.rc, o.socket))
         }),
         Local::ASCII_ClientRecv => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            let (rc, bytes) = with_clients(lua, |c| {
+            let o = outcome(lua, &host, local, |c| {
                 let Some(stream) = c.ascii.get_mut(&id).filter(|_| (1..=MAX_ASCII_LENGTH).contains(&length)) else {
-                    return (code(SystemError::AsciiRecvFail), Vec::new());
+                    return code_only(local, code(SystemError::AsciiRecvFail));
                 };
                 let mut buffer = vec![0; length as usize];
                 match wait(&host, &c.runtime, IO_TIMEOUT, stream.read(&mut buffer)) {
-                    None => (code(SystemError::AsciiRecvTimeout), Vec::new()),
+                    None => code_only(local, code(SystemError::AsciiRecvTimeout)),
                     // 0 bytes: the server closed the connection.
-                    Some(Ok(0) | Err(_)) => (code(SystemError::AsciiRecvFail), Vec::new()),
+                    Some(Ok(0) | Err(_)) => code_only(local, code(SystemError::AsciiRecvFail)),
                     Some(Ok(n)) => {
                         buffer.truncate(n);
-                        (0, buffer)
+                        Outcome { value: buffer, ..code_only(local, 0) }
                     }
                 }
             })?;
-            Ok((rc, lua.create_string(bytes)?))
+            Ok((o.rc, lua.create_string(o.value)?))
         }),
         Local::ASCII_ClientSend => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let text = lua_string_arg(lua, spec, &args, 2)?;
             let bytes = text.as_bytes();
-            with_clients(lua, |c| {
+            let o = outcome(lua, &host, local, |c| {
                 let Some(stream) = c.ascii.get_mut(&id).filter(|_| (0..=MAX_ASCII_LENGTH).contains(&length)) else {
-                    return code(SystemError::AsciiSendFail);
+                    return code_only(local, code(SystemError::AsciiSendFail));
                 };
                 // The first `length` bytes, fewer when the string is shorter (no C buffer to overrun).
                 let bytes = &bytes[..bytes.len().min(length as usize)];
-                match wait(&host, &c.runtime, IO_TIMEOUT, stream.write_all(bytes)) {
-                    None => code(SystemError::AsciiSendTimeout),
-                    Some(Err(_)) => code(SystemError::AsciiSendFail),
-                    Some(Ok(())) => 0,
-                }
-            })
+                code_only(
+                    local,
+                    match wait(&host, &c.runtime, IO_TIMEOUT, stream.write_all(bytes)) {
+                        None => code(SystemError::AsciiSendTimeout),
+                        Some(Err(_)) => code(SystemError::AsciiSendFail),
+                        Some(Ok(())) => 0,
+                    },
+                )
+            })?;
+            Ok(o.rc)
         }),
         Local::ASCII_ClientDisconnect => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let id = int_arg(lua, spec, &args, 0)?;
-            with_clients(lua, |c| match c.ascii.remove(&id) {
-                None => code(SystemError::HmplArgOutOfRange),
-                Some(mut stream) => match wait(&host, &c.runtime, IO_TIMEOUT, stream.shutdown()) {
-                    None => code(SystemError::AsciiDisconnectTimeout),
-                    // A peer that left already is disconnected too.
-                    Some(_) => 0,
-                },
-            })
+            let o = outcome(lua, &host, local, |c| {
+                code_only(
+                    local,
+                    match c.ascii.remove(&id) {
+                        None => code(SystemError::HmplArgOutOfRange),
+                        Some(mut stream) => match wait(&host, &c.runtime, IO_TIMEOUT, stream.shutdown()) {
+                            None => code(SystemError::AsciiDisconnectTimeout),
+                            // A peer that left already is disconnected too.
+                            Some(_) => 0,
+                        },
+                    },
+                )
+            })?;
+            Ok(o.rc)
         }),
         Local::Modbus_ClientConnect => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let ip = text_arg(lua, spec, &args, 0)?;
-            with_clients(lua, |c| {
+            let connected = |rc, socket| Outcome { function: local, rc, value: Vec::new(), socket };
+            let o = outcome(lua, &host, local, |c| {
                 let Some(addr) = socket_addr(&ip, None) else {
-                    return (code(SystemError::ModbusConnectFailed), 0);
+                    return connected(code(SystemError::ModbusConnectFailed), 0);
                 };
                 if c.modbus.len() >= MAX_SOCKETS {
-                    return (code(SystemError::ModbusConnectFailed), 0);
+                    return connected(code(SystemError::ModbusConnectFailed), 0);
                 }
                 match wait(&host, &c.runtime, CONNECT_TIMEOUT, tokio_modbus::client::tcp::connect(addr)) {
-                    None => (code(SystemError::ModbusConnectTimeout), 0),
-                    Some(Err(_)) => (code(SystemError::ModbusConnectFailed), 0),
+                    None => connected(code(SystemError::ModbusConnectTimeout), 0),
+                    Some(Err(_)) => connected(code(SystemError::ModbusConnectFailed), 0),
                     Some(Ok(context)) => {
                         let id = c.id();
                         c.modbus.insert(id, context);
-                        (0, id)
+                        connected(0, id)
                     }
                 }
-            })
+            })?;
+            Ok((o.rc, o.socket))
         }),
         Local::Modbus_ClientDisconnect => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let id = int_arg(lua, spec, &args, 0)?;
-            with_clients(lua, |c| match c.modbus.remove(&id) {
-                None => code(SystemError::HmplArgOutOfRange),
-                Some(mut context) => match wait(&host, &c.runtime, IO_TIMEOUT, context.disconnect()) {
-                    None => code(SystemError::ModbusDisconnectTimeout),
-                    Some(_) => 0,
-                },
-            })
+            let o = outcome(lua, &host, local, |c| {
+                code_only(
+                    local,
+                    match c.modbus.remove(&id) {
+                        None => code(SystemError::HmplArgOutOfRange),
+                        Some(mut context) => match wait(&host, &c.runtime, IO_TIMEOUT, context.disconnect()) {
+                            None => code(SystemError::ModbusDisconnectTimeout),
+                            Some(_) => 0,
+                        },
+                    },
+                )
+            })?;
+            Ok(o.rc)
         }),
         Local::Modbus_ClientRead_HoldReg
         | Local::Modbus_ClientRead_InputReg
@@ -218,12 +287,12 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 Local::Modbus_ClientRead_HoldReg | Local::Modbus_ClientRead_InputReg => 125,
                 _ => 2000,
             };
-            let (rc, bytes) = with_clients(lua, |c| {
+            let o = outcome(lua, &host, local, |c| {
                 let Some(request) = request(start, count, limit) else {
-                    return (code(SystemError::ModbusDatalengthErr), Vec::new());
+                    return code_only(local, code(SystemError::ModbusDatalengthErr));
                 };
                 let Some(context) = c.modbus.get_mut(&id) else {
-                    return (code(SystemError::ModbusJobFail), Vec::new());
+                    return code_only(local, code(SystemError::ModbusJobFail));
                 };
                 let (start, count) = request;
                 let job = async {
@@ -234,10 +303,9 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                         _ => bits(context.read_discrete_inputs(start, count).await??),
                     })
                 };
-                job_result(wait(&host, &c.runtime, IO_TIMEOUT, job))
+                job_result(local, wait(&host, &c.runtime, IO_TIMEOUT, job))
             })?;
-            let length = bytes.len() as i64;
-            Ok((rc, bytes_table(lua, &bytes)?, length))
+            Ok((o.rc, bytes_table(lua, &o.value)?, o.value.len() as i64))
         }),
         Local::Modbus_ClientWrite_HoldReg | Local::Modbus_ClientWrite_Coils => {
             lua.create_function(move |lua, args: MultiValue| {
@@ -246,16 +314,16 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 let (start, count) = (int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
                 let data = doubles_arg(lua, spec, &args, 3)?;
                 let registers = local == Local::Modbus_ClientWrite_HoldReg;
-                let (rc, bytes) = with_clients(lua, |c| {
+                let o = outcome(lua, &host, local, |c| {
                     let limit = if registers { 123 } else { 1968 };
                     let Some((start, count)) = request(start, count, limit) else {
-                        return (code(SystemError::ModbusDatalengthErr), Vec::new());
+                        return code_only(local, code(SystemError::ModbusDatalengthErr));
                     };
                     let Some(words) = words_arg(&data, if registers { count } else { count.div_ceil(16) }) else {
-                        return (code(SystemError::ModbusDatalengthErr), Vec::new());
+                        return code_only(local, code(SystemError::ModbusDatalengthErr));
                     };
                     let Some(context) = c.modbus.get_mut(&id) else {
-                        return (code(SystemError::ModbusJobFail), Vec::new());
+                        return code_only(local, code(SystemError::ModbusJobFail));
                     };
                     let job = async {
                         if registers {
@@ -269,10 +337,9 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                         // The server's reply to FC 15/16: start address and count, big-endian.
                         Ok([start.to_be_bytes(), count.to_be_bytes()].concat())
                     };
-                    job_result(wait(&host, &c.runtime, IO_TIMEOUT, job))
+                    job_result(local, wait(&host, &c.runtime, IO_TIMEOUT, job))
                 })?;
-                let length = bytes.len() as i64;
-                Ok((rc, bytes_table(lua, &bytes)?, length))
+                Ok((o.rc, bytes_table(lua, &o.value)?, o.value.len() as i64))
             })
         }
         _ => unreachable!("{} is not a client function", spec.name),
@@ -297,11 +364,11 @@ impl From<tokio_modbus::ExceptionCode> for JobError {
     }
 }
 
-fn job_result(outcome: Option<Result<Vec<u8>, JobError>>) -> (i64, Vec<u8>) {
+fn job_result(function: Local, outcome: Option<Result<Vec<u8>, JobError>>) -> Outcome {
     match outcome {
-        None => (code(SystemError::ModbusJobTimeout), Vec::new()),
-        Some(Err(JobError::Transport | JobError::Exception)) => (code(SystemError::ModbusJobFail), Vec::new()),
-        Some(Ok(bytes)) => (0, bytes),
+        None => code_only(function, code(SystemError::ModbusJobTimeout)),
+        Some(Err(JobError::Transport | JobError::Exception)) => code_only(function, code(SystemError::ModbusJobFail)),
+        Some(Ok(bytes)) => Outcome { value: bytes, ..code_only(function, 0) },
     }
 }
 

@@ -6,6 +6,7 @@
 
 mod agent;
 mod clients;
+mod clients_sim;
 mod expect;
 mod freeport;
 pub mod freeport_sim;
@@ -54,7 +55,8 @@ pub struct Host {
     pub user_ascii: String,
     /// Where `FreePort.Eth.OpenAsServer` listens (`[freeport] bind`).
     pub freeport_bind: std::net::IpAddr,
-    /// On the simulation clock: where FreePort's inputs are recorded or replayed from.
+    /// On the simulation clock: where FreePort's and the ch. 22 clients' inputs are recorded
+    /// or replayed from.
     pub freeport_inputs: freeport_sim::FreePortInputs,
     events: EventSender,
     throttle: Cell<Throttle>,
