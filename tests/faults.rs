@@ -293,24 +293,19 @@ fn check(fault: Fault, reaction: &str) {
     }
 
     // The core missed no cycle because of it: the cycles that detect the fault, react,
-    // order the kill and handle the process' end all finish within their period. (Their
-    // wake-up lateness is the OS's and the hypervisor's, not the fault handling's.) In a
-    // debug build the bound is doubled. One cycle is the exception ARCHITECTURE.md's
-    // invariant 1 names: the one in which iceoryx2 drops the dead process' ports from the
-    // RT thread's side (0.1 to 0.3 ms in a release build, around 2 ms in a debug build);
-    // it gets twice the bound.
+    // order the kill and handle the process' end each use less CPU time than their period.
+    // CPU time, not wall time: on two cores shared with the other tests a cycle can be
+    // preempted, which is the OS's doing, not the fault handling's (its wall time is in
+    // the trace too). In a debug build the bound is doubled. One cycle is the exception
+    // ARCHITECTURE.md's invariant 1 names: the one in which iceoryx2 drops the dead
+    // process' ports from the RT thread's side (0.1 to 0.3 ms in a release build, around
+    // 2 ms in a debug build); it gets twice the bound.
     let budget_us = if cfg!(debug_assertions) { 2000.0 } else { 1000.0 };
-    let work_us: Vec<(u64, f64)> =
-        (detected..detected + 50).map(|c| (c, run.row(c + 1)["previous_execution_us"])).collect();
+    let work_us: Vec<(u64, f64)> = (detected..detected + 50).map(|c| (c, run.row(c + 1)["previous_cpu_us"])).collect();
     let over: Vec<&(u64, f64)> = work_us.iter().filter(|(_, us)| *us >= budget_us).collect();
-    assert!(over.len() <= 1, "cycles over {budget_us} us: {over:?}: {context}");
-    // How long that one cycle takes is iceoryx2's cost, measured (README, `--trace`), not
-    // the fault handling's; in a debug build on two shared cores it varies with the load
-    // (4 ms seen in CI), so only a release build bounds it.
-    if !cfg!(debug_assertions) {
-        for (c, us) in over {
-            assert!(*us < 2.0 * budget_us, "cycle {c} took {us} us: {context}");
-        }
+    assert!(over.len() <= 1, "cycles over {budget_us} us of CPU time: {over:?}: {context}");
+    for (c, us) in over {
+        assert!(*us < 2.0 * budget_us, "cycle {c} took {us} us of CPU time: {context}");
     }
 }
 

@@ -28,7 +28,7 @@ use crate::overrun::OverrunCauses;
 use crate::realtime::{self, Granted};
 use crate::scope::ScopeSampler;
 use crate::sim_clock::Lockstep;
-use crate::trace::{Digest, TraceRow, TraceSender};
+use crate::trace::{CycleTiming, Digest, TraceRow, TraceSender};
 
 /// How long a shutdown waits for the drives to disable.
 const SHUTDOWN_CYCLES: u64 = 500;
@@ -129,10 +129,8 @@ pub struct CycleWork {
     layout: u64,
     cycle: u64,
     overruns: u64,
-    /// Timing the RT loop hands in for the trace: this cycle's wake-up lateness and the
-    /// previous cycle's execution time, ns.
-    lateness_ns: u64,
-    previous_execution_ns: u64,
+    /// Timing the RT loop hands in for the trace.
+    timing: CycleTiming,
     /// Time spent exchanging the frame with the simulated drives, ns.
     simulation_ns: u64,
     trace: Option<TraceSender>,
@@ -168,8 +166,7 @@ impl CycleWork {
             layout: 0,
             cycle: 0,
             overruns: 0,
-            lateness_ns: 0,
-            previous_execution_ns: 0,
+            timing: CycleTiming::default(),
             simulation_ns: 0,
             trace: None,
             scope: None,
@@ -286,8 +283,8 @@ impl CycleWork {
         // On the real-time clock a row is only made for a trace file: a digest of wall-time
         // runs would say nothing.
         let row = (self.recording && (self.sim || self.trace.is_some())).then(|| {
-            let (lateness, execution) = if self.sim { (0, 0) } else { (self.lateness_ns, self.previous_execution_ns) };
-            TraceRow::of(snapshot, lateness, execution)
+            let timing = if self.sim { CycleTiming::default() } else { self.timing };
+            TraceRow::of(snapshot, timing)
                 .with_loads(&self.machine.kernel, &self.machine.network)
                 .with_position_triggers(&self.machine.triggers)
         });
@@ -347,8 +344,8 @@ pub fn run(
             realtime::sleep_until(deadline);
         }
         let woke = monotonic_ns();
-        work.lateness_ns = woke.saturating_sub(deadline);
-        let _ = stats.lateness.record(work.lateness_ns.max(1));
+        work.timing.lateness_ns = woke.saturating_sub(deadline);
+        let _ = stats.lateness.record(work.timing.lateness_ns.max(1));
 
         if control.stop_tasks.load(Ordering::Acquire) {
             work.machine.stop_all_tasks();
@@ -371,10 +368,11 @@ pub fn run(
         if work.recording {
             stats.recorded_wall_ns = done - started_ns;
         }
-        work.previous_execution_ns = done.saturating_sub(woke);
-        let _ = stats.execution.record(work.previous_execution_ns.max(1));
+        work.timing.previous_execution_ns = done.saturating_sub(woke);
+        let _ = stats.execution.record(work.timing.previous_execution_ns.max(1));
         let cycle_cpu_ns = realtime::thread_cpu_ns() - cpu_ns;
         cpu_ns += cycle_cpu_ns;
+        work.timing.previous_cpu_ns = cycle_cpu_ns;
         let _ = stats.cpu.record(cycle_cpu_ns.max(1));
         stats.cycles = work.cycle;
         if let Some(lockstep) = &mut lockstep {
@@ -396,7 +394,8 @@ pub fn run(
                 if done > deadline {
                     // Missed the next deadline: count it and resume on the period grid.
                     stats.overruns += 1;
-                    stats.overrun_causes.count(pace, work.lateness_ns, work.previous_execution_ns, cycle_cpu_ns);
+                    let timing = work.timing;
+                    stats.overrun_causes.count(pace, timing.lateness_ns, timing.previous_execution_ns, cycle_cpu_ns);
                     work.overruns = stats.overruns;
                     deadline += (done - deadline).div_ceil(pace) * pace;
                 }

@@ -40,13 +40,21 @@ pub struct TracedAxis {
     pub load_pos: Option<f64>,
 }
 
+/// The wall-time columns of a row, ns: how late this cycle woke, how long the previous
+/// cycle's work took, and how much CPU time the RT thread used in the previous cycle (which
+/// a preempted cycle does not inflate).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CycleTiming {
+    pub lateness_ns: u64,
+    pub previous_execution_ns: u64,
+    pub previous_cpu_ns: u64,
+}
+
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TraceRow {
     pub cycle: u64,
     pub overruns: u64,
-    /// How late this cycle woke, and how long the previous cycle's work took, ns.
-    pub lateness_ns: u64,
-    pub previous_execution_ns: u64,
+    pub timing: CycleTiming,
     pub axes: [TracedAxis; TRACED_AXES],
     /// Each traced axis' position-trigger pulses in this cycle.
     pub pt_counts: [u32; TRACED_AXES],
@@ -58,12 +66,11 @@ pub struct TraceRow {
 }
 
 impl TraceRow {
-    pub fn of(snapshot: &Snapshot, lateness_ns: u64, previous_execution_ns: u64) -> Self {
+    pub fn of(snapshot: &Snapshot, timing: CycleTiming) -> Self {
         let mut row = TraceRow {
             cycle: snapshot.cycle,
             overruns: snapshot.overruns,
-            lateness_ns,
-            previous_execution_ns,
+            timing,
             gpo: snapshot.gpio.gpo,
             ..TraceRow::default()
         };
@@ -243,7 +250,7 @@ fn write(
     let mut out = std::io::BufWriter::new(file);
     let mut pulses_out = std::io::BufWriter::new(pulses);
     writeln!(pulses_out, "cycle,axis,position,time_ms")?;
-    let mut header = String::from("cycle,overruns,lateness_us,previous_execution_us");
+    let mut header = String::from("cycle,overruns,lateness_us,previous_execution_us,previous_cpu_us");
     for (a, &load) in loads.iter().enumerate() {
         header += &format!(",a{a}_ref_pos,a{a}_pos_fb,a{a}_motion_status,a{a}_fault_status");
         if load {
@@ -260,7 +267,10 @@ fn write(
         let stopping = stop.load(Ordering::Acquire);
         while let Some(row) = queue.pop() {
             let us = |ns: u64| ns as f64 / 1000.0;
-            write!(out, "{},{},{},{}", row.cycle, row.overruns, us(row.lateness_ns), us(row.previous_execution_ns))?;
+            let timing = row.timing;
+            let (late, execution, cpu) =
+                (us(timing.lateness_ns), us(timing.previous_execution_ns), us(timing.previous_cpu_ns));
+            write!(out, "{},{},{late},{execution},{cpu}", row.cycle, row.overruns)?;
             for (axis, &load) in row.axes.iter().zip(loads) {
                 write!(out, ",{},{},{},{}", axis.ref_pos, axis.pos_fb, axis.motion_status, axis.fault_status)?;
                 if load {
@@ -304,7 +314,8 @@ mod tests {
         row.axes[0].pos_fb = 100.0;
         let base = digest_of(&[row, row]);
         assert_eq!(base, digest_of(&[row, row]));
-        let timed = TraceRow { lateness_ns: 12_345, previous_execution_ns: 678, ..row };
+        let timing = CycleTiming { lateness_ns: 12_345, previous_execution_ns: 678, previous_cpu_ns: 90 };
+        let timed = TraceRow { timing, ..row };
         assert_eq!(digest_of(&[row, timed]), base, "wall time is left out");
         let mut moved = row;
         moved.axes[0].pos_fb = f64::from_bits(100f64.to_bits() + 1);

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 pub use calls::clients::ClientOutcome as Outcome;
 
-use super::freeport_sim::FreePortInputs;
+use super::freeport_sim::{FreePortInputs, RecordSide};
 
 /// A task's client outcomes on the simulation clock.
 pub struct Sim {
@@ -26,15 +26,10 @@ impl Sim {
     /// The task's file in the record directory is `clients-<task>.txt`; a replay reads the
     /// record (checked by the controller before the task started).
     pub fn new(task: u8, inputs: &FreePortInputs) -> std::io::Result<Sim> {
-        let (record, replay) = match inputs {
-            FreePortInputs::Live => (None, None),
-            FreePortInputs::Record(dir) => {
-                let path = dir.join(format!("clients-{task}.txt"));
-                (Some(File::options().create(true).append(true).open(path)?), None)
-            }
-            FreePortInputs::Replay(path) => {
-                (None, Some((path.clone(), task_outcomes(&std::fs::read_to_string(path)?, task))))
-            }
+        let (record, replay) = match inputs.open(&format!("clients-{task}.txt"))? {
+            RecordSide::Live => (None, None),
+            RecordSide::Record(file) => (Some(file), None),
+            RecordSide::Replay(path, text) => (None, Some((path, task_outcomes(&text, task)))),
         };
         Ok(Sim { task, record, replay })
     }

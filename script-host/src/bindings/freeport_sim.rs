@@ -26,6 +26,28 @@ pub enum FreePortInputs {
     Replay(PathBuf),
 }
 
+/// A task's side of the record, shared by the FreePort and the client inputs.
+pub enum RecordSide {
+    Live,
+    /// The task's own file in the record directory, appended to.
+    Record(File),
+    /// The record's path and text.
+    Replay(PathBuf, String),
+}
+
+impl FreePortInputs {
+    /// Opens the task's file `file_name` in the record directory, or reads the record.
+    pub fn open(&self, file_name: &str) -> std::io::Result<RecordSide> {
+        Ok(match self {
+            FreePortInputs::Live => RecordSide::Live,
+            FreePortInputs::Record(dir) => {
+                RecordSide::Record(File::options().create(true).append(true).open(dir.join(file_name))?)
+            }
+            FreePortInputs::Replay(path) => RecordSide::Replay(path.clone(), std::fs::read_to_string(path)?),
+        })
+    }
+}
+
 /// A task's FreePort inputs on the simulation clock.
 pub struct Sim {
     task: u8,
@@ -38,13 +60,10 @@ impl Sim {
     /// `None` when the inputs cannot be read or written (the controller checked the record
     /// before the task started).
     pub fn new(task: u8, inputs: &FreePortInputs) -> std::io::Result<Sim> {
-        let (record, replay) = match inputs {
-            FreePortInputs::Live => (None, None),
-            FreePortInputs::Record(dir) => {
-                let path = dir.join(format!("task-{task}.txt"));
-                (Some(File::options().create(true).append(true).open(path)?), None)
-            }
-            FreePortInputs::Replay(path) => (None, Some(task_events(&std::fs::read_to_string(path)?, task))),
+        let (record, replay) = match inputs.open(&format!("task-{task}.txt"))? {
+            RecordSide::Live => (None, None),
+            RecordSide::Record(file) => (Some(file), None),
+            RecordSide::Replay(_, text) => (None, Some(task_events(&text, task))),
         };
         Ok(Sim { task, record, replay })
     }
