@@ -293,20 +293,17 @@ fn check(fault: Fault, reaction: &str) {
     }
 
     // The core missed no cycle because of it: the cycles that detect the fault, react,
-    // order the kill and handle the process' end each use less CPU time than their period.
-    // CPU time, not wall time: on two cores shared with the other tests a cycle can be
-    // preempted, which is the OS's doing, not the fault handling's (its wall time is in
-    // the trace too). In a debug build the bound is doubled. One cycle is the exception
-    // ARCHITECTURE.md's invariant 1 names: the one in which iceoryx2 drops the dead
-    // process' ports from the RT thread's side (0.1 to 0.3 ms in a release build, around
-    // 2 ms in a debug build); it gets twice the bound.
-    let budget_us = if cfg!(debug_assertions) { 2000.0 } else { 1000.0 };
-    let work_us: Vec<(u64, f64)> = (detected..detected + 50).map(|c| (c, run.row(c + 1)["previous_cpu_us"])).collect();
-    let over: Vec<&(u64, f64)> = work_us.iter().filter(|(_, us)| *us >= budget_us).collect();
-    assert!(over.len() <= 1, "cycles over {budget_us} us of CPU time: {over:?}: {context}");
-    for (c, us) in over {
-        assert!(*us < 2.0 * budget_us, "cycle {c} took {us} us of CPU time: {context}");
-    }
+    // order the kill and handle the process' end (iceoryx2 dropping its state subscriber
+    // included, ARCHITECTURE.md invariant 1) each use less CPU time than their period, in
+    // a debug build too (at most 0.31 ms seen). CPU time, not wall time: on two cores
+    // shared with the other tests a cycle can be preempted, which is the OS's doing, not
+    // the fault handling's (its wall time is in the trace too).
+    let budget_us = 1000.0;
+    let over: Vec<(u64, f64)> = (detected..detected + 50)
+        .map(|c| (c, run.row(c + 1)["previous_cpu_us"]))
+        .filter(|(_, us)| *us >= budget_us)
+        .collect();
+    assert!(over.is_empty(), "cycles over {budget_us} us of CPU time: {over:?}: {context}");
 }
 
 fn matrix(fault: Fault) {
