@@ -369,6 +369,49 @@ fn simulated_inputs_are_recorded_and_replayed() {
     replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
 }
 
+/// A digital I/O terminal's input switched from the web view (`SimSetSlvGPI`, HMPL 9.5):
+/// recorded as `slvgpi` lines with their cycles; the replays give the same run. The
+/// program prints input 2 and the cycle it saw it at, so a switch landing one cycle off in
+/// a replay shows in the output as well as in the digest.
+#[test]
+fn terminal_inputs_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("machine.toml");
+    std::fs::write(&config, "[[axes]]\n\n[[slaves]]\ndevice = \"digital_io\"\ninputs = 4\noutputs = 4\n").unwrap();
+    let record = dir.path().join("inputs.txt");
+    let program = program(
+        dir.path(),
+        "switch.lua",
+        "my_print('waiting for inputs')\n\
+         local seen, changes = 0, 0\n\
+         while changes < 2 do\n\
+           local now = GetSlvGPI(1, 2)\n\
+           if now ~= seen then seen, changes = now, changes + 1 Print('input 2 is %d at %d', now, system_fclk) end\n\
+           Sleep(1)\n\
+         end\n",
+    );
+    let ns = unique_ns("record-terminal-inputs");
+    let args = ["--config", config.to_str().unwrap(), "--speed", "20", "--http", "0"];
+    let (child, lines) =
+        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
+    let mut seen = Vec::new();
+    let address = until(&lines, "Web view on http://", &mut seen);
+    let port = address.trim_end_matches('/').rsplit(':').next().unwrap().to_string();
+    if !seen.iter().any(|l| l.contains("waiting for inputs")) {
+        until(&lines, "waiting for inputs", &mut seen);
+    }
+    for (path, then) in [("/api/sim/slvgpi/1/2/1", "input 2 is 1"), ("/api/sim/slvgpi/1/2/0", "input 2 is 0")] {
+        let answer = post(&port, path);
+        assert!(answer.contains("queued for the next cycle"), "{path}: {answer}");
+        until(&lines, then, &mut seen);
+    }
+    let recorded = end(child, lines, seen);
+    let text = std::fs::read_to_string(&record).unwrap();
+    let inputs: Vec<&str> = text.lines().skip(1).map(|l| l.split_once(' ').unwrap().1).collect();
+    assert_eq!(inputs, ["slvgpi 1 2 1", "slvgpi 1 2 0"], "{text}");
+    replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
+}
+
 /// A record written by hand: a controller input, a DV word and an analog word in one
 /// cycle, from what would be two servers (the web view, Modbus TCP): the program sees all
 /// three in its turn after that cycle. Replays without `--clock sim`, at `--speed 10` and

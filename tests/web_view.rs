@@ -422,16 +422,23 @@ fn measure_updates_with_five_clients_at_96_axes() {
     );
 }
 
-/// In real time the web view's simulated inputs are the agent's `SimSetGPI` and
-/// `SimSetSlvAIRaw` calls (ASCII functions now): a Native ASCII client reads them back; a
-/// slave that is no analog terminal is the HMPL code, a pin outside 1..8 the client's error.
+/// In real time the web view's simulated inputs are the agent's `SimSetGPI`,
+/// `SimSetSlvGPI` and `SimSetSlvAIRaw` calls (ASCII functions now): a Native ASCII client
+/// reads them back; a slave that is no such terminal is the HMPL code, a pin outside 1..8
+/// or a level other than 0 and 1 the client's error.
 #[test]
 fn simulated_inputs_go_through_the_agent_in_real_time() {
     let ns = unique_ns("web-sim-inputs");
     let dir = tempfile::tempdir().unwrap();
-    // Slave 4, after the four drives of the built-in machine.
-    let (serving, web) = serve_web(&ns, dir.path(), "[[slaves]]\ndevice = \"analog_io\"\ninputs = 2\noutputs = 2\n");
-    for (path, call) in [("gpi/3/1", "SimSetGPI(3, 1)"), ("ai/4/2/1234", "SimSetSlvAIRaw(4, 2, 1234)")] {
+    // Slaves 4 and 5, after the four drives of the built-in machine.
+    let terminals = "[[slaves]]\ndevice = \"analog_io\"\ninputs = 2\noutputs = 2\n\n\
+                     [[slaves]]\ndevice = \"digital_io\"\ninputs = 8\noutputs = 8\n";
+    let (serving, web) = serve_web(&ns, dir.path(), terminals);
+    for (path, call) in [
+        ("gpi/3/1", "SimSetGPI(3, 1)"),
+        ("ai/4/2/1234", "SimSetSlvAIRaw(4, 2, 1234)"),
+        ("slvgpi/5/7/1", "SimSetSlvGPI(5, 7, 1)"),
+    ] {
         let (status, body) = post(&format!("{web}api/sim/{path}"));
         let answer: Value = serde_json::from_str(&body).unwrap();
         assert_eq!(
@@ -444,6 +451,10 @@ fn simulated_inputs_go_through_the_agent_in_real_time() {
     assert!(body.contains("\"ok\":false") && body.contains("ERROR 0x"), "a drive has no analog inputs: {body}");
     assert_eq!(post(&format!("{web}api/sim/gpi/9/1")).0, 400);
     assert_eq!(post(&format!("{web}api/sim/gpi/1/2")).0, 400);
+    let (_, body) = post(&format!("{web}api/sim/slvgpi/4/1/1"));
+    assert!(body.contains("\"ok\":false") && body.contains("ERROR 0x"), "an analog terminal has no switches: {body}");
+    assert_eq!(post(&format!("{web}api/sim/slvgpi/5/1/2")).0, 400);
+    assert_eq!(post(&format!("{web}api/sim/slvgpi/5/0/1")).0, 400);
     let stream = std::net::TcpStream::connect(("127.0.0.1", serving.ascii_port)).unwrap();
     let mut answers = BufReader::new(stream.try_clone().unwrap());
     let mut ask = |line: &str| {
@@ -455,4 +466,6 @@ fn simulated_inputs_go_through_the_agent_in_real_time() {
     };
     assert!(eventually(Duration::from_secs(20), || ask("GetGPI(3)") == "1"));
     assert!(eventually(Duration::from_secs(20), || ask("GetSlvAIRaw(4, 2)") == "1234"));
+    assert!(eventually(Duration::from_secs(20), || ask("GetSlvGPI(5, 7)") == "1"));
+    assert_eq!(ask("GetSlvGPI(5, 6)"), "0", "only the switched input");
 }

@@ -40,6 +40,9 @@ pub enum Input {
     Serial(Vec<u8>),
     /// The electrical level of controller input `pin` (1..8), as `SimSetGPI` sets it.
     Gpi { pin: u8, on: bool },
+    /// The level of input `pin` of the digital I/O terminal at slave `slave` (HMPL 9.5),
+    /// as `SimSetSlvGPI` sets it.
+    SlvGpi { slave: u16, pin: u16, on: bool },
     /// The word on input `channel` (1..4) of the analog terminal at slave `slave`, as
     /// `SimSetSlvAIRaw` sets it.
     Ai { slave: u16, channel: u8, raw: u16 },
@@ -49,6 +52,14 @@ pub enum Input {
     /// What an HMPL ch. 22 client call of task `task` returned (the task records it and
     /// replays it itself).
     Client { task: u8, outcome: ClientOutcome },
+}
+
+impl Input {
+    /// An input a simulator command sets (`SimSetGPI`, `SimSetSlvGPI`, `SimSetSlvAIRaw`),
+    /// which the lockstep gate applies with that command's code.
+    pub fn is_simulated(&self) -> bool {
+        matches!(self, Input::Gpi { .. } | Input::SlvGpi { .. } | Input::Ai { .. })
+    }
 }
 
 /// An input and the cycle it takes effect at.
@@ -159,6 +170,11 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
             pin: number(pin, 1..=GPIO_PINS as u64, "a controller input (1..8)")? as u8,
             on: number(level, 0..=1, "a level (0 or 1)")? == 1,
         },
+        ["slvgpi", slave, pin, level] => Input::SlvGpi {
+            slave: number(slave, 0..=u16::MAX.into(), "a slave (0..65535)")? as u16,
+            pin: number(pin, 1..=u16::MAX.into(), "a terminal input (1..)")? as u16,
+            on: number(level, 0..=1, "a level (0 or 1)")? == 1,
+        },
         ["ai", slave, channel, raw] => Input::Ai {
             slave: number(slave, 0..=u16::MAX.into(), "a slave (0..65535)")? as u16,
             channel: number(channel, 1..=MAX_ANALOG_CHANNELS as u64, "an analog input (1..4)")? as u8,
@@ -176,14 +192,15 @@ fn parse_input(text: &str) -> Result<Stamped, String> {
                 format!("`{}` is not a ch. 22 client function, its code and what it returned", outcome.join(" "))
             })?,
         },
-        [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "ai" | "eth" | "client") => {
-            return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, ai, eth, client)"));
+        [kind, ..] if !matches!(*kind, "modbus" | "serial" | "gpi" | "slvgpi" | "ai" | "eth" | "client") => {
+            return Err(format!("unknown input `{kind}` (known: modbus, serial, gpi, slvgpi, ai, eth, client)"));
         }
         [kind, ..] => {
             let takes = match *kind {
                 "modbus" => "an address and a value",
                 "serial" => "its bytes in hex",
                 "gpi" => "a pin and a level",
+                "slvgpi" => "a slave, a pin and a level",
                 "eth" => "a task, a session and an event",
                 "client" => "a task, a function, its code and what it returned",
                 _ => "a slave, a channel and a word",
@@ -211,6 +228,7 @@ pub fn format(inputs: &[Stamped]) -> String {
                 writeln!(out, "{cycle} serial {hex}")
             }
             Input::Gpi { pin, on } => writeln!(out, "{cycle} gpi {pin} {}", u8::from(*on)),
+            Input::SlvGpi { slave, pin, on } => writeln!(out, "{cycle} slvgpi {slave} {pin} {}", u8::from(*on)),
             Input::Ai { slave, channel, raw } => writeln!(out, "{cycle} ai {slave} {channel} {raw}"),
             Input::Eth { task, session, event } => writeln!(out, "{cycle} eth {task} {session} {event}"),
             Input::Client { task, outcome } => writeln!(out, "{cycle} client {task} {outcome}"),
@@ -256,10 +274,10 @@ impl Inputs {
         !self.replaying && self.queue.push(Input::Modbus { address, value }).is_ok()
     }
 
-    /// A simulated input set from outside (`Input::Gpi`, `Input::Ai`), applied at the start
-    /// of the next cycle; false when the queue is full or a replay ignores outside inputs.
+    /// A simulated input set from outside (`Input::is_simulated`), applied at the start of
+    /// the next cycle; false when the queue is full or a replay ignores outside inputs.
     pub fn sim_input(&self, input: Input) -> bool {
-        debug_assert!(matches!(input, Input::Gpi { .. } | Input::Ai { .. }));
+        debug_assert!(input.is_simulated());
         !self.replaying && self.queue.push(input).is_ok()
     }
 
@@ -308,8 +326,8 @@ impl Feed {
         let mut apply = |input: Input| {
             let applied = match input {
                 Input::Modbus { address, value } => write_word(shared, address, value),
-                Input::Gpi { .. } | Input::Ai { .. } => simulate(&input),
-                Input::Serial(_) | Input::Eth { .. } | Input::Client { .. } => false,
+                _ if input.is_simulated() => simulate(&input),
+                _ => false,
             };
             if applied {
                 self.inputs.record(cycle, input);
@@ -345,6 +363,7 @@ mod tests {
             Stamped { cycle: 91, input: Input::Gpi { pin: 8, on: true } },
             Stamped { cycle: 92, input: Input::Gpi { pin: 1, on: false } },
             Stamped { cycle: 92, input: Input::Ai { slave: 4, channel: 2, raw: 65535 } },
+            Stamped { cycle: 92, input: Input::SlvGpi { slave: 5, pin: 16, on: true } },
             Stamped { cycle: 93, input: Input::Eth { task: 63, session: -2, event: EthEvent::Data(b"ok".to_vec()) } },
             Stamped { cycle: 93, input: Input::Eth { task: 0, session: 1, event: EthEvent::End } },
             Stamped {
@@ -364,7 +383,7 @@ mod tests {
         assert!(text.starts_with("luamotion-inputs 1\n3 modbus 0x0000 7\n3 serial 68693b00ff\n"), "{text}");
         assert!(
             text.ends_with(
-                "\n92 ai 4 2 65535\n93 eth 63 -2 data 6f6b\n93 eth 0 1 end\n94 client 2 ASCII_ClientRecv 0 6f6b\n"
+                "\n92 ai 4 2 65535\n92 slvgpi 5 16 1\n93 eth 63 -2 data 6f6b\n93 eth 0 1 end\n94 client 2 ASCII_ClientRecv 0 6f6b\n"
             ),
             "{text}"
         );
@@ -382,7 +401,7 @@ mod tests {
             ("luamotion-inputs 1\n5 modbus 0x0000 1\n4 modbus 0x0000 2\n", "line 3: cycle 4 comes after cycle 5"),
             (
                 "luamotion-inputs 1\n5 do 3 1\n",
-                "line 2: unknown input `do` (known: modbus, serial, gpi, ai, eth, client)",
+                "line 2: unknown input `do` (known: modbus, serial, gpi, slvgpi, ai, eth, client)",
             ),
             ("luamotion-inputs 1\n5 client 64 ASCII_ClientSend 0\n", "line 2: `64` is not a task (0..63)"),
             ("luamotion-inputs 1\n5 client 0 Sleep 0\n", "line 2: `Sleep 0` is not a ch. 22 client function"),
@@ -398,6 +417,10 @@ mod tests {
             ("luamotion-inputs 1\n5 gpi 1 2\n", "line 2: `2` is not a level (0 or 1)"),
             ("luamotion-inputs 1\n5 gpi -1 1\n", "line 2: `-1` is not a controller input"),
             ("luamotion-inputs 1\n5 gpi 1\n", "line 2: `gpi` takes a pin and a level"),
+            ("luamotion-inputs 1\n5 slvgpi 1 0 1\n", "line 2: `0` is not a terminal input (1..)"),
+            ("luamotion-inputs 1\n5 slvgpi 1 2 2\n", "line 2: `2` is not a level (0 or 1)"),
+            ("luamotion-inputs 1\n5 slvgpi 70000 1 1\n", "line 2: `70000` is not a slave"),
+            ("luamotion-inputs 1\n5 slvgpi 1 1\n", "line 2: `slvgpi` takes a slave, a pin and a level"),
             ("luamotion-inputs 1\n5 ai 1 5 0\n", "line 2: `5` is not an analog input (1..4)"),
             ("luamotion-inputs 1\n5 ai 1 1 65536\n", "line 2: `65536` is not a word (0..65535)"),
             ("luamotion-inputs 1\n5 ai 70000 1 1\n", "line 2: `70000` is not a slave"),

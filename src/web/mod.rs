@@ -86,6 +86,7 @@ impl WebView {
             .route("/api/drl", get(drl_status))
             .route("/api/drl/{op}", post(drl_command))
             .route("/api/sim/gpi/{pin}/{level}", post(sim_gpi))
+            .route("/api/sim/slvgpi/{slave}/{pin}/{level}", post(sim_slave_gpi))
             .route("/api/sim/ai/{slave}/{channel}/{raw}", post(sim_ai))
             .with_state(App { state, agent, drl: drl.map(|drl| Arc::new(Mutex::new(drl))), inputs });
         runtime.spawn(async move {
@@ -239,6 +240,15 @@ async fn sim_gpi(State(app): State<App>, Path((pin, level)): Path<(u8, u8)>) -> 
         return Err((axum::http::StatusCode::BAD_REQUEST, "inputs are 1..8, levels 0 or 1".to_string()));
     }
     Ok(simulate(&app, format!("SimSetGPI({pin}, {level})"), Input::Gpi { pin, on: level == 1 }).await)
+}
+
+/// A digital I/O terminal's input as a switch wired to it sets it (`SimSetSlvGPI`).
+async fn sim_slave_gpi(State(app): State<App>, Path((slave, pin, level)): Path<(u16, u16, u8)>) -> impl IntoResponse {
+    if level > 1 || pin == 0 {
+        return Err((axum::http::StatusCode::BAD_REQUEST, "inputs count from 1, levels are 0 or 1".to_string()));
+    }
+    let line = format!("SimSetSlvGPI({slave}, {pin}, {level})");
+    Ok(simulate(&app, line, Input::SlvGpi { slave, pin, on: level == 1 }).await)
 }
 
 /// The word on an analog terminal's input (`SimSetSlvAIRaw`).

@@ -89,13 +89,16 @@ pub fn execute(machine: &mut Machine, caller: u8, request: &Request, reply: &mut
     Disposition::Reply
 }
 
-/// A simulated input set from outside (`replay::Input::Gpi`, `Input::Ai`), applied by the
+/// A simulated input set from outside (`replay::Input::is_simulated`), applied by the
 /// lockstep gate with the code of the command a program would call for it (`SimSetGPI`,
-/// `SimSetSlvAIRaw`); false when the machine has no such input.
+/// `SimSetSlvGPI`, `SimSetSlvAIRaw`); false when the machine has no such input.
 pub fn simulate(machine: &mut Machine, input: &crate::replay::Input) -> bool {
     use crate::replay::Input;
     match *input {
         Input::Gpi { pin, on } => machine.io.set_level(pin.into(), on.into()).is_ok(),
+        Input::SlvGpi { slave, pin, on } => {
+            io::sim_set_slave_input(machine, slave.into(), pin.into(), on.into()).is_ok()
+        }
         Input::Ai { slave, channel, raw } => {
             analog::sim_set_input(machine, slave.into(), channel.into(), raw.into()).is_ok()
         }
