@@ -48,8 +48,9 @@ fn starts(out: &Finished, task: u8) -> (usize, usize) {
     (of_task(true), of_task(false))
 }
 
-/// A task restarted from the pool runs its own program in a fresh VM: the global the
-/// previous run set is not there, and `StartTaskFunc` runs its function after the top level.
+/// A task restarted from the pool runs its own program in a fresh VM (made before the
+/// process knew its task) as that task: the global the previous run set is not there,
+/// `_TASKID_` is its own, and `StartTaskFunc` runs its function after the top level.
 #[test]
 fn a_pooled_start_runs_its_program_in_a_fresh_vm() {
     let dir = tempfile::tempdir().unwrap();
@@ -59,11 +60,11 @@ fn a_pooled_start_runs_its_program_in_a_fresh_vm() {
         "Sleep(1500)\nfor i = 1, 5 do\n  StartTask(1)\n  Till(function() return IsTaskStop(1) end)\n  Sleep(50)\nend\n\
          StartTaskFunc(2, 'probe')\nTill(function() return IsTaskStop(2) end)\n",
     );
-    let counter = program(dir.path(), "counter.lua", "Print('before %s', tostring(left))\nleft = 1\n");
+    let counter = program(dir.path(), "counter.lua", "Print('before %s in %d', tostring(left), _TASKID_)\nleft = 1\n");
     let probe = program(
         dir.path(),
         "probe.lua",
-        "Print('top %s', tostring(left))\nleft = 2\nfunction probe() Print('probe %s', tostring(left)) end\n",
+        "Print('top %s', tostring(left))\nleft = 2\nfunction probe() Print('probe %s in %d', tostring(left), _TASKID_) end\n",
     );
     let ns = unique_ns("pool-fresh");
     let out = finish(
@@ -72,8 +73,8 @@ fn a_pooled_start_runs_its_program_in_a_fresh_vm() {
     );
     let context = format!("{}\n{}", out.stdout, out.stderr);
     assert!(out.status.success(), "{context}");
-    assert_eq!(out.lines_of_task(1), vec!["before nil"; 5], "no run sees the last one's global: {context}");
-    assert_eq!(out.lines_of_task(2), vec!["top nil", "probe 2"], "{context}");
+    assert_eq!(out.lines_of_task(1), vec!["before nil in 1"; 5], "no run sees the last one's global: {context}");
+    assert_eq!(out.lines_of_task(2), vec!["top nil", "probe 2 in 2"], "{context}");
     let (pooled, spawned) = starts(&out, 1);
     assert_eq!(pooled + spawned, 5, "{context}");
     assert!(pooled >= 4, "the restarts came from the pool ({pooled} of 5): {context}");

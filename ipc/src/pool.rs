@@ -3,11 +3,12 @@
 //! the core's RT thread hands it a task in the cycle the task starts, with one futex wake
 //! and no supervisor in between.
 //!
-//! A place goes Empty → Ready (the process, once its node and state subscriber are open)
-//! → Claimed (whoever hands it a task, alone: a compare-and-swap) → Handed (the task is
+//! A place goes Empty → Coming (the supervisor starts a process for it) → Ready (the
+//! process, once its node, state subscriber and VM are made) → Claimed (whoever hands it a task, alone: a compare-and-swap) → Handed (the task is
 //! written) → Empty (the process has read it). The supervisor withdraws a waiting process
 //! that died or must end with a compare-and-swap too, so a process is never both handed a
-//! task and withdrawn.
+//! task and withdrawn. A start that finds no process Ready while one is Coming waits for
+//! it: it is ready sooner than a process started for the task then.
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::time::Duration;
@@ -42,6 +43,8 @@ pub enum PlaceState {
     Handed = 3,
     /// The controller ends: the process waiting here ends too.
     Closed = 4,
+    /// A process is being started for this place; it offers itself once ready.
+    Coming = 5,
 }
 
 /// The task a pooled process is to run; its program is the one in the task's slot.
@@ -77,16 +80,23 @@ impl Place {
         self.pid.load(Ordering::Acquire)
     }
 
-    /// The place is given to a new process: no pid is left from the last one.
-    pub fn reset(&self) {
+    /// An empty place is given to a process being started (the supervisor): no pid is
+    /// left from the last one, and the core knows a process is on its way.
+    pub fn expect(&self) {
         self.pid.store(0, Ordering::Release);
+        self.swap(PlaceState::Empty, PlaceState::Coming);
+    }
+
+    /// The process expected here could not be started: the place is empty again.
+    pub fn abandon(&self) {
+        self.swap(PlaceState::Coming, PlaceState::Empty);
     }
 
     /// The process `pid` waits here for a task (the pooled process, once ready); false
     /// when the place was closed meanwhile (the controller ends).
     pub fn offer(&self, pid: u32) -> bool {
         self.pid.store(pid, Ordering::Release);
-        self.swap(PlaceState::Empty, PlaceState::Ready)
+        self.swap(PlaceState::Coming, PlaceState::Ready) || self.swap(PlaceState::Empty, PlaceState::Ready)
     }
 
     /// Hands task `task` to the process waiting here and wakes it; its pid, or `None` when
@@ -144,7 +154,7 @@ impl Place {
             self.swap(PlaceState::Ready, to)
         } else {
             // It never offered itself.
-            self.swap(PlaceState::Empty, to) || self.state() == to
+            self.swap(PlaceState::Coming, to) || self.swap(PlaceState::Empty, to) || self.state() == to
         };
         futex::wake(&self.state);
         done
@@ -179,6 +189,11 @@ impl Board {
     /// pid, or `None` when none waits.
     pub fn hand(&self, task: u8, memory_limit_mib: u32, entry: &[u8]) -> Option<(usize, u32)> {
         self.places.iter().enumerate().find_map(|(i, place)| Some((i, place.hand(task, memory_limit_mib, entry)?)))
+    }
+
+    /// Whether a process is being started for a place (`Place::expect`).
+    pub fn coming(&self) -> bool {
+        self.places.iter().any(|place| place.state() == PlaceState::Coming)
     }
 }
 
@@ -250,6 +265,19 @@ mod tests {
         assert!(place.offer(15));
         assert_eq!(place.wait(|| false, Duration::from_millis(1)), None, "the controller is gone");
         assert!(place.withdraw(15, PlaceState::Empty), "it died waiting");
+
+        let place = &table.pool.places[3];
+        place.expect();
+        assert!(table.pool.coming(), "a process is on its way");
+        assert!(place.withdraw(18, PlaceState::Empty), "it died before its offer");
+        assert!(!table.pool.coming());
+        place.expect();
+        place.abandon();
+        assert!(!table.pool.coming(), "it could not be started");
+        place.expect();
+        assert!(place.offer(19), "a process offers itself where it was expected");
+        assert!(!table.pool.coming());
+        assert_eq!(table.pool.hand(5, 64, b""), Some((3, 19)));
 
         let place = &table.pool.places[2];
         assert!(place.offer(16));

@@ -203,10 +203,34 @@ pub fn events(
     }
 }
 
+/// Who removes what a dead process left in the namespace (its node, its ports).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DeadNodes {
+    /// The node itself, when it is created, opens a service and is dropped (iceoryx2's way).
+    Cleaned,
+    /// The supervisor, after each script process it reaps (`clean_dead_nodes`): the node
+    /// lists no other node. Each listing reads and parses every node's details file (and
+    /// iceoryx2 0.10 formats its whole config for each), three listings per start and end,
+    /// so each script's start cost grew with the number of scripts: most of 64 autorun
+    /// tasks' start (README, "Tasks").
+    LeftToSupervisor,
+}
+
 /// A node of this namespace, with signal handling left to the application.
 pub fn node(ns: &Namespace, name: &str) -> Result<Node<Ipc>, IpcError> {
+    node_with(ns, name, DeadNodes::Cleaned)
+}
+
+/// A node of this namespace that leaves dead nodes to `dead`.
+pub fn node_with(ns: &Namespace, name: &str, dead: DeadNodes) -> Result<Node<Ipc>, IpcError> {
+    let mut config = ns.config();
+    if dead == DeadNodes::LeftToSupervisor {
+        config.global.node.cleanup_dead_nodes_on_creation = false;
+        config.global.node.cleanup_dead_nodes_on_destruction = false;
+        config.global.service.cleanup_dead_nodes_on_open = false;
+    }
     NodeBuilder::new()
-        .config(&ns.config())
+        .config(&config)
         .name(&NodeName::new(name).map_err(|e| failed("node name", e))?)
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<Ipc>()

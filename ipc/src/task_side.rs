@@ -12,7 +12,7 @@ use crate::clock::monotonic_ns;
 use crate::events::EventSender;
 use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
 use crate::services::failed;
-use crate::services::{self, Ipc, Open, StateSubscriber};
+use crate::services::{self, DeadNodes, Ipc, Open, StateSubscriber};
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskSlot, TaskTable, WaitRequest, WatchEntry};
 use crate::{IpcError, Namespace};
@@ -64,8 +64,8 @@ pub struct PreparedEndpoint {
 
 impl PreparedEndpoint {
     /// A node named `name` in namespace `ns`, subscribed to the state.
-    pub fn new(ns: &Namespace, name: &str, controller_pid: u32) -> Result<Self, IpcError> {
-        let node = services::node(ns, name)?;
+    pub fn new(ns: &Namespace, name: &str, controller_pid: u32, dead: DeadNodes) -> Result<Self, IpcError> {
+        let node = services::node_with(ns, name, dead)?;
         let state = services::state(&node, ns, Open::Existing)?
             .subscriber_builder()
             .create()
@@ -81,14 +81,17 @@ impl PreparedEndpoint {
 
     /// Takes over task `task`'s slot and mailbox; fails for a task the controller does not serve.
     pub fn attach(self, task: u8) -> Result<TaskEndpoint, IpcError> {
+        let mut endpoint = self.standby();
+        endpoint.attach(task)?;
+        Ok(endpoint)
+    }
+
+    /// The endpoint before it has a task (a pooled process makes its VM on it while it
+    /// waits): nothing may be called through it until `TaskEndpoint::attach`.
+    pub fn standby(self) -> TaskEndpoint {
         let PreparedEndpoint { controller_pid, state, table, node } = self;
-        if (task as usize) >= MAX_TASKS || table.calls.configured() & 1 << task == 0 {
-            return Err(IpcError::Service(format!("task {task} is not configured in this controller")));
-        }
-        let wait_seq = table.slots[task as usize].wait_request().seq;
-        let lockstep = table.slots[task as usize].lockstep();
-        let mut endpoint = TaskEndpoint {
-            task,
+        TaskEndpoint {
+            task: UNATTACHED,
             controller_pid,
             // Sequence numbers start from the pid: a reply meant for an earlier process of
             // this task can never match one of ours.
@@ -100,21 +103,20 @@ impl PreparedEndpoint {
             reply_timeout: None,
             counters: ReplyCounters::default(),
             last_call: CallTiming::default(),
-            wait_seq,
-            lockstep,
+            wait_seq: 0,
+            lockstep: false,
             calls_in_cycle: 0,
             share_cycle: 0,
             latest: None,
             state,
             table,
             _node: node,
-        };
-        endpoint.slot().set_pid(std::process::id());
-        endpoint.slot().set_state(RunState::Running);
-        endpoint.first_snapshot()?;
-        Ok(endpoint)
+        }
     }
 }
+
+/// The task of an endpoint not attached yet: no slot (indexing with it panics).
+const UNATTACHED: u8 = u8::MAX;
 
 /// A script's end of the IPC: sends its requests, waits on its wake word for the replies, reads the snapshot.
 pub struct TaskEndpoint {
@@ -146,12 +148,34 @@ pub struct TaskEndpoint {
 impl TaskEndpoint {
     /// Opens task `task`'s endpoint in namespace `ns`; `controller_pid` is watched while blocked.
     pub fn open(ns: &Namespace, task: u8, controller_pid: u32) -> Result<Self, IpcError> {
-        PreparedEndpoint::new(ns, &format!("luamotion-task-{task}"), controller_pid)?.attach(task)
+        Self::open_with(ns, task, controller_pid, DeadNodes::Cleaned)
+    }
+
+    /// `open`, leaving dead nodes to `dead` (a script process the supervisor started).
+    pub fn open_with(ns: &Namespace, task: u8, controller_pid: u32, dead: DeadNodes) -> Result<Self, IpcError> {
+        PreparedEndpoint::new(ns, &format!("luamotion-task-{task}"), controller_pid, dead)?.attach(task)
     }
 
     /// The task id.
     pub fn task(&self) -> u8 {
         self.task
+    }
+
+    /// Takes over task `task`'s slot and mailbox (once, on an endpoint in standby); fails
+    /// for a task the controller does not serve.
+    pub fn attach(&mut self, task: u8) -> Result<(), IpcError> {
+        if self.task != UNATTACHED {
+            return Err(IpcError::Service(format!("attached to task {} already", self.task)));
+        }
+        if (task as usize) >= MAX_TASKS || self.table.calls.configured() & 1 << task == 0 {
+            return Err(IpcError::Service(format!("task {task} is not configured in this controller")));
+        }
+        self.task = task;
+        self.wait_seq = self.slot().wait_request().seq;
+        self.lockstep = self.slot().lockstep();
+        self.slot().set_pid(std::process::id());
+        self.slot().set_state(RunState::Running);
+        self.first_snapshot()
     }
 
     /// A writer of the event stream, on this endpoint's node.

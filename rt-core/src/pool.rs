@@ -79,10 +79,11 @@ impl Pool {
             board.places[place].state() == PlaceState::Empty && !self.waiting.iter().any(|w| w.place == place)
         });
         let Some(place) = free else { return };
-        board.places[place].reset();
+        board.places[place].expect();
         match command(place).stdin(Stdio::null()).spawn() {
             Ok(child) => self.waiting.push(Waiting { child, place }),
             Err(e) => {
+                board.places[place].abandon();
                 tracing::warn!("cannot start a waiting script process: {e}");
                 self.next_start = Instant::now() + RETRY_AFTER_DEATH;
             }

@@ -140,7 +140,11 @@ impl Supervisor {
         if self.pool.reap(&self.table.pool) {
             ipc::clean_dead_nodes(&self.ns);
         }
-        if !self.shutting_down {
+        // A replacement waits until the processes handed a task have started it: its own
+        // start (ms of CPU) would compete with theirs, which a program is waiting for.
+        let handed_starting =
+            self.running.iter().any(|r| r.place.is_some() && !self.table.slots[r.id as usize].started());
+        if !self.shutting_down && !handed_starting {
             let (launcher, ns, data_dir) = (&self.launcher, &self.ns, &self.data_dir);
             self.pool.refill(&self.table.pool, |place| {
                 let mut command = script_command(launcher, ns, data_dir);

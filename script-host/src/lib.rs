@@ -18,6 +18,7 @@ use std::rc::Rc;
 
 use api::SystemError;
 use ipc::pool::{Assignment, POOL_NODE_NAME};
+use ipc::services::DeadNodes;
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::task_table::{EndCode, RunState, TaskSlot, TaskTable};
@@ -114,27 +115,34 @@ impl ScriptError {
 pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
     die_with_controller(args.controller_pid)?;
     let source = read_program(&args)?;
-    let endpoint = TaskEndpoint::open(&args.ns, args.task, args.controller_pid)?;
+    let endpoint = TaskEndpoint::open_with(&args.ns, args.task, args.controller_pid, DeadNodes::LeftToSupervisor)?;
     ipc::restore_default_signals();
-    let host = Host::new(endpoint, &args.ns, args.data_dir.clone())?;
-    run_attached(args, &source, host)
+    let host = Host::new(endpoint, &args.ns, args.data_dir.clone())?
+        .with_user_ascii(args.user_ascii.clone())
+        .with_freeport(args.freeport_bind, args.freeport_inputs.clone());
+    let vm = Vm::new(host)?;
+    run_attached(args, &source, vm)
 }
 
 /// How often a waiting process checks that its controller is still there.
 const POOL_LIVENESS: std::time::Duration = std::time::Duration::from_millis(100);
 
 /// A pooled process: everything a start does before it knows its task (the exec, the
-/// node, the state subscriber) is done while it waits on its place of the pool's board;
-/// the core hands it a task there, and it runs that one task as `run` does, in a VM made
-/// for it, and ends.
+/// node, the state subscriber, the VM with the API bound in it) is done while it waits on
+/// its place of the pool's board; the core hands it a task there, and it runs that one
+/// task as `run` does, and ends. The VM is this task's alone: no other program ran in it.
 pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
     die_with_controller(pool.controller_pid)?;
     set_process_name(WAITING_NAME);
-    let prepared = PreparedEndpoint::new(&pool.ns, POOL_NODE_NAME, pool.controller_pid)?;
+    let prepared = PreparedEndpoint::new(&pool.ns, POOL_NODE_NAME, pool.controller_pid, DeadNodes::LeftToSupervisor)?;
     let events = prepared.event_sender(&pool.ns)?;
     let shared = Region::<SharedData>::open(&pool.ns, "shared")?;
     let table = Region::<TaskTable>::open(&pool.ns, "tasks")?;
     ipc::restore_default_signals();
+    let host = Host::from_parts(prepared.standby(), events, shared, &pool.ns, pool.data_dir.clone())
+        .with_user_ascii(pool.user_ascii.clone())
+        .with_freeport(pool.freeport_bind, pool.freeport_inputs.clone());
+    let vm = Vm::new(host)?;
     let place = table.pool.places.get(pool.place).ok_or(ScriptError::NoPlace(pool.place))?;
     let controller_pid = pool.controller_pid;
     // Closed or withdrawn: the controller is ending or gone.
@@ -147,9 +155,30 @@ pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
     let program = PathBuf::from(table.slots[assignment.task as usize].program());
     let args = pool.assign(assignment, program);
     let source = read_program(&args)?;
-    let endpoint = prepared.attach(args.task)?;
-    let host = Host::from_parts(endpoint, events, shared, &args.ns, args.data_dir.clone());
-    run_attached(args, &source, host)
+    vm.host.attach(args.task)?;
+    run_attached(args, &source, vm)
+}
+
+/// A VM with the API bound to its host: all of a start that does not depend on the task
+/// (1 ms of CPU, most of what a pooled process did after it was handed its task). The
+/// task's own part (its memory limit, `_TASKID_`, its program's `require`, the debugger,
+/// the watcher) is `run_attached`'s.
+struct Vm {
+    lua: mlua::Lua,
+    host: Rc<Host>,
+}
+
+impl Vm {
+    fn new(host: Host) -> Result<Self, ScriptError> {
+        let lua_error = |e: mlua::Error| ScriptError::lua(e.to_string());
+        // No limit (0) until the task's is known.
+        let lua = sandbox::new_vm(0).map_err(lua_error)?;
+        let host = Rc::new(host);
+        bindings::install(&lua, host.clone()).map_err(lua_error)?;
+        bindings::install_system_variables(&lua, host.clone()).map_err(lua_error)?;
+        bindings::install_print(&lua, host.clone()).map_err(lua_error)?;
+        Ok(Vm { lua, host })
+    }
 }
 
 /// Dies with the controller: SIGKILL when the controller's thread that started this
@@ -183,19 +212,16 @@ fn read_program(args: &ScriptArgs) -> Result<String, ScriptError> {
     std::fs::read_to_string(&args.program).map_err(|source| ScriptError::Read { path: args.program.clone(), source })
 }
 
-fn run_attached(args: ScriptArgs, source: &str, host: Host) -> Result<(), ScriptError> {
+fn run_attached(args: ScriptArgs, source: &str, vm: Vm) -> Result<(), ScriptError> {
+    let Vm { lua, host } = vm;
     let table = Rc::new(Region::<TaskTable>::open(&args.ns, "tasks")?);
     let task = args.task as usize;
 
     let memory_limit = args.memory_limit_mib as usize * 1024 * 1024;
-    let lua = sandbox::new_vm(memory_limit).map_err(|e| ScriptError::lua(e.to_string()))?;
-    let host = Rc::new(
-        host.with_user_ascii(args.user_ascii.clone()).with_freeport(args.freeport_bind, args.freeport_inputs.clone()),
-    );
-    bindings::install(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
-    bindings::install_system_variables(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
-    bindings::install_print(&lua, host.clone()).map_err(|e| ScriptError::lua(e.to_string()))?;
-    require::install(&lua, &args.program).map_err(|e| ScriptError::lua(e.to_string()))?;
+    let lua_error = |e: mlua::Error| ScriptError::lua(e.to_string());
+    lua.set_memory_limit(memory_limit).map_err(lua_error)?;
+    bindings::set_task_id(&lua, args.task).map_err(lua_error)?;
+    require::install(&lua, &args.program).map_err(lua_error)?;
 
     let name = args.program.display().to_string();
     let controller_pid = args.controller_pid;

@@ -21,6 +21,9 @@ use watchdog::Watchdog;
 const START_TIMEOUT_MS: u64 = 5000;
 /// How long a process whose program has ended may take to be gone, at least.
 const EXIT_TIMEOUT_MS: u64 = 1000;
+/// How long a start with no pooled process ready waits for one on its way before the
+/// supervisor starts one for it (a pooled process is ready 5 to 20 ms after its start).
+const POOL_WAIT_MS: u64 = 100;
 
 #[derive(Clone, Copy, Debug)]
 struct Spec {
@@ -261,23 +264,29 @@ impl Tasks {
             self.on_report(report, cycle, table, shared, react);
         }
         let start_timeout = self.cycles(START_TIMEOUT_MS);
+        let pool_wait = self.cycles(POOL_WAIT_MS);
         for t in 0..MAX_TASKS as u8 {
             let slot = &table.slots[t as usize];
             let task = &mut self.tasks[t as usize];
             match task.state {
                 TaskState::Starting if !task.ordered && task.pid.is_none() => {
-                    task.ordered = true;
                     let entry = task.entry;
-                    // A waiting process of the pool takes the task in this cycle; else
-                    // the supervisor starts one.
+                    // A waiting process of the pool takes the task in this cycle; else one
+                    // on its way takes it once ready (sooner than one started now would
+                    // be); else the supervisor starts one.
                     slot.reset();
                     let spec = task.spec.filter(|s| s.poolable);
                     match spec.and_then(|s| table.pool.hand(t, s.memory_limit_mib, entry.name())) {
                         Some((place, pid)) => {
+                            task.ordered = true;
                             task.pid = Some(pid);
                             self.link.order(Order::Handed { task: t, entry, place, pid });
                         }
-                        None => self.link.order(Order::Start { task: t, entry }),
+                        None if spec.is_some() && table.pool.coming() && cycle - task.since < pool_wait => {}
+                        None => {
+                            task.ordered = true;
+                            self.link.order(Order::Start { task: t, entry });
+                        }
                     }
                 }
                 TaskState::Starting if task.ordered && task.pid.is_some_and(|p| slot.pid() == p) && slot.started() => {
@@ -513,6 +522,35 @@ mod tests {
         rig.tasks.start(0, Entry::TOP_LEVEL, rig.cycle).unwrap();
         rig.step();
         assert_eq!(rig.orders(), vec![Order::Start { task: 0, entry: Entry::TOP_LEVEL }], "the pool is empty");
+    }
+
+    /// A start that finds no waiting process while one is on its way waits for it, up to
+    /// `POOL_WAIT_MS`; then the supervisor starts one.
+    #[test]
+    fn a_start_waits_for_a_pooled_process_on_its_way() {
+        let mut rig = Rig::new();
+        rig.table.pool.places[0].expect();
+        rig.tasks.start(1, Entry::TOP_LEVEL, 0).unwrap();
+        rig.step();
+        rig.step();
+        assert!(rig.orders().is_empty(), "no process started for it");
+        assert!(rig.table.pool.places[0].offer(55));
+        rig.step();
+        assert_eq!(rig.orders(), vec![Order::Handed { task: 1, entry: Entry::TOP_LEVEL, place: 0, pid: 55 }]);
+
+        rig.table.pool.places[1].expect();
+        rig.tasks.start(0, Entry::TOP_LEVEL, rig.cycle).unwrap();
+        let since = rig.cycle;
+        let orders = loop {
+            assert!(rig.cycle - since < POOL_WAIT_MS, "it waits no longer");
+            rig.step();
+            let orders = rig.orders();
+            if !orders.is_empty() {
+                break orders;
+            }
+        };
+        assert_eq!(orders, vec![Order::Start { task: 0, entry: Entry::TOP_LEVEL }], "then one is started for it");
+        assert_eq!(rig.cycle - since, POOL_WAIT_MS, "after its wait, at 1 ms cycles");
     }
 
     #[test]

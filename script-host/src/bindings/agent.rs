@@ -77,7 +77,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 let mut endpoint = host.endpoint.borrow_mut();
                 let snapshot = endpoint.snapshot();
                 let stale = |task: u8, owner: u32| !runs(snapshot, task, owner);
-                host.shared.claim_ascii_agent(host.task, pid, stale)
+                host.shared.claim_ascii_agent(host.task(), pid, stale)
             };
             if claimed.is_err() {
                 return Ok(system_code(SystemError::HmplAsciiAgentRunning));
@@ -89,7 +89,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let listener = TcpListener::bind(&host.user_ascii).and_then(|l| l.set_nonblocking(true).map(|()| l));
             let listener = listener.map_err(|e| {
                 // Not serving, so not the agent: another task may try.
-                host.shared.release_ascii_agent(host.task, pid);
+                host.shared.release_ascii_agent(host.task(), pid);
                 error_here(lua, format!("START_ASCII_AGENT: cannot listen on {}: {e}", host.user_ascii))
             })?;
             let address = listener.local_addr().map_err(mlua::Error::external)?;

@@ -110,7 +110,7 @@ fn outcome(
         .with_borrow_mut(|sim| {
             // Outcomes that cannot be written or read: not recorded or replayed.
             let made =
-                || Sim::new(host.task, &host.freeport_inputs).or_else(|_| Sim::new(host.task, &Default::default()));
+                || Sim::new(host.task(), &host.freeport_inputs).or_else(|_| Sim::new(host.task(), &Default::default()));
             match sim {
                 Some(sim) => Ok(sim.replaying()),
                 None => Ok(sim.insert(made()?).replaying()),

@@ -284,8 +284,8 @@ fn with_turn<T>(host: &Host, id: i64, f: impl FnOnce(Option<&mut Turn>) -> T) ->
     SIM.with_borrow_mut(|sim| {
         if sim.is_none() {
             // Inputs that cannot be written or read: stamped, not recorded or replayed.
-            let made = Sim::new(host.task, &host.freeport_inputs);
-            *sim = Some(made.unwrap_or_else(|_| Sim::new(host.task, &Default::default()).expect("live")));
+            let made = Sim::new(host.task(), &host.freeport_inputs);
+            *sim = Some(made.unwrap_or_else(|_| Sim::new(host.task(), &Default::default()).expect("live")));
         }
         f(Some(&mut Turn { sim: sim.as_mut().expect("made"), cycle, id }))
     })

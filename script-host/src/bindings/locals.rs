@@ -100,7 +100,7 @@ impl Host {
 
     pub(super) fn send_event(&self, kind: EventKind, code: u32, text: &str) -> i64 {
         let cycle = self.endpoint.borrow_mut().snapshot().cycle;
-        let record = EventRecord::new(kind, self.task as u32, cycle, code, text);
+        let record = EventRecord::new(kind, self.task() as u32, cycle, code, text);
         match self.events.send(&record) {
             Ok(()) => 0,
             Err(_) => system_code(SystemError::HmplExecFailed),
@@ -290,7 +290,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             host.beat();
             let id = mutex_id(lua, &args)?;
             loop {
-                match host.shared.try_lock(id, host.task) {
+                match host.shared.try_lock(id, host.task()) {
                     Some(Lock::Acquired) => return Ok(()),
                     Some(Lock::Twice) => host.stop_with_runtime_error(
                         lua,
@@ -315,7 +315,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         Local::MutexUnlock => lua.create_function(move |lua, args: MultiValue| {
             host.beat();
             let id = mutex_id(lua, &args)?;
-            host.shared.unlock(id, host.task);
+            host.shared.unlock(id, host.task());
             Ok(())
         }),
         Local::TimerInit => lua.create_function(move |_, ()| {

@@ -40,13 +40,14 @@ use mlua::{BorrowedBytes, Function, Lua, MultiValue, Value};
 pub use agent::{DEFAULT_ADDRESS as DEFAULT_USER_ASCII, serve as serve_agent, serve_forever as serve_agent_forever};
 pub use expect::verdict as expectations_verdict;
 use locals::Throttle;
-pub use system_vars::install_system_variables;
+pub use system_vars::{install_system_variables, set_task_id};
 
 /// What the bindings share: the link to the controller, the shared data, the event stream.
 pub struct Host {
     pub endpoint: RefCell<TaskEndpoint>,
     pub shared: Region<SharedData>,
-    pub task: u8,
+    /// The task, once the endpoint is attached (`attach`).
+    task: Cell<u8>,
     /// The controller's namespace (serial port 1's socket is named after it).
     pub ns: Namespace,
     /// Where `SaveUserTable` keeps its file.
@@ -86,7 +87,7 @@ impl Host {
         Host {
             endpoint: RefCell::new(endpoint),
             shared,
-            task,
+            task: Cell::new(task),
             ns: ns.clone(),
             data_dir,
             user_ascii: agent::DEFAULT_ADDRESS.to_string(),
@@ -97,6 +98,18 @@ impl Host {
             tally: Cell::new(expect::Tally::default()),
             watch: RefCell::new(till_watch::Recording::Off),
         }
+    }
+
+    /// The task this process runs.
+    pub fn task(&self) -> u8 {
+        self.task.get()
+    }
+
+    /// Attaches an endpoint made in standby to task `task` (a pooled process, handed its task).
+    pub fn attach(&self, task: u8) -> Result<(), IpcError> {
+        self.endpoint.borrow_mut().attach(task)?;
+        self.task.set(task);
+        Ok(())
     }
 
     /// The User ASCII agent listens on `address` (`host:port`).

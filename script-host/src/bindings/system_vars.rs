@@ -15,10 +15,14 @@ use calls::query;
 
 use super::{Host, error_here, round_trip, type_name};
 
-/// Installs the variables; `_TASKID_` is a plain global.
+/// `_TASKID_`, a plain global.
+pub fn set_task_id(lua: &Lua, task: u8) -> mlua::Result<()> {
+    lua.globals().raw_set("_TASKID_", task as i64)
+}
+
+/// Installs the variables but `_TASKID_` (`set_task_id`, once the task is known).
 pub fn install_system_variables(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
     let globals = lua.globals();
-    globals.raw_set("_TASKID_", host.task as i64)?;
     globals.raw_set("system_user_table", SharedArray { host: host.clone(), kind: ArrayKind::UserTable })?;
     globals.raw_set("system_mtest", SharedArray { host: host.clone(), kind: ArrayKind::MTest })?;
     globals.raw_set("task_vars", TaskVariables { host: host.clone() })?;
@@ -170,7 +174,7 @@ impl UserData for TaskVariables {
     fn add_methods<M: UserDataMethods<Self>>(methods: &mut M) {
         methods.add_meta_method(MetaMethod::Index, |lua, this, name: String| {
             this.host.beat();
-            Ok(match this.host.shared.task_vars(this.host.task).get(&name) {
+            Ok(match this.host.shared.task_vars(this.host.task()).get(&name) {
                 None => Value::Nil,
                 Some(VarValue::Int(i)) => Value::Integer(i),
                 Some(VarValue::Double(d)) => Value::Number(d),
@@ -195,7 +199,7 @@ impl UserData for TaskVariables {
             };
             this.host
                 .shared
-                .task_vars(this.host.task)
+                .task_vars(this.host.task())
                 .set(&name, value.as_ref())
                 .map_err(|e| error_here(lua, format!("task_vars.{name}: {e}")))
         });
