@@ -94,6 +94,9 @@ pub struct CoreIpcStats {
     pub publish_failures: u64,
     /// Of `wakes`, those whose futex wake the task waker made (`hand_wakes_to_thread`).
     pub handed_off: u64,
+    /// Of `wakes`, those that found the task asleep on its word and made the futex
+    /// syscall (the others were seen by the task before it slept).
+    pub futex_wakes: u64,
     /// CPU time the task waker thread has used, ns: work the RT thread handed it.
     pub waker_cpu_ns: u64,
 }
@@ -108,6 +111,8 @@ struct WakeHandoff {
     /// Bumped with each hand-off; the waker sleeps on it.
     word: AtomicU32,
     stop: AtomicBool,
+    /// Of the wakes handed over, those that made the futex syscall.
+    futex_wakes: AtomicU64,
 }
 
 impl WakeHandoff {
@@ -126,11 +131,8 @@ impl WakeHandoff {
     fn serve(&self, table: &TaskTable) {
         while !self.stop.load(Ordering::Acquire) {
             let seen = self.word.load(Ordering::Acquire);
-            let mut pending = self.pending.swap(0, Ordering::AcqRel);
-            while pending != 0 {
-                table.slots[pending.trailing_zeros() as usize].wake_sleeper();
-                pending &= pending - 1;
-            }
+            let pending = self.pending.swap(0, Ordering::AcqRel);
+            self.futex_wakes.fetch_add(wake_sleepers(table, pending), Ordering::Relaxed);
             futex::wait(&self.word, seen, std::time::Duration::from_millis(100));
         }
     }
@@ -239,7 +241,12 @@ impl CoreEndpoint {
 
     /// The counters so far.
     pub fn stats(&self) -> CoreIpcStats {
-        CoreIpcStats { waker_cpu_ns: self.waker.as_ref().map_or(0, TaskWaker::cpu_ns), ..self.stats }
+        let waker = self.waker.as_ref();
+        CoreIpcStats {
+            waker_cpu_ns: waker.map_or(0, TaskWaker::cpu_ns),
+            futex_wakes: self.stats.futex_wakes + waker.map_or(0, |w| w.handoff.futex_wakes.load(Ordering::Relaxed)),
+            ..self.stats
+        }
     }
 
     /// Takes each task's posted call and answers it with `handle(task, request, reply)`.
@@ -405,16 +412,20 @@ impl CoreEndpoint {
                 waker.handoff.hand(woken);
                 self.stats.handed_off += woken.count_ones() as u64;
             }
-            _ => {
-                let mut rest = woken;
-                while rest != 0 {
-                    self.table.slots[rest.trailing_zeros() as usize].wake_sleeper();
-                    rest &= rest - 1;
-                }
-            }
+            _ => self.stats.futex_wakes += wake_sleepers(&self.table, woken),
         }
         woken
     }
+}
+
+/// The futex wakes of tasks `tasks` (bit t for task t) that sleep; returns how many made one.
+fn wake_sleepers(table: &TaskTable, mut tasks: u64) -> u64 {
+    let mut syscalls = 0;
+    while tasks != 0 {
+        syscalls += table.slots[tasks.trailing_zeros() as usize].wake_sleeper() as u64;
+        tasks &= tasks - 1;
+    }
+    syscalls
 }
 
 #[cfg(test)]

@@ -14,20 +14,28 @@ pub fn wait(word: &AtomicU32, expected: u32, timeout: Duration) {
     }
 }
 
-/// As `wait`, after watching `word` for up to `spin` first: on the simulation clock the
-/// core and a task hand the turn to each other thousands of times a second, and a change
-/// seen while spinning on the other core saves the wake-up of a sleeping one (tens of
-/// microseconds each on a virtual machine).
+/// As `wait`, after watching `word` for up to `spin` first (`spin_while`).
 pub fn wait_spinning(word: &AtomicU32, expected: u32, spin: Duration, timeout: Duration) {
+    if spin_while(word, expected, spin) {
+        wait(word, expected, timeout);
+    }
+}
+
+/// Watches `word` for up to `spin`; returns whether it still holds `expected`. On the
+/// simulation clock the core and a task hand the turn to each other thousands of times a
+/// second, and a change seen while spinning on the other core saves the wake-up of a
+/// sleeping one (tens of microseconds each on a virtual machine).
+pub fn spin_while(word: &AtomicU32, expected: u32, spin: Duration) -> bool {
     let until = crate::clock::monotonic_ns() + spin.as_nanos() as u64;
     while word.load(std::sync::atomic::Ordering::Acquire) == expected {
         if crate::clock::monotonic_ns() >= until {
-            return wait(word, expected, timeout);
+            return true;
         }
         for _ in 0..64 {
             std::hint::spin_loop();
         }
     }
+    false
 }
 
 /// Wakes whoever sleeps on `word`. Never blocks.

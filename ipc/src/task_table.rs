@@ -127,6 +127,8 @@ pub struct TaskSlot {
     notified_ns: AtomicU64,
     /// The futex word the task sleeps on; the core bumps it to wake the task.
     wake: AtomicU32,
+    /// Threads asleep on `wake`, or about to be: a wake with none makes no futex syscall.
+    sleepers: AtomicU32,
     /// On the simulation clock: nonzero when this task runs in lockstep with the core
     /// (written by the core before any start, never reset).
     lockstep: AtomicU32,
@@ -266,12 +268,21 @@ impl TaskSlot {
     /// sleep; one asleep already needs `wake_sleeper`.
     pub fn notify(&self, now_ns: u64) {
         self.notified_ns.store(now_ns, Ordering::Release);
-        self.wake.fetch_add(1, Ordering::Release);
+        self.wake.fetch_add(1, Ordering::SeqCst);
     }
 
-    /// The second half of `wake`: the futex wake of a task asleep on its word.
-    pub fn wake_sleeper(&self) {
-        futex::wake(&self.wake);
+    /// The second half of `wake`: the futex wake of a task asleep on its word, if one is;
+    /// returns whether it made the syscall.
+    pub fn wake_sleeper(&self) -> bool {
+        // Pairs with `sleep`'s count: either the sleeper's futex compare sees the word
+        // `notify` bumped, or this sees the sleeper (also when `notify` ran on another
+        // thread that handed the wake over).
+        std::sync::atomic::fence(Ordering::SeqCst);
+        let asleep = self.sleepers.load(Ordering::SeqCst) != 0;
+        if asleep {
+            futex::wake(&self.wake);
+        }
+        asleep
     }
 
     /// The wake-up count before a look at the condition the task waits for...
@@ -281,13 +292,19 @@ impl TaskSlot {
 
     /// ...then the sleep, unless a wake-up came in between; at most `timeout`.
     pub fn sleep(&self, seen: u32, timeout: std::time::Duration) {
+        // Counted before the futex compares the word (the kernel orders its read after
+        // this with a full barrier): see `wake_sleeper`.
+        self.sleepers.fetch_add(1, Ordering::SeqCst);
         futex::wait(&self.wake, seen, timeout);
+        self.sleepers.fetch_sub(1, Ordering::SeqCst);
     }
 
     /// `sleep` for the next turn on the simulation clock, watching the word for
-    /// `TURN_SPIN` first.
+    /// `TURN_SPIN` first (uncounted: the core's wake meanwhile makes no syscall).
     pub fn sleep_for_turn(&self, seen: u32, timeout: std::time::Duration) {
-        futex::wait_spinning(&self.wake, seen, TURN_SPIN, timeout);
+        if futex::spin_while(&self.wake, seen, TURN_SPIN) {
+            self.sleep(seen, timeout);
+        }
     }
 
     /// Whether this task runs in lockstep with the simulation clock.
@@ -487,6 +504,28 @@ mod tests {
         assert_eq!(slot.baton(), Baton::Held);
         slot.set_blocked_on(7);
         assert_eq!(slot.blocked_on(), Some(7));
+    }
+
+    /// A wake makes the futex syscall only for a task asleep on its word, and the one it
+    /// makes reaches the sleeper (a lost wake-up leaves the sleeper there for an hour).
+    #[test]
+    fn a_wake_makes_the_syscall_only_for_a_sleeper() {
+        let table: Box<TaskTable> = crate::shm::zeroed();
+        let slot = &table.slots[2];
+        slot.notify(0);
+        assert!(!slot.wake_sleeper(), "nobody asleep: no syscall");
+        std::thread::scope(|s| {
+            let seen = slot.wake_count();
+            let sleeper = s.spawn(move || slot.sleep(seen, std::time::Duration::from_secs(3600)));
+            while slot.sleepers.load(Ordering::SeqCst) == 0 {
+                std::thread::yield_now();
+            }
+            slot.notify(0);
+            assert!(slot.wake_sleeper(), "a sleeper: the syscall");
+            sleeper.join().expect("the sleeper returns");
+        });
+        assert_eq!(slot.sleepers.load(Ordering::SeqCst), 0, "the sleeper is counted out");
+        assert!(!slot.wake_sleeper());
     }
 
     #[test]

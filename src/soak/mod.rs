@@ -171,6 +171,8 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         rt_cpu_percent: percent(stats.cpu_ns),
         simulation_cpu_percent: percent(stats.simulation_ns),
         task_waker_cpu_percent: percent(stats.ipc.waker_cpu_ns),
+        task_wakes: stats.ipc.wakes,
+        futex_wakes: stats.ipc.futex_wakes,
     };
     let run_info = RunInfo {
         period_us: args.period_us,
@@ -429,14 +431,23 @@ fn targets(report: &Report) -> Vec<Target> {
     // The issue's two reference loads: 10 % of a core with 16 tasks, 15 % with 64.
     let limit = if r.scripts >= 64 { 15.0 } else { 10.0 };
     let reference = r.period_us == 1000 && r.axes == 96 && r.scripts >= 16;
+    let own_cpu_percent = c.rt_cpu_percent - c.simulation_cpu_percent + c.task_waker_cpu_percent;
     out.push(Target {
         target: "RT thread CPU at most 10 % of a core at 1 kHz with 96 axes and 16 tasks, 15 % with 64".into(),
-        // The waker's wakes are the RT thread's work, done on another thread.
+        // The waker's wakes are the RT thread's work, done on another thread; the drives
+        // are counted separately, as the target says.
         measured: format!(
-            "{:.1} % ({:.1} % simulating the drives) and the task waker's {:.1} % with {} axes and {} tasks at {} us",
-            c.rt_cpu_percent, c.simulation_cpu_percent, c.task_waker_cpu_percent, r.axes, r.scripts, r.period_us
+            "{:.1} % without the drives, the task waker's included: RT thread {:.1} % ({:.1} % simulating the drives), \
+             task waker {:.1} %, with {} axes and {} tasks at {} us",
+            own_cpu_percent,
+            c.rt_cpu_percent,
+            c.simulation_cpu_percent,
+            c.task_waker_cpu_percent,
+            r.axes,
+            r.scripts,
+            r.period_us
         ),
-        met: reference.then_some(c.rt_cpu_percent + c.task_waker_cpu_percent <= limit),
+        met: reference.then_some(own_cpu_percent <= limit),
     });
     let y = &report.cycle;
     // The fixed work's tail beyond its median is the machine's, not the cycle's.

@@ -75,6 +75,10 @@ pub struct Counters {
     /// CPU time of the task waker thread, which makes the RT thread's futex wakes when more
     /// than one task is due, percent of one core.
     pub task_waker_cpu_percent: f64,
+    /// Task wakes over the run...
+    pub task_wakes: u64,
+    /// ...of which those that found the task asleep and made the futex syscall.
+    pub futex_wakes: u64,
 }
 
 /// The cycle against its period: execution percentiles as fractions of it, and the
@@ -248,8 +252,15 @@ impl Report {
             c.calls.call_errors
         );
         println!(
-            "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task waker {:.1} %",
-            c.cycles, c.overruns, c.rt_cpu_percent, c.simulation_cpu_percent, c.task_waker_cpu_percent
+            "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task waker {:.1} %; \
+             {} task wakes, {} of them futex syscalls",
+            c.cycles,
+            c.overruns,
+            c.rt_cpu_percent,
+            c.simulation_cpu_percent,
+            c.task_waker_cpu_percent,
+            c.task_wakes,
+            c.futex_wakes
         );
         self.print_cycle();
         self.print_scripts();
