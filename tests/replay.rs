@@ -323,15 +323,15 @@ fn bad_records_are_refused_with_their_line() {
     assert!(missing.stderr.contains("cannot read /nonexistent/inputs.txt"), "{}", missing.stderr);
 }
 
-/// The web view's simulated inputs (controller input 3, the analog terminal's input 1),
-/// posted by nc while the program waits for them: recorded with their cycles, then
-/// replayed without the web view.
-#[test]
-fn simulated_inputs_are_recorded_and_replayed() {
-    let dir = tempfile::tempdir().unwrap();
-    let (config, record, program) =
-        (machine_with_terminal(dir.path()), dir.path().join("inputs.txt"), inputs_program(dir.path()));
-    let ns = unique_ns("record-sim-inputs");
+/// `program` recording into `record` on the simulation clock with the web view on; the
+/// run, its lines so far and the web view's port, once the program waits for inputs.
+fn recording_with_web_view(
+    name: &str,
+    config: &Path,
+    record: &Path,
+    program: &Path,
+) -> (Child, Receiver<String>, Vec<String>, String) {
+    let ns = unique_ns(name);
     let args = ["--config", config.to_str().unwrap(), "--speed", "20", "--http", "0"];
     let (child, lines) =
         start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
@@ -341,6 +341,18 @@ fn simulated_inputs_are_recorded_and_replayed() {
     if !seen.iter().any(|l| l.contains("waiting for inputs")) {
         until(&lines, "waiting for inputs", &mut seen);
     }
+    (child, lines, seen, port)
+}
+
+/// The web view's simulated inputs (controller input 3, the analog terminal's input 1),
+/// posted by nc while the program waits for them: recorded with their cycles, then
+/// replayed without the web view.
+#[test]
+fn simulated_inputs_are_recorded_and_replayed() {
+    let dir = tempfile::tempdir().unwrap();
+    let (config, record, program) =
+        (machine_with_terminal(dir.path()), dir.path().join("inputs.txt"), inputs_program(dir.path()));
+    let (child, lines, mut seen, port) = recording_with_web_view("record-sim-inputs", &config, &record, &program);
     let steps = [
         ("/api/sim/ai/1/1/2000", "gpi 0 ai 2000"),
         ("/api/sim/gpi/3/1", "gpi 1 ai 2000"),
@@ -396,16 +408,7 @@ fn terminal_inputs_are_recorded_and_replayed() {
            Sleep(1)\n\
          end\n",
     );
-    let ns = unique_ns("record-terminal-inputs");
-    let args = ["--config", config.to_str().unwrap(), "--speed", "20", "--http", "0"];
-    let (child, lines) =
-        start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
-    let mut seen = Vec::new();
-    let address = until(&lines, "Web view on http://", &mut seen);
-    let port = address.trim_end_matches('/').rsplit(':').next().unwrap().to_string();
-    if !seen.iter().any(|l| l.contains("waiting for inputs")) {
-        until(&lines, "waiting for inputs", &mut seen);
-    }
+    let (child, lines, mut seen, port) = recording_with_web_view("record-terminal-inputs", &config, &record, &program);
     for (path, then) in [("/api/sim/slvgpi/1/2/1", "input 2 is 1"), ("/api/sim/slvgpi/1/2/0", "input 2 is 0")] {
         let answer = post(&port, path);
         assert!(answer.contains("queued for the next cycle"), "{path}: {answer}");
