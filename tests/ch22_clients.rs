@@ -13,11 +13,6 @@ use std::time::Duration;
 use common::serve::serve;
 use common::*;
 
-/// A port nothing listens on.
-fn closed_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
-}
-
 fn listener() -> (TcpListener, u16) {
     let listener = TcpListener::bind("127.0.0.1:0").unwrap();
     let port = listener.local_addr().unwrap().port();
@@ -99,7 +94,7 @@ Print("refused %x", (ASCII_ClientConnect("127.0.0.1", "{closed}")))
 Print("bad port %x", (ASCII_ClientConnect("127.0.0.1", "http")))
 Print("bad ip %x", (ASCII_ClientConnect("no.such.host", "{port}")))
 "#,
-            closed = closed_port()
+            closed = free_port()
         ),
     );
     assert_lines(
@@ -254,7 +249,7 @@ Print("refused %x", (Modbus_ClientConnect("127.0.0.1:{closed}")))
 Print("bad ip %x", (Modbus_ClientConnect("no.such.host")))
 Print("disconnect %d", Modbus_ClientDisconnect(s))
 "#,
-            closed = closed_port()
+            closed = free_port()
         ),
     );
     assert_lines(&lines, &["connect 0", "silent 183f", "vanished 1840", "refused 1839", "bad ip 1839", "disconnect 0"]);

@@ -6,21 +6,10 @@
 mod common;
 
 use std::io::{Read, Write};
-use std::net::{TcpListener, TcpStream};
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::net::TcpStream;
 use std::time::Duration;
 
 use common::*;
-
-/// A free port in FreePort's range 3000..10000, asked of the OS by binding 127.0.0.1 to it.
-fn free_port() -> u16 {
-    static NEXT: AtomicU32 = AtomicU32::new(0);
-    let seed = std::process::id() * 7919 + NEXT.fetch_add(1, Ordering::Relaxed) * 101;
-    (0..7001)
-        .map(|i| 3000 + ((seed + i) % 7001) as u16)
-        .find(|&p| TcpListener::bind(("127.0.0.1", p)).is_ok())
-        .expect("a free port in 3000..10000")
-}
 
 /// Connects once the Lua server listens.
 fn connect(port: u16) -> TcpStream {
@@ -73,7 +62,7 @@ const ECHO_SERVER: &str = r#"
 fn a_lua_server_echoes_frames_refuses_long_ones_and_outlives_a_vanished_peer() {
     let ns = unique_ns("fp-echo");
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = freeport_port();
     let source = format!("local PORT = {port}\n{ECHO_SERVER}");
     let script = program(dir.path(), "echo.lua", &source);
     let child = start_run(&ns, &[script.to_str().unwrap()]);
@@ -112,8 +101,9 @@ fn a_lua_server_echoes_frames_refuses_long_ones_and_outlives_a_vanished_peer() {
 fn a_lua_client_frames_with_a_start_byte_and_cr_lf_and_gets_codes_for_bad_calls() {
     let ns = unique_ns("fp-client");
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let listener = TcpListener::bind(("127.0.0.1", port)).unwrap();
+    // Kept bound from the search on: no other process can take the port in between.
+    let listener = freeport_listener();
+    let port = listener.local_addr().unwrap().port();
     let server = std::thread::spawn(move || {
         let (mut stream, _) = listener.accept().unwrap();
         stream.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
@@ -177,7 +167,7 @@ fn a_lua_client_frames_with_a_start_byte_and_cr_lf_and_gets_codes_for_bad_calls(
 fn a_task_polling_rx_outlives_its_watchdog() {
     let ns = unique_ns("fp-watchdog");
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = freeport_port();
     program(
         dir.path(),
         "poll.lua",
@@ -214,7 +204,7 @@ fn a_task_polling_rx_outlives_its_watchdog() {
 #[test]
 fn killing_a_task_frees_its_port_for_the_next_run() {
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = freeport_port();
     let script = program(
         dir.path(),
         "serve.lua",
@@ -251,7 +241,7 @@ fn killing_a_task_frees_its_port_for_the_next_run() {
 fn the_echo_example_answers_nc_and_quits() {
     let ns = unique_ns("fp-example");
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = freeport_port();
     let example = std::fs::read_to_string(repo_path("scripts/examples/freeport_echo.lua")).unwrap();
     assert!(example.contains("local PORT = 9000\n"));
     let script =
@@ -283,7 +273,7 @@ fn the_echo_example_answers_nc_and_quits() {
 fn a_lua_client_talks_to_an_nc_server() {
     let ns = unique_ns("fp-ncserver");
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = freeport_port();
     let mut nc = std::process::Command::new(debian_tool("nc"))
         .args(["-l", "127.0.0.1", &port.to_string()])
         .stdin(std::process::Stdio::piped())
@@ -322,7 +312,7 @@ fn a_lua_client_talks_to_an_nc_server() {
 #[test]
 fn two_hundred_clients_at_once_are_closed_and_the_peer_is_served() {
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = freeport_port();
     let script = program(
         dir.path(),
         "serve.lua",
@@ -362,7 +352,7 @@ fn two_hundred_clients_at_once_are_closed_and_the_peer_is_served() {
 fn the_machine_file_sets_the_servers_address() {
     let ns = unique_ns("fp-bind");
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = freeport_port();
     program(
         dir.path(),
         "serve.lua",

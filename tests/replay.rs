@@ -476,16 +476,6 @@ fn speed_needs_the_simulation_clock() {
     assert!(!out.status.success() && out.stderr.contains("--speed needs the simulation clock"), "{}", out.stderr);
 }
 
-/// A free port in FreePort's range 3000..10000, asked of the OS by binding 127.0.0.1 to it.
-fn freeport_port() -> u16 {
-    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let seed = std::process::id() as usize + NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed) * 997;
-    (0..7001)
-        .map(|i| 3000 + ((seed * 31 + i * 101) % 7001) as u16)
-        .find(|&p| std::net::TcpListener::bind(("127.0.0.1", p)).is_ok())
-        .expect("a free port in 3000..10000")
-}
-
 /// A `FreePort.Eth` server session fed by nc in two chunks that split a frame: each frame
 /// moves the axis and is echoed; recorded (the peer's connect, bytes and end with their
 /// cycles), then replayed without a peer: the same frames in the same turns.
@@ -718,7 +708,7 @@ fn modbus_client_calls_are_recorded_and_replayed() {
 #[test]
 fn ascii_client_calls_are_recorded_and_replayed() {
     let dir = tempfile::tempdir().unwrap();
-    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+    let port = free_port();
     let mut nc = Command::new(debian_tool("nc"))
         .args(["-l", "127.0.0.1", &port.to_string()])
         .stdin(Stdio::piped())

@@ -192,11 +192,6 @@ fn run_serves_the_web_view_and_ends_with_its_program() {
     assert!(finished.status.success(), "the run ends with its program: {}", finished.stderr);
 }
 
-/// A free TCP port on 127.0.0.1.
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
-}
-
 /// A headless Chromium session through chromedriver's WebDriver endpoint; both end on drop.
 struct Browser {
     driver: Child,

@@ -62,6 +62,26 @@ pub fn start_run(ns: &str, args: &[&str]) -> Child {
         .expect("start luamotion")
 }
 
+/// A free TCP port on 127.0.0.1, asked of the OS.
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
+/// A listener on 127.0.0.1 at a free port of FreePort's range 3000..10000, asked of the OS
+/// by binding to it.
+pub fn freeport_listener() -> std::net::TcpListener {
+    static NEXT: AtomicU32 = AtomicU32::new(0);
+    let seed = std::process::id() * 7919 + NEXT.fetch_add(1, Ordering::Relaxed) * 101;
+    (0..7001)
+        .find_map(|i| std::net::TcpListener::bind(("127.0.0.1", 3000 + ((seed + i) % 7001) as u16)).ok())
+        .expect("a free port in 3000..10000")
+}
+
+/// A free port in FreePort's range for a server the Lua program opens.
+pub fn freeport_port() -> u16 {
+    freeport_listener().local_addr().unwrap().port()
+}
+
 /// Waits for a child, killing it after `timeout`.
 pub fn finish(mut child: Child, timeout: Duration) -> Finished {
     let deadline = Instant::now() + timeout;
@@ -261,7 +281,7 @@ impl Drop for PyServer {
 
 /// Starts the pymodbus server on a free port; returns it and its port once it listens.
 pub fn pymodbus_server() -> (PyServer, u16) {
-    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+    let port = free_port();
     let child = Command::new(pymodbus_python())
         .arg(repo_path("tests/python/modbus_server.py"))
         .arg(port.to_string())
