@@ -75,8 +75,8 @@ pub struct CycleStats {
     pub lateness: Histogram<u64>,
     /// Execution time of one cycle's work, ns.
     pub execution: Histogram<u64>,
-    /// The RT thread's CPU time per cycle (from the end of one cycle's work to the end of
-    /// the next: the work and the sleep call), ns.
+    /// The RT thread's CPU time for one cycle's work (from its wake-up to the work's end;
+    /// the sleep is not in it), ns.
     pub cpu: Histogram<u64>,
     pub ipc: CoreIpcStats,
     pub granted: Granted,
@@ -334,7 +334,6 @@ pub fn run(
     let mut stats = CycleStats::new(granted);
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();
-    let mut cpu_ns = started_cpu_ns;
     let mut deadline = started_ns + pace.unwrap_or(0);
     let mut shutdown_since = None;
     let stopping = || control.shutdown.load(Ordering::Acquire) || control.stop_tasks.load(Ordering::Acquire);
@@ -344,6 +343,9 @@ pub fn run(
             realtime::sleep_until(deadline);
         }
         let woke = monotonic_ns();
+        // The work's CPU time, without the sleep: a stall of the VM while the thread
+        // waits to wake is charged to it as CPU time, and is a late wake-up, not work.
+        let woke_cpu_ns = realtime::thread_cpu_ns();
         work.timing.lateness_ns = woke.saturating_sub(deadline);
         let _ = stats.lateness.record(work.timing.lateness_ns.max(1));
 
@@ -370,8 +372,7 @@ pub fn run(
         }
         work.timing.previous_execution_ns = done.saturating_sub(woke);
         let _ = stats.execution.record(work.timing.previous_execution_ns.max(1));
-        let cycle_cpu_ns = realtime::thread_cpu_ns() - cpu_ns;
-        cpu_ns += cycle_cpu_ns;
+        let cycle_cpu_ns = realtime::thread_cpu_ns() - woke_cpu_ns;
         work.timing.previous_cpu_ns = cycle_cpu_ns;
         let _ = stats.cpu.record(cycle_cpu_ns.max(1));
         stats.cycles = work.cycle;
