@@ -102,7 +102,7 @@ impl Waker {
             Waker::Event { notifier, .. } => {
                 notifier.notify().map_err(|e| failed("floor notify", e))?;
             }
-            Waker::Futex { table, other, .. } => table.slots[*other as usize].wake(now),
+            Waker::Futex { table, other, .. } => table.wake(*other as usize, now),
         }
         Ok(now)
     }
@@ -117,15 +117,15 @@ impl Waker {
                 work()
             }
             Waker::Futex { table, mine, as_task, .. } => {
-                let slot = &table.slots[*mine as usize];
-                let seen = slot.wake_count();
+                let task = *mine as usize;
+                let seen = table.slots[task].wake_count();
                 if let Some(found) = work()? {
                     return Ok(Some(found));
                 }
                 if *as_task {
-                    slot.sleep_for_turn(seen, PATIENCE);
+                    table.sleep_for_turn(task, seen, PATIENCE);
                 } else {
-                    slot.sleep(seen, PATIENCE);
+                    table.sleep(task, seen, PATIENCE);
                 }
                 work()
             }
