@@ -94,8 +94,8 @@ pub struct CoreIpcStats {
     pub publish_failures: u64,
     /// Of `wakes`, those whose futex wake the task waker made (`hand_wakes_to_thread`).
     pub handed_off: u64,
-    /// Of `wakes`, those that found the task asleep and woke it with the futex call of
-    /// its half of the table (the others were seen by the task before it slept).
+    /// Of `wakes`, those that found the task asleep on its word and made the futex
+    /// syscall (the others were seen by the task before it slept).
     pub futex_wakes: u64,
     /// CPU time the task waker thread has used, ns: work the RT thread handed it.
     pub waker_cpu_ns: u64,
@@ -111,7 +111,7 @@ struct WakeHandoff {
     /// Bumped with each hand-off; the waker sleeps on it.
     word: AtomicU32,
     stop: AtomicBool,
-    /// Of the wakes handed over, those that found the task asleep.
+    /// Of the wakes handed over, those that made the futex syscall.
     futex_wakes: AtomicU64,
 }
 
@@ -132,7 +132,7 @@ impl WakeHandoff {
         while !self.stop.load(Ordering::Acquire) {
             let seen = self.word.load(Ordering::Acquire);
             let pending = self.pending.swap(0, Ordering::AcqRel);
-            self.futex_wakes.fetch_add(table.wake_sleepers(pending), Ordering::Relaxed);
+            self.futex_wakes.fetch_add(wake_sleepers(table, pending), Ordering::Relaxed);
             futex::wait(&self.word, seen, std::time::Duration::from_millis(100));
         }
     }
@@ -412,10 +412,20 @@ impl CoreEndpoint {
                 waker.handoff.hand(woken);
                 self.stats.handed_off += woken.count_ones() as u64;
             }
-            _ => self.stats.futex_wakes += self.table.wake_sleepers(woken),
+            _ => self.stats.futex_wakes += wake_sleepers(&self.table, woken),
         }
         woken
     }
+}
+
+/// The futex wakes of tasks `tasks` (bit t for task t) that sleep; returns how many made one.
+fn wake_sleepers(table: &TaskTable, mut tasks: u64) -> u64 {
+    let mut syscalls = 0;
+    while tasks != 0 {
+        syscalls += table.slots[tasks.trailing_zeros() as usize].wake_sleeper() as u64;
+        tasks &= tasks - 1;
+    }
+    syscalls
 }
 
 #[cfg(test)]

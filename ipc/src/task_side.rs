@@ -436,7 +436,7 @@ impl TaskEndpoint {
                 }
                 self.park();
             }
-            self.table.sleep_for_turn(self.task as usize, seen, LIVENESS_PERIOD);
+            self.slot().sleep_for_turn(seen, LIVENESS_PERIOD);
             self.check_controller()?;
         }
     }
@@ -444,7 +444,7 @@ impl TaskEndpoint {
     /// Sleeps until the core wakes this task, unless it did since `seen` was read (or
     /// until the liveness period passes).
     fn sleep(&self, seen: u32) -> Result<(), IpcError> {
-        self.table.sleep(self.task as usize, seen, LIVENESS_PERIOD);
+        self.slot().sleep(seen, LIVENESS_PERIOD);
         self.check_controller()
     }
 

@@ -125,10 +125,9 @@ pub struct TaskSlot {
     cpu_ms: AtomicU64,
     /// When the core last woke the task (CLOCK_MONOTONIC, ns).
     notified_ns: AtomicU64,
-    /// The task's wake-up count; the core bumps it to wake the task, which sleeps on its
-    /// half of the table's bells (`TaskTable::sleep`) while it stands still.
+    /// The futex word the task sleeps on; the core bumps it to wake the task.
     wake: AtomicU32,
-    /// Threads asleep, or about to be: a wake with none makes no futex syscall.
+    /// Threads asleep on `wake`, or about to be: a wake with none makes no futex syscall.
     sleepers: AtomicU32,
     /// On the simulation clock: nonzero when this task runs in lockstep with the core
     /// (written by the core before any start, never reset).
@@ -258,16 +257,54 @@ impl TaskSlot {
         self.notified_ns.load(Ordering::Acquire)
     }
 
-    /// The first half of a wake (`TaskTable::wake`): a task that looks at its count from
-    /// now on does not sleep; one asleep already needs `TaskTable::wake_sleepers`.
+    /// The core wakes the task: "your reply is ready" or "your wake cycle has come".
+    /// Never blocks.
+    pub fn wake(&self, now_ns: u64) {
+        self.notify(now_ns);
+        self.wake_sleeper();
+    }
+
+    /// The first half of `wake`: a task that looks at its word from now on does not
+    /// sleep; one asleep already needs `wake_sleeper`.
     pub fn notify(&self, now_ns: u64) {
         self.notified_ns.store(now_ns, Ordering::Release);
         self.wake.fetch_add(1, Ordering::SeqCst);
     }
 
+    /// The second half of `wake`: the futex wake of a task asleep on its word, if one is;
+    /// returns whether it made the syscall.
+    pub fn wake_sleeper(&self) -> bool {
+        // Pairs with `sleep`'s count: either the sleeper's futex compare sees the word
+        // `notify` bumped, or this sees the sleeper (also when `notify` ran on another
+        // thread that handed the wake over).
+        std::sync::atomic::fence(Ordering::SeqCst);
+        let asleep = self.sleepers.load(Ordering::SeqCst) != 0;
+        if asleep {
+            futex::wake(&self.wake);
+        }
+        asleep
+    }
+
     /// The wake-up count before a look at the condition the task waits for...
     pub fn wake_count(&self) -> u32 {
         self.wake.load(Ordering::Acquire)
+    }
+
+    /// ...then the sleep, unless a wake-up came in between; at most `timeout`.
+    pub fn sleep(&self, seen: u32, timeout: std::time::Duration) {
+        // Counted before the futex compares the word (the kernel orders its read after
+        // this with a full barrier): see `wake_sleeper`.
+        self.sleepers.fetch_add(1, Ordering::SeqCst);
+        futex::wait(&self.wake, seen, timeout);
+        self.sleepers.fetch_sub(1, Ordering::SeqCst);
+    }
+
+    /// `sleep` for the next turn on the simulation clock, watching the word for
+    /// `TURN_SPIN` first (uncounted: the core's wake meanwhile makes no syscall).
+    pub fn sleep_for_turn(&self, seen: u32, timeout: std::time::Duration) {
+        if futex::spin_while(&self.wake, seen, TURN_SPIN) {
+            self.sleep(seen, timeout);
+        }
     }
 
     /// Whether this task runs in lockstep with the simulation clock.
@@ -290,9 +327,10 @@ impl TaskSlot {
         self.baton.store(Baton::Parked.into(), Ordering::Release);
     }
 
-    /// The core grants a parked task a turn (then wakes it: `TaskTable::grant`).
-    fn grant(&self) {
+    /// The core grants a parked task a turn and wakes it.
+    pub fn grant(&self, now_ns: u64) {
         self.baton.store(Baton::Granted.into(), Ordering::Release);
+        self.wake(now_ns);
     }
 
     /// The task takes a granted turn; false when none was granted.
@@ -384,10 +422,6 @@ pub struct TaskTable {
     pub slots: [TaskSlot; MAX_TASKS],
     /// On the simulation clock: bumped by a task that parks; the core sleeps on it.
     gate: AtomicU32,
-    /// The futex words the tasks sleep on, tasks 0..31 on the first, 32..63 on the
-    /// second, each with its bit: the core wakes all of a cycle's sleepers of one half in
-    /// one syscall (a futex wake's syscall and lookup are a third of its cost).
-    bells: [AtomicU32; MAX_TASKS / 32],
     /// The script pool's waiting processes, handed their tasks by the core.
     pub pool: Board,
     /// Each task's calls to the core and their replies.
@@ -395,71 +429,6 @@ pub struct TaskTable {
 }
 
 impl TaskTable {
-    /// The core wakes task `task`: "your reply is ready", "your wake cycle has come" or
-    /// "your turn". Never blocks.
-    pub fn wake(&self, task: usize, now_ns: u64) {
-        self.slots[task].notify(now_ns);
-        self.wake_sleepers(1 << task);
-    }
-
-    /// The core grants parked task `task` a turn on the simulation clock and wakes it.
-    pub fn grant(&self, task: usize, now_ns: u64) {
-        self.slots[task].grant();
-        self.wake(task, now_ns);
-    }
-
-    /// The second half of a wake, for tasks `tasks` (bit t for task t) already notified:
-    /// the futex wake of those asleep, one syscall per half of the table; returns how
-    /// many were asleep.
-    pub fn wake_sleepers(&self, tasks: u64) -> u64 {
-        // Pairs with `sleep`'s count: either the sleeper sees its count bumped, or this
-        // sees the sleeper (also when `notify` ran on another thread that handed the
-        // wake over).
-        std::sync::atomic::fence(Ordering::SeqCst);
-        let mut asleep = 0;
-        for (half, bell) in self.bells.iter().enumerate() {
-            let mut bits = 0u32;
-            let mut pending = (tasks >> (32 * half)) as u32;
-            while pending != 0 {
-                let bit = pending & pending.wrapping_neg();
-                if self.slots[32 * half + bit.trailing_zeros() as usize].sleepers.load(Ordering::SeqCst) != 0 {
-                    bits |= bit;
-                }
-                pending &= pending - 1;
-            }
-            if bits != 0 {
-                // A sleeper between its look at the bell and its futex call finds the
-                // bell changed and returns.
-                bell.fetch_add(1, Ordering::SeqCst);
-                futex::wake_bits(bell, bits);
-                asleep += bits.count_ones() as u64;
-            }
-        }
-        asleep
-    }
-
-    /// Task `task` sleeps until woken, unless its wake-up count is no longer `seen`
-    /// (`TaskSlot::wake_count`); at most `timeout`, and it may return early (a wake of
-    /// another task of its half in between): its caller looks again.
-    pub fn sleep(&self, task: usize, seen: u32, timeout: std::time::Duration) {
-        let (slot, bell) = (&self.slots[task], &self.bells[task / 32]);
-        let rung = bell.load(Ordering::SeqCst);
-        // Counted before the count is compared: see `wake_sleepers`.
-        slot.sleepers.fetch_add(1, Ordering::SeqCst);
-        if slot.wake.load(Ordering::SeqCst) == seen {
-            futex::wait_bit(bell, rung, 1 << (task % 32), timeout);
-        }
-        slot.sleepers.fetch_sub(1, Ordering::SeqCst);
-    }
-
-    /// `sleep` for the next turn on the simulation clock, watching the count for
-    /// `TURN_SPIN` first (uncounted: the core's wake meanwhile makes no syscall).
-    pub fn sleep_for_turn(&self, task: usize, seen: u32, timeout: std::time::Duration) {
-        if futex::spin_while(&self.slots[task].wake, seen, TURN_SPIN) {
-            self.sleep(task, seen, timeout);
-        }
-    }
-
     /// Task `task` gives its turn back and wakes the core.
     pub fn park(&self, task: u8) {
         self.slots[task as usize].park();
@@ -528,7 +497,7 @@ mod tests {
         assert!(!slot.take_turn());
         table.park(5);
         assert_eq!((slot.baton(), table.gate_count()), (Baton::Parked, 1));
-        table.grant(5, 0);
+        slot.grant(0);
         assert_eq!(slot.wake_count(), 1, "a grant wakes the task");
         assert!(slot.take_turn());
         assert!(!slot.take_turn(), "taken once");
@@ -537,65 +506,26 @@ mod tests {
         assert_eq!(slot.blocked_on(), Some(7));
     }
 
-    /// A wake makes the futex syscall only for a task asleep, and the one it makes
-    /// reaches the sleeper (not its timeout): in both
-    /// halves of the table, with one syscall for several sleepers, and without waking a
-    /// sleeper of the same half it was not for.
+    /// A wake makes the futex syscall only for a task asleep on its word, and the one it
+    /// makes reaches the sleeper (a lost wake-up leaves the sleeper there for an hour).
     #[test]
-    fn a_wake_reaches_exactly_the_sleepers_it_is_for() {
+    fn a_wake_makes_the_syscall_only_for_a_sleeper() {
         let table: Box<TaskTable> = crate::shm::zeroed();
-        let table = &*table;
-        table.slots[2].notify(0);
-        assert_eq!(table.wake_sleepers(1 << 2), 0, "nobody asleep: no syscall");
-        // Long enough to tell a lost wake-up, short enough that a failed assertion ends.
-        let (patience, give_up) = (std::time::Duration::from_secs(5), std::time::Duration::from_secs(20));
-        let returns: [AtomicU32; 3] = Default::default();
-        let tids: [AtomicU32; 3] = Default::default();
-        // Whether thread `tid` is inside the futex syscall (asleep in the kernel).
-        let in_futex = |tid: u32| {
-            let call = std::fs::read_to_string(format!("/proc/self/task/{tid}/syscall")).unwrap_or_default();
-            tid != 0 && call.split(' ').next() == Some(&libc::SYS_futex.to_string())
-        };
+        let slot = &table.slots[2];
+        slot.notify(0);
+        assert!(!slot.wake_sleeper(), "nobody asleep: no syscall");
         std::thread::scope(|s| {
-            let sleepers: Vec<_> = [2usize, 5, 34]
-                .into_iter()
-                .enumerate()
-                .map(|(i, task)| {
-                    let (returns, tids) = (&returns[i], &tids[i]);
-                    s.spawn(move || {
-                        // SAFETY: gettid has no preconditions.
-                        tids.store(unsafe { libc::gettid() } as u32, Ordering::SeqCst);
-                        let (seen, started) = (table.slots[task].wake_count(), std::time::Instant::now());
-                        while table.slots[task].wake_count() == seen && started.elapsed() < give_up {
-                            table.sleep(task, seen, patience);
-                            returns.fetch_add(1, Ordering::SeqCst);
-                        }
-                    })
-                })
-                .collect();
-            while !tids.iter().all(|t| in_futex(t.load(Ordering::SeqCst))) {
+            let seen = slot.wake_count();
+            let sleeper = s.spawn(move || slot.sleep(seen, std::time::Duration::from_secs(3600)));
+            while slot.sleepers.load(Ordering::SeqCst) == 0 {
                 std::thread::yield_now();
             }
-            for task in [2, 34] {
-                table.slots[task].notify(0);
-            }
-            assert_eq!(table.wake_sleepers(1 << 2 | 1 << 34), 2, "one syscall per half");
-            let woke = std::time::Instant::now();
-            while !(sleepers[0].is_finished() && sleepers[2].is_finished()) {
-                std::thread::yield_now();
-            }
-            assert!(woke.elapsed() < patience, "tasks 2 and 34 were woken, not timed out");
-            assert_eq!(returns[1].load(Ordering::SeqCst), 0, "task 5, of task 2's half, sleeps on");
-            table.wake(5, 0);
-            for handle in sleepers {
-                handle.join().expect("each sleeper returns");
-            }
+            slot.notify(0);
+            assert!(slot.wake_sleeper(), "a sleeper: the syscall");
+            sleeper.join().expect("the sleeper returns");
         });
-        assert_eq!(returns.each_ref().map(|r| r.load(Ordering::SeqCst)), [1, 1, 1]);
-        for task in [2, 5, 34] {
-            assert_eq!(table.slots[task].sleepers.load(Ordering::SeqCst), 0, "task {task} is counted out");
-        }
-        assert_eq!(table.wake_sleepers(u64::MAX), 0);
+        assert_eq!(slot.sleepers.load(Ordering::SeqCst), 0, "the sleeper is counted out");
+        assert!(!slot.wake_sleeper());
     }
 
     #[test]

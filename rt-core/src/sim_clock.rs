@@ -174,7 +174,7 @@ impl Lockstep {
                     continue;
                 }
                 woken &= !(1 << member.id);
-                endpoint.table().grant(member.id as usize, monotonic_ns());
+                slot.grant(monotonic_ns());
                 granted = true;
                 wait_parked(member, slot, tasks, endpoint, stop);
             }

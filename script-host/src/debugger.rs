@@ -332,7 +332,7 @@ impl Debugger {
                     None => slot.debug.mark_done(seq),
                 }
             }
-            self.table.sleep(self.task, seen, LIVENESS_PERIOD);
+            slot.sleep(seen, LIVENESS_PERIOD);
             if !(self.controller_alive)() {
                 self.controller_gone.set(true);
                 return Err(controller_gone());
@@ -468,7 +468,7 @@ mod tests {
 
         fn send(&self, command: DebugCommand) -> u32 {
             let seq = self.slot().debug.send(command);
-            self.table.wake(TASK, 0);
+            self.slot().wake(0);
             seq
         }
 
@@ -492,7 +492,7 @@ mod tests {
         /// The controller goes away: a stopped program ends at its next look.
         fn kill_controller(&self) {
             self.alive.store(false, Ordering::Relaxed);
-            self.table.wake(TASK, 0);
+            self.slot().wake(0);
         }
 
         fn end(&mut self) -> Ended {

@@ -102,7 +102,7 @@ impl Waker {
             Waker::Event { notifier, .. } => {
                 notifier.notify().map_err(|e| failed("floor notify", e))?;
             }
-            Waker::Futex { table, other, .. } => table.wake(*other as usize, now),
+            Waker::Futex { table, other, .. } => table.slots[*other as usize].wake(now),
         }
         Ok(now)
     }
@@ -117,15 +117,15 @@ impl Waker {
                 work()
             }
             Waker::Futex { table, mine, as_task, .. } => {
-                let task = *mine as usize;
-                let seen = table.slots[task].wake_count();
+                let slot = &table.slots[*mine as usize];
+                let seen = slot.wake_count();
                 if let Some(found) = work()? {
                     return Ok(Some(found));
                 }
                 if *as_task {
-                    table.sleep_for_turn(task, seen, PATIENCE);
+                    slot.sleep_for_turn(seen, PATIENCE);
                 } else {
-                    table.sleep(task, seen, PATIENCE);
+                    slot.sleep(seen, PATIENCE);
                 }
                 work()
             }

@@ -121,8 +121,8 @@ impl Fractions {
     }
 }
 
-/// One script process: its wake-ups (rank = its task index), the CPU time it used, its
-/// memory.
+/// One script process: its wake-ups (rank = its task index, the order in which the core
+/// wakes the tasks of a cycle), the CPU time it used, its memory.
 #[derive(Debug, Serialize)]
 pub struct ScriptRow {
     pub rank: usize,
@@ -136,19 +136,17 @@ pub struct ScriptRow {
     pub memory: Option<Memory>,
 }
 
-/// Wake-up fairness: does a script woken later wait longer than the scripts' own work
-/// explains?
+/// Wake-up fairness: does a later rank wait longer than the scripts' own work explains?
 #[derive(Debug, Serialize)]
 pub struct Fairness {
     /// The CPU time all scripts together used per cycle, µs.
     pub scripts_cpu_us_per_cycle: f64,
-    /// The highest wake-up p50 of a script less the lowest, µs.
+    /// The highest rank's wake-up p50 less the first rank's, µs.
     pub p50_spread_us: f64,
-    /// The lowest wake-up p50 of a script (the soonest woken) over the iceoryx2 one-way
-    /// floor's p50...
-    pub soonest_vs_floor_p50: Option<f64>,
+    /// The first rank's wake-up p50 over the iceoryx2 one-way floor's p50...
+    pub first_rank_vs_floor_p50: Option<f64>,
     /// ...and over the futex wake-up floor's (the same wake-up the core gives a task).
-    pub soonest_vs_futex_floor_p50: Option<f64>,
+    pub first_rank_vs_futex_floor_p50: Option<f64>,
 }
 
 /// The controller's and the scripts' memory at the sample of largest total PSS.
@@ -255,7 +253,7 @@ impl Report {
         );
         println!(
             "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task waker {:.1} %; \
-             {} task wakes, {} of them of a sleeping task (futex wakes)",
+             {} task wakes, {} of them futex syscalls",
             c.cycles,
             c.overruns,
             c.rt_cpu_percent,
@@ -303,9 +301,7 @@ impl Report {
 
     fn print_scripts(&self) {
         println!();
-        println!(
-            "wake-up by script rank (rank = task index; the core wakes each half of the tasks with one futex call)"
-        );
+        println!("wake-up by script rank (rank = task index: the core wakes a cycle's tasks in index order)");
         println!(
             "{:>5} {:>9} {:>9} {:>9} {:>13} {:>12} {:>9} {:>9}",
             "rank", "wake-ups", "p50 us", "p99 us", "CPU us/cycle", "CPU us/wake", "RSS MiB", "PSS MiB"
@@ -328,12 +324,12 @@ impl Report {
         }
         let fair = &self.fairness;
         println!(
-            "scripts' CPU time per cycle {:.1} us; wake-up p50 spread (highest less lowest) {:.1} us; \
-             lowest p50 {} the iceoryx2 one-way floor, {} the futex wake-up floor",
+            "scripts' CPU time per cycle {:.1} us; wake-up p50 spread (highest rank less rank 0) {:.1} us; \
+             rank 0 p50 {} the iceoryx2 one-way floor, {} the futex wake-up floor",
             fair.scripts_cpu_us_per_cycle,
             fair.p50_spread_us,
-            ratio(fair.soonest_vs_floor_p50),
-            ratio(fair.soonest_vs_futex_floor_p50)
+            ratio(fair.first_rank_vs_floor_p50),
+            ratio(fair.first_rank_vs_futex_floor_p50)
         );
         let m = &self.memory;
         println!(
