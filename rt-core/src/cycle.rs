@@ -366,13 +366,14 @@ pub fn run(
         control.cycle.store(work.cycle, Ordering::Release);
         control.active_tasks.store(work.machine.tasks.active() as u64, Ordering::Release);
 
+        // Read inside the wall-time window (`woke`..`done`), so the CPU time is never more.
+        let cycle_cpu_ns = realtime::thread_cpu_ns() - woke_cpu_ns;
         let done = monotonic_ns();
         if work.recording {
             stats.recorded_wall_ns = done - started_ns;
         }
         work.timing.previous_execution_ns = done.saturating_sub(woke);
         let _ = stats.execution.record(work.timing.previous_execution_ns.max(1));
-        let cycle_cpu_ns = realtime::thread_cpu_ns() - woke_cpu_ns;
         work.timing.previous_cpu_ns = cycle_cpu_ns;
         let _ = stats.cpu.record(cycle_cpu_ns.max(1));
         stats.cycles = work.cycle;
