@@ -71,7 +71,8 @@ pub fn free_port() -> u16 {
 /// by binding to it.
 pub fn freeport_listener() -> std::net::TcpListener {
     static NEXT: AtomicU32 = AtomicU32::new(0);
-    let seed = std::process::id() * 7919 + NEXT.fetch_add(1, Ordering::Relaxed) * 101;
+    // u64: a pid times 7919 overflows u32 once pids pass 542 000 (pid_max may be 4 M).
+    let seed = u64::from(std::process::id()) * 7919 + u64::from(NEXT.fetch_add(1, Ordering::Relaxed)) * 101;
     (0..7001)
         .find_map(|i| std::net::TcpListener::bind(("127.0.0.1", 3000 + ((seed + i) % 7001) as u16)).ok())
         .expect("a free port in 3000..10000")
