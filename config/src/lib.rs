@@ -301,6 +301,11 @@ pub struct RtConfig {
     /// Script processes kept started and waiting, so that a `StartTask` runs its program
     /// without a process start; 0 starts a process per task start.
     pub script_pool: usize,
+    /// The CPU latency limit, us, the controller holds while it runs (Linux PM QoS,
+    /// `/dev/cpu_dma_latency`, as cyclictest does): 0 keeps idle CPUs polling instead of
+    /// halting, so a wake-up (the cycle's timer, a task's reply) finds them awake. None
+    /// leaves the idle states to the OS.
+    pub cpu_latency_us: Option<u32>,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
@@ -567,7 +572,13 @@ impl Default for MachineConfig {
 impl Default for RtConfig {
     fn default() -> Self {
         let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-        RtConfig { priority: 80, cpu: (cpus > 1).then(|| cpus - 1), lock_memory: true, script_pool: 2 }
+        RtConfig {
+            priority: 80,
+            cpu: (cpus > 1).then(|| cpus - 1),
+            lock_memory: true,
+            script_pool: 2,
+            cpu_latency_us: Some(0),
+        }
     }
 }
 

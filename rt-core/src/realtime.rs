@@ -10,6 +10,8 @@ pub struct Granted {
     pub fifo_priority: Option<u8>,
     pub cpu: Option<usize>,
     pub memory_locked: bool,
+    /// The CPU latency limit held (`CpuLatencyLimit`), us.
+    pub cpu_latency_us: Option<u32>,
 }
 
 /// Applies `config` to the calling thread.
@@ -52,6 +54,36 @@ pub fn setup_current_thread(config: &RtConfig) -> Granted {
         }
     }
     granted
+}
+
+/// A CPU latency limit held for as long as the value lives (Linux PM QoS: the limit
+/// written to `/dev/cpu_dma_latency` holds while the file stays open). With 0 an idle CPU
+/// polls instead of halting: on a virtual machine a halted vCPU is woken by the host, and
+/// a task's wake-up there took 20 us instead of 5 (README, "Soak test").
+pub struct CpuLatencyLimit {
+    _file: std::fs::File,
+    /// The limit held, us.
+    pub us: u32,
+}
+
+impl CpuLatencyLimit {
+    /// Holds `config.cpu_latency_us`, if set; a refusal (no such device, not root) is
+    /// logged and skipped like the RT thread's other requests.
+    pub fn hold(config: &RtConfig) -> Option<Self> {
+        use std::io::Write;
+        let us = config.cpu_latency_us?;
+        let held = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/cpu_dma_latency")
+            .and_then(|mut file| file.write_all(&(us as i32).to_ne_bytes()).map(|()| file));
+        match held {
+            Ok(file) => Some(CpuLatencyLimit { _file: file, us }),
+            Err(e) => {
+                tracing::warn!("CPU latency limit of {us} us refused ({e}); idle CPUs may sleep deeply");
+                None
+            }
+        }
+    }
 }
 
 /// The task waker (`CoreEndpoint::hand_wakes_to_thread`), started from the RT thread: it

@@ -48,6 +48,10 @@ pub struct SoakArgs {
     /// Leave the RT thread unpinned (by default it gets the last CPU).
     #[arg(long)]
     pub no_pin: bool,
+    /// Leave the CPUs' idle states to the OS: by default the soak, floors included, holds
+    /// the controller's CPU latency limit (`[rt] cpu_latency_us`, 0 us).
+    #[arg(long)]
+    pub no_cpu_latency: bool,
     /// Keep every CPU busy with background work during the floors and the run.
     #[arg(long)]
     pub load: bool,
@@ -120,7 +124,14 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         bail!("--duration must be at least 1 s");
     }
     let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let rt = RtConfig { cpu: if args.no_pin { None } else { RtConfig::default().cpu }, ..RtConfig::default() };
+    let defaults = RtConfig::default();
+    let rt = RtConfig {
+        cpu: if args.no_pin { None } else { defaults.cpu },
+        cpu_latency_us: if args.no_cpu_latency { None } else { defaults.cpu_latency_us },
+        ..defaults
+    };
+    // The floors are measured under the limit the run's controller holds.
+    let _latency_limit = rt_core::realtime::CpuLatencyLimit::hold(&rt);
     let period_ns = args.period_us as u64 * 1000;
     let ns = args.ns.clone().unwrap_or_else(|| format!("soak-{}", std::process::id()));
     let floor_time = Duration::from_secs((args.duration / 6).clamp(2, 20));
@@ -186,6 +197,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         fifo_priority: granted.fifo_priority,
         rt_cpu: granted.cpu,
         memory_locked: granted.memory_locked,
+        cpu_latency_us: granted.cpu_latency_us,
     };
     let period_us = args.period_us as f64;
     let row = |name: &str| rows.iter().find(|r| r.name == name).expect("a row of the table");

@@ -182,6 +182,8 @@ pub struct RunInfo {
     pub fifo_priority: Option<u8>,
     pub rt_cpu: Option<usize>,
     pub memory_locked: bool,
+    /// The CPU latency limit held (`[rt] cpu_latency_us`), us.
+    pub cpu_latency_us: Option<u32>,
 }
 
 #[derive(Debug, Serialize)]
@@ -223,10 +225,11 @@ impl Report {
             r.kernel
         );
         println!(
-            "RT thread: SCHED_FIFO {}, CPU {}, memory {}",
+            "RT thread: SCHED_FIFO {}, CPU {}, memory {}, CPU latency limit {}",
             r.fifo_priority.map_or("refused".to_string(), |p| p.to_string()),
             r.rt_cpu.map_or("not pinned".to_string(), |c| c.to_string()),
-            if r.memory_locked { "locked" } else { "not locked" }
+            if r.memory_locked { "locked" } else { "not locked" },
+            r.cpu_latency_us.map_or("none".to_string(), |us| format!("{us} us"))
         );
         println!();
         println!(
