@@ -301,11 +301,11 @@ pub struct RtConfig {
     /// Script processes kept started and waiting, so that a `StartTask` runs its program
     /// without a process start; 0 starts a process per task start.
     pub script_pool: usize,
-    /// The CPU latency limit, us, the controller holds while it runs (Linux PM QoS,
-    /// `/dev/cpu_dma_latency`, as cyclictest does): 0 keeps idle CPUs polling instead of
-    /// halting, so a wake-up (the cycle's timer, a task's reply) finds them awake. None
-    /// leaves the idle states to the OS.
-    pub cpu_latency_us: Option<u32>,
+    /// While the controller runs, idle CPUs poll instead of halting (a Linux PM QoS CPU
+    /// latency limit of 0 us, `/dev/cpu_dma_latency`, as cyclictest holds), so a wake-up
+    /// (the cycle's timer, a task's reply) finds its CPU awake; false leaves the idle
+    /// states to the OS.
+    pub idle_poll: bool,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
@@ -572,13 +572,7 @@ impl Default for MachineConfig {
 impl Default for RtConfig {
     fn default() -> Self {
         let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-        RtConfig {
-            priority: 80,
-            cpu: (cpus > 1).then(|| cpus - 1),
-            lock_memory: true,
-            script_pool: 2,
-            cpu_latency_us: Some(0),
-        }
+        RtConfig { priority: 80, cpu: (cpus > 1).then(|| cpus - 1), lock_memory: true, script_pool: 2, idle_poll: true }
     }
 }
 
@@ -998,6 +992,8 @@ mod tests {
     #[test]
     fn the_script_pool_is_bounded_by_the_services() {
         assert_eq!(MachineConfig::default().rt.script_pool, 2);
+        assert!(MachineConfig::default().rt.idle_poll, "idle CPUs poll by default");
+        assert!(!parse("[rt]\nidle_poll = false\n").rt.idle_poll);
         assert!(parse("[rt]\nscript_pool = 0\n").validate().is_ok());
         let too_many = format!("[rt]\nscript_pool = {}\n", ipc::services::MAX_POOL + 1);
         assert!(

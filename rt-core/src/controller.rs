@@ -113,11 +113,9 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
             .name("rt-cycle".into())
             .spawn(move || {
                 // Held until the RT thread ends, with the controller.
-                let latency_limit = realtime::CpuLatencyLimit::hold(&rt_config);
-                let granted = realtime::Granted {
-                    cpu_latency_us: latency_limit.as_ref().map(|limit| limit.us),
-                    ..realtime::setup_current_thread(&rt_config)
-                };
+                let idle_poll = realtime::IdlePoll::hold(&rt_config);
+                let granted =
+                    realtime::Granted { idle_poll: idle_poll.is_some(), ..realtime::setup_current_thread(&rt_config) };
                 crate::rt_alloc::claim_pool_for_this_thread();
                 let mut endpoint = match CoreEndpoint::create(&ns, &task_ids) {
                     Ok(endpoint) => endpoint,

@@ -1,5 +1,5 @@
-//! What the RT thread asks of the OS: SCHED_FIFO, a CPU of its own, locked memory, and
-//! absolute-deadline sleeps. Each request the OS refuses is logged and skipped, so that
+//! What the RT thread asks of the OS: SCHED_FIFO, a CPU of its own, locked memory, idle
+//! CPUs that poll, and absolute-deadline sleeps. Each request the OS refuses is logged and skipped, so that
 //! the controller also runs as a plain thread (in a container, on a laptop).
 
 use crate::config::RtConfig;
@@ -10,8 +10,8 @@ pub struct Granted {
     pub fifo_priority: Option<u8>,
     pub cpu: Option<usize>,
     pub memory_locked: bool,
-    /// The CPU latency limit held (`CpuLatencyLimit`), us.
-    pub cpu_latency_us: Option<u32>,
+    /// Idle CPUs poll (`IdlePoll` held).
+    pub idle_poll: bool,
 }
 
 /// Applies `config` to the calling thread.
@@ -56,35 +56,34 @@ pub fn setup_current_thread(config: &RtConfig) -> Granted {
     granted
 }
 
-/// A CPU latency limit held for as long as the value lives (Linux PM QoS: the limit
-/// written to `/dev/cpu_dma_latency` holds while the file stays open). With 0 an idle CPU
-/// polls instead of halting: on a virtual machine a halted vCPU is woken by the host, and
-/// a task's wake-up there took 20 us instead of 5 (README, "Soak test").
-pub struct CpuLatencyLimit {
+/// Idle CPUs poll instead of halting for as long as the value lives: a Linux PM QoS CPU
+/// latency limit of 0 us, which holds while `/dev/cpu_dma_latency` stays open. On a
+/// virtual machine a halted vCPU is woken through the host: there a one-script soak's
+/// wake-up took 19-23 us with halting CPUs and 4-6 us with polling ones (README, "Soak test").
+pub struct IdlePoll {
     _file: std::fs::File,
-    /// The limit held, us.
-    pub us: u32,
 }
 
-impl CpuLatencyLimit {
-    /// Holds `config.cpu_latency_us`, if set; a refusal (no such device, not root) is
+impl IdlePoll {
+    /// Holds the limit if `config.idle_poll`; a refusal (no such device, not root) is
     /// logged and skipped like the RT thread's other requests.
     pub fn hold(config: &RtConfig) -> Option<Self> {
         use std::io::Write;
-        let us = config.cpu_latency_us?;
-        let held = std::fs::OpenOptions::new()
-            .write(true)
-            .open("/dev/cpu_dma_latency")
-            .and_then(|mut file| file.write_all(&(us as i32).to_ne_bytes()).map(|()| file));
-        match held {
-            Ok(file) => Some(CpuLatencyLimit { _file: file, us }),
+        if !config.idle_poll {
+            return None;
+        }
+        let opened = std::fs::OpenOptions::new().write(true).open(CPU_LATENCY_DEVICE);
+        match opened.and_then(|mut file| file.write_all(&0i32.to_ne_bytes()).map(|()| file)) {
+            Ok(file) => Some(IdlePoll { _file: file }),
             Err(e) => {
-                tracing::warn!("CPU latency limit of {us} us refused ({e}); idle CPUs may sleep deeply");
+                tracing::warn!("idle CPU polling refused ({CPU_LATENCY_DEVICE}: {e}); idle CPUs may halt");
                 None
             }
         }
     }
 }
+
+const CPU_LATENCY_DEVICE: &str = "/dev/cpu_dma_latency";
 
 /// The task waker (`CoreEndpoint::hand_wakes_to_thread`), started from the RT thread: it
 /// keeps the RT thread's CPU, one SCHED_FIFO priority below it, so it wakes the tasks as
@@ -121,4 +120,23 @@ pub fn thread_cpu_ns() -> u64 {
     // SAFETY: `ts` is valid for the call.
     unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
     ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Held, the limit is the device's value (its read gives the lowest limit held); not
+    /// asked for, nothing is held.
+    #[test]
+    fn idle_poll_holds_a_zero_latency_limit() {
+        let off = RtConfig { idle_poll: false, ..RtConfig::default() };
+        assert!(IdlePoll::hold(&off).is_none());
+        let Some(held) = IdlePoll::hold(&RtConfig::default()) else {
+            return eprintln!("{CPU_LATENCY_DEVICE} refused here: nothing to check");
+        };
+        let limit = std::fs::read(CPU_LATENCY_DEVICE).expect("the device reads while held");
+        assert_eq!(limit, 0i32.to_ne_bytes(), "0 us while held");
+        drop(held);
+    }
 }

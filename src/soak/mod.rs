@@ -48,10 +48,10 @@ pub struct SoakArgs {
     /// Leave the RT thread unpinned (by default it gets the last CPU).
     #[arg(long)]
     pub no_pin: bool,
-    /// Leave the CPUs' idle states to the OS: by default the soak, floors included, holds
-    /// the controller's CPU latency limit (`[rt] cpu_latency_us`, 0 us).
+    /// Leave the CPUs' idle states to the OS: by default idle CPUs poll for the whole
+    /// soak, floors included, as the controller has them (`[rt] idle_poll`).
     #[arg(long)]
-    pub no_cpu_latency: bool,
+    pub no_idle_poll: bool,
     /// Keep every CPU busy with background work during the floors and the run.
     #[arg(long)]
     pub load: bool,
@@ -127,11 +127,11 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
     let defaults = RtConfig::default();
     let rt = RtConfig {
         cpu: if args.no_pin { None } else { defaults.cpu },
-        cpu_latency_us: if args.no_cpu_latency { None } else { defaults.cpu_latency_us },
+        idle_poll: defaults.idle_poll && !args.no_idle_poll,
         ..defaults
     };
-    // The floors are measured under the limit the run's controller holds.
-    let _latency_limit = rt_core::realtime::CpuLatencyLimit::hold(&rt);
+    // The floors are measured with the CPUs the run's controller has.
+    let _idle_poll = rt_core::realtime::IdlePoll::hold(&rt);
     let period_ns = args.period_us as u64 * 1000;
     let ns = args.ns.clone().unwrap_or_else(|| format!("soak-{}", std::process::id()));
     let floor_time = Duration::from_secs((args.duration / 6).clamp(2, 20));
@@ -197,7 +197,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         fifo_priority: granted.fifo_priority,
         rt_cpu: granted.cpu,
         memory_locked: granted.memory_locked,
-        cpu_latency_us: granted.cpu_latency_us,
+        idle_poll: granted.idle_poll,
     };
     let period_us = args.period_us as f64;
     let row = |name: &str| rows.iter().find(|r| r.name == name).expect("a row of the table");

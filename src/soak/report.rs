@@ -182,8 +182,8 @@ pub struct RunInfo {
     pub fifo_priority: Option<u8>,
     pub rt_cpu: Option<usize>,
     pub memory_locked: bool,
-    /// The CPU latency limit held (`[rt] cpu_latency_us`), us.
-    pub cpu_latency_us: Option<u32>,
+    /// Idle CPUs polled (`[rt] idle_poll`).
+    pub idle_poll: bool,
 }
 
 #[derive(Debug, Serialize)]
@@ -225,11 +225,11 @@ impl Report {
             r.kernel
         );
         println!(
-            "RT thread: SCHED_FIFO {}, CPU {}, memory {}, CPU latency limit {}",
+            "RT thread: SCHED_FIFO {}, CPU {}, memory {}, idle CPUs {}",
             r.fifo_priority.map_or("refused".to_string(), |p| p.to_string()),
             r.rt_cpu.map_or("not pinned".to_string(), |c| c.to_string()),
             if r.memory_locked { "locked" } else { "not locked" },
-            r.cpu_latency_us.map_or("none".to_string(), |us| format!("{us} us"))
+            if r.idle_poll { "poll" } else { "may halt" }
         );
         println!();
         println!(
