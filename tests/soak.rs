@@ -159,9 +159,9 @@ fn a_five_second_soak() {
     let counters = &report["counters"];
     assert!(counters["commands"].as_u64().unwrap() > 1000, "{stdout}");
     assert!(counters["cycles"].as_u64().unwrap() >= 5000, "{stdout}");
-    // Two scripts answered in one cycle are woken by the task waker, whose CPU time counts.
+    // Two scripts answered in one cycle are woken by the task wakers, whose CPU time counts.
     let waker = counters["task_waker_cpu_percent"].as_f64().unwrap();
-    assert!(waker > 0.0 && waker < 100.0, "the task waker's CPU: {waker} %, {stdout}");
+    assert!(waker > 0.0 && waker < 100.0, "the task wakers' CPU: {waker} %, {stdout}");
     let metrics = report["metrics"].as_array().unwrap();
     let round_trip = metrics.iter().find(|m| m["name"] == "command round trip").unwrap();
     assert!(round_trip["ratio_p50"].as_f64().unwrap() > 1.0, "beside its floor");

@@ -3,9 +3,6 @@
 //! Everything here is called from the RT thread once per cycle. Ports are created before
 //! the first cycle; serving, publishing and waking do not allocate.
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
-
 use iceoryx2::prelude::*;
 use iceoryx2::sample_mut::SampleMut;
 
@@ -15,7 +12,8 @@ use crate::services::{self, Ipc, Open, StatePublisher, too_big};
 use crate::shared::SharedData;
 use crate::shm::Region;
 use crate::task_table::{RunState, TaskTable};
-use crate::{IpcError, Namespace, futex};
+use crate::task_waker::{TaskWakers, wake_sleepers};
+use crate::{IpcError, Namespace};
 
 /// Name of the controller's node; a live node of this name owns the namespace.
 pub const CORE_NODE_NAME: &str = "luamotion-core";
@@ -92,85 +90,13 @@ pub struct CoreIpcStats {
     pub wakes: u64,
     /// Snapshots that could not be published.
     pub publish_failures: u64,
-    /// Of `wakes`, those whose futex wake the task waker made (`hand_wakes_to_thread`).
+    /// Of `wakes`, those whose futex wake a task waker made (`hand_wakes_to_threads`).
     pub handed_off: u64,
     /// Of `wakes`, those that found the task asleep on its word and made the futex
     /// syscall (the others were seen by the task before it slept).
     pub futex_wakes: u64,
-    /// CPU time the task waker thread has used, ns: work the RT thread handed it.
+    /// CPU time the task waker threads have used, ns: work the RT thread handed them.
     pub waker_cpu_ns: u64,
-}
-
-/// The futex wakes the RT thread hands to the task waker thread: each costs the RT
-/// thread a few microseconds in the kernel's `try_to_wake_up`, a quarter of its time
-/// with 16 scripts woken every cycle (docs/decisions.md, "The task waker").
-#[derive(Default)]
-struct WakeHandoff {
-    /// Bit t: task t is to be woken.
-    pending: AtomicU64,
-    /// Bumped with each hand-off; the waker sleeps on it.
-    word: AtomicU32,
-    stop: AtomicBool,
-    /// Of the wakes handed over, those that made the futex syscall.
-    futex_wakes: AtomicU64,
-}
-
-impl WakeHandoff {
-    fn hand(&self, tasks: u64) {
-        self.pending.fetch_or(tasks, Ordering::Release);
-        self.word.fetch_add(1, Ordering::Release);
-        futex::wake(&self.word);
-    }
-
-    fn stop(&self) {
-        self.stop.store(true, Ordering::Release);
-        self.hand(0);
-    }
-
-    /// The waker thread: wakes the tasks handed to it until stopped.
-    fn serve(&self, table: &TaskTable) {
-        while !self.stop.load(Ordering::Acquire) {
-            let seen = self.word.load(Ordering::Acquire);
-            let pending = self.pending.swap(0, Ordering::AcqRel);
-            self.futex_wakes.fetch_add(wake_sleepers(table, pending), Ordering::Relaxed);
-            futex::wait(&self.word, seen, std::time::Duration::from_millis(100));
-        }
-    }
-}
-
-/// The task waker thread and what it is handed.
-struct TaskWaker {
-    handoff: Arc<WakeHandoff>,
-    thread: Option<std::thread::JoinHandle<()>>,
-}
-
-impl TaskWaker {
-    /// The thread's CPU time so far, ns (0 when it cannot be read).
-    fn cpu_ns(&self) -> u64 {
-        use std::os::unix::thread::JoinHandleExt;
-        let Some(thread) = &self.thread else { return 0 };
-        // SAFETY: the thread is not joined yet, so its pthread_t is valid; both calls only
-        // write the values they are given.
-        unsafe {
-            let mut clock: libc::clockid_t = 0;
-            let mut ts: libc::timespec = std::mem::zeroed();
-            if libc::pthread_getcpuclockid(thread.as_pthread_t(), &mut clock) != 0
-                || libc::clock_gettime(clock, &mut ts) != 0
-            {
-                return 0;
-            }
-            ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
-        }
-    }
-}
-
-impl Drop for TaskWaker {
-    fn drop(&mut self) {
-        self.handoff.stop();
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
-        }
-    }
 }
 
 /// The controller's end of the IPC: publishes the snapshot, serves the tasks' requests and wakes them.
@@ -187,7 +113,7 @@ pub struct CoreEndpoint {
     shared: Region<SharedData>,
     stats: CoreIpcStats,
     samples: KnownSamples,
-    waker: Option<TaskWaker>,
+    wakers: Option<TaskWakers>,
     // Dropped last: the ports above belong to it.
     _node: Node<Ipc>,
 }
@@ -219,7 +145,7 @@ impl CoreEndpoint {
             shared,
             stats: CoreIpcStats::default(),
             samples: KnownSamples::default(),
-            waker: None,
+            wakers: None,
             _node: node,
         })
     }
@@ -241,10 +167,10 @@ impl CoreEndpoint {
 
     /// The counters so far.
     pub fn stats(&self) -> CoreIpcStats {
-        let waker = self.waker.as_ref();
+        let wakers = self.wakers.as_ref();
         CoreIpcStats {
-            waker_cpu_ns: waker.map_or(0, TaskWaker::cpu_ns),
-            futex_wakes: self.stats.futex_wakes + waker.map_or(0, |w| w.handoff.futex_wakes.load(Ordering::Relaxed)),
+            waker_cpu_ns: wakers.map_or(0, TaskWakers::cpu_ns),
+            futex_wakes: self.stats.futex_wakes + wakers.map_or(0, TaskWakers::futex_wakes),
             ..self.stats
         }
     }
@@ -356,33 +282,18 @@ impl CoreEndpoint {
     }
 
     /// From now on, when more than one task is due in a cycle, their futex wakes are
-    /// made by a thread of their own ("task-waker", set up by `setup`, e.g. a real-time
-    /// priority below the RT thread's), and the RT thread makes one wake, the waker's. A
-    /// single task due is still woken directly: its wake-up stays one hop.
-    pub fn hand_wakes_to_thread(
+    /// made by threads of their own, one per CPU of `cpus` ("task-waker<cpu>", each set up
+    /// by `setup(cpu)`, e.g. pinned there with a real-time priority below the RT thread's),
+    /// each waking the tasks that went to sleep on its CPU (`task_waker`); the RT thread
+    /// makes one wake per waker with work. A single task due is still woken directly: its
+    /// wake-up stays one hop.
+    pub fn hand_wakes_to_threads(
         &mut self,
         ns: &Namespace,
-        setup: impl FnOnce() + Send + 'static,
+        cpus: &[usize],
+        setup: impl Fn(usize) + Clone + Send + 'static,
     ) -> Result<(), IpcError> {
-        let handoff = Arc::new(WakeHandoff::default());
-        let (served, ns) = (handoff.clone(), ns.clone());
-        let (opened_tx, opened) = std::sync::mpsc::channel();
-        let thread = std::thread::Builder::new()
-            .name("task-waker".into())
-            .spawn(move || {
-                // The table's mapping is the thread's own (a region stays in its thread).
-                let table = match Region::<TaskTable>::open(&ns, "tasks") {
-                    Ok(table) => table,
-                    Err(e) => return drop(opened_tx.send(Err(e))),
-                };
-                setup();
-                let _ = opened_tx.send(Ok(()));
-                served.serve(&table);
-            })
-            .map_err(|e| IpcError::Service(format!("start the task waker: {e}")))?;
-        let waker = TaskWaker { handoff, thread: Some(thread) };
-        opened.recv().map_err(|_| IpcError::Service("the task waker ended at its start".into()))??;
-        self.waker = Some(waker);
+        self.wakers = Some(TaskWakers::start(ns, cpus, setup)?);
         Ok(())
     }
 
@@ -407,25 +318,15 @@ impl CoreEndpoint {
             }
         }
         self.stats.wakes += woken.count_ones() as u64;
-        match &self.waker {
-            Some(waker) if woken.count_ones() > 1 => {
-                waker.handoff.hand(woken);
+        match &mut self.wakers {
+            Some(wakers) if woken.count_ones() > 1 => {
+                wakers.hand(&self.table, woken);
                 self.stats.handed_off += woken.count_ones() as u64;
             }
             _ => self.stats.futex_wakes += wake_sleepers(&self.table, woken),
         }
         woken
     }
-}
-
-/// The futex wakes of tasks `tasks` (bit t for task t) that sleep; returns how many made one.
-fn wake_sleepers(table: &TaskTable, mut tasks: u64) -> u64 {
-    let mut syscalls = 0;
-    while tasks != 0 {
-        syscalls += table.slots[tasks.trailing_zeros() as usize].wake_sleeper() as u64;
-        tasks &= tasks - 1;
-    }
-    syscalls
 }
 
 #[cfg(test)]

@@ -31,6 +31,7 @@ pub mod shared;
 pub mod shm;
 mod task_side;
 pub mod task_table;
+mod task_waker;
 
 use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;

@@ -129,6 +129,9 @@ pub struct TaskSlot {
     wake: AtomicU32,
     /// Threads asleep on `wake`, or about to be: a wake with none makes no futex syscall.
     sleepers: AtomicU32,
+    /// The CPU the task last went to sleep on, plus one (0: not known): its wake goes to
+    /// that CPU's task waker.
+    sleep_cpu: AtomicU32,
     /// On the simulation clock: nonzero when this task runs in lockstep with the core
     /// (written by the core before any start, never reset).
     lockstep: AtomicU32,
@@ -285,6 +288,17 @@ impl TaskSlot {
         asleep
     }
 
+    /// Whether a thread sleeps on the task's word, or is about to.
+    #[cfg(test)]
+    pub(crate) fn asleep(&self) -> bool {
+        self.sleepers.load(Ordering::SeqCst) != 0
+    }
+
+    /// The CPU the task last went to sleep on, if known.
+    pub fn sleep_cpu(&self) -> Option<usize> {
+        (self.sleep_cpu.load(Ordering::Relaxed) as usize).checked_sub(1)
+    }
+
     /// The wake-up count before a look at the condition the task waits for...
     pub fn wake_count(&self) -> u32 {
         self.wake.load(Ordering::Acquire)
@@ -292,6 +306,9 @@ impl TaskSlot {
 
     /// ...then the sleep, unless a wake-up came in between; at most `timeout`.
     pub fn sleep(&self, seen: u32, timeout: std::time::Duration) {
+        // SAFETY: no arguments; -1 (not known) is stored as 0.
+        let cpu = unsafe { libc::sched_getcpu() };
+        self.sleep_cpu.store((cpu + 1).max(0) as u32, Ordering::Relaxed);
         // Counted before the futex compares the word (the kernel orders its read after
         // this with a full barrier): see `wake_sleeper`.
         self.sleepers.fetch_add(1, Ordering::SeqCst);

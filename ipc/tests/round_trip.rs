@@ -13,7 +13,7 @@ fn unique_ns(tag: &str) -> Namespace {
 
 /// A fake core on its own thread, started and attachable; `stop` ends it, and joining it
 /// gives its counters.
-/// With `waker`, the futex wakes of more than one task due go through the task waker.
+/// With `waker`, the futex wakes of more than one task due go through a task waker.
 fn start_core(ns: &Namespace, waker: bool) -> (Arc<AtomicBool>, std::thread::JoinHandle<CoreIpcStats>) {
     let stop = Arc::new(AtomicBool::new(false));
     let ready = Arc::new(AtomicBool::new(false));
@@ -33,7 +33,7 @@ fn run_core(ns: Namespace, waker: bool, stop: Arc<AtomicBool>, ready: Arc<Atomic
     ipc::claim_namespace(&ns).unwrap();
     let mut core = CoreEndpoint::create(&ns, &[1, 2, 3]).unwrap();
     if waker {
-        core.hand_wakes_to_thread(&ns, || ()).unwrap();
+        core.hand_wakes_to_threads(&ns, &[0], |_| ()).unwrap();
     }
     let mut snapshot = Snapshot::default();
     ready.store(true, Ordering::Release);
@@ -128,7 +128,7 @@ fn a_waiting_task_is_woken_once_for_its_cycle() {
     ipc::remove_namespace_files(&ns);
 }
 
-/// Three tasks due in the same cycle are woken by the task waker, the RT thread making one
+/// Three tasks due in the same cycle are woken by a task waker, the RT thread making one
 /// futex wake instead of three; each sees its cycle within a few cycles (without the
 /// waker's wakes they would sleep on until their 100 ms liveness check).
 #[test]

@@ -105,6 +105,8 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     let (ready_tx, ready_rx) = mpsc::channel();
     let rt = {
         let (ns, control, rt_config) = (options.ns.clone(), control.clone(), config.rt.clone());
+        // Read here, before the RT thread pins itself: the CPUs the scripts will run on.
+        let task_cpus = realtime::task_cpus(&rt_config);
         let console = options.console;
         let identity = config.identity.clone();
         let (period_ns, scope_codes) = (config.period_ns(), options.scope);
@@ -127,8 +129,8 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                 // On the simulation clock a turn is one task's wake: no hop in between.
                 if clock == Clock::RealTime {
                     let waker_config = rt_config.clone();
-                    let setup = move || realtime::setup_waker_thread(&waker_config);
-                    if let Err(e) = endpoint.hand_wakes_to_thread(&ns, setup) {
+                    let setup = move |cpu| realtime::setup_waker_thread(&waker_config, cpu);
+                    if let Err(e) = endpoint.hand_wakes_to_threads(&ns, &task_cpus, setup) {
                         let _ = ready_tx.send(Err(e));
                         return None;
                     }

@@ -26,15 +26,7 @@ pub fn setup_current_thread(config: &RtConfig) -> Granted {
         }
     }
     if let Some(cpu) = config.cpu {
-        // SAFETY: the set is zeroed then filled with a CPU index checked against its size.
-        let ok = unsafe {
-            let mut set: libc::cpu_set_t = std::mem::zeroed();
-            cpu < libc::CPU_SETSIZE as usize && {
-                libc::CPU_SET(cpu, &mut set);
-                libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
-            }
-        };
-        if ok {
+        if pin_current_thread(cpu) {
             granted.cpu = Some(cpu);
         } else {
             tracing::warn!("cannot pin the RT thread to CPU {cpu} ({}); it floats", errno());
@@ -85,10 +77,44 @@ impl IdlePoll {
 
 const CPU_LATENCY_DEVICE: &str = "/dev/cpu_dma_latency";
 
-/// The task waker (`CoreEndpoint::hand_wakes_to_thread`), started from the RT thread: it
-/// keeps the RT thread's CPU, one SCHED_FIFO priority below it, so it wakes the tasks as
-/// soon as the cycle's work is done and the RT thread's wake of it needs no other CPU.
-pub fn setup_waker_thread(config: &RtConfig) {
+/// Pins the calling thread to `cpu`; whether the OS agreed.
+fn pin_current_thread(cpu: usize) -> bool {
+    // SAFETY: the set is zeroed then filled with a CPU index checked against its size.
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        cpu < libc::CPU_SETSIZE as usize && {
+            libc::CPU_SET(cpu, &mut set);
+            libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
+        }
+    }
+}
+
+/// The CPUs the calling thread may run on, and so the script processes it starts: one
+/// task waker each (`CoreEndpoint::hand_wakes_to_threads`). The RT thread's CPU comes
+/// first, whose waker also takes the tasks of a CPU not listed.
+pub fn task_cpus(config: &RtConfig) -> Vec<usize> {
+    // SAFETY: `set` is valid for the call, which only writes it; CPU_ISSET reads it.
+    let mut cpus: Vec<usize> = unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
+            return config.cpu.into_iter().collect();
+        }
+        (0..libc::CPU_SETSIZE as usize).filter(|&c| libc::CPU_ISSET(c, &set)).collect()
+    };
+    if let Some(rt) = config.cpu.filter(|rt| cpus.contains(rt)) {
+        cpus.retain(|&c| c != rt);
+        cpus.insert(0, rt);
+    }
+    cpus
+}
+
+/// A task waker (`CoreEndpoint::hand_wakes_to_threads`): pinned to `cpu`, one SCHED_FIFO
+/// priority below the RT thread, so it wakes its CPU's tasks as soon as the RT thread hands
+/// them over (or, on the RT thread's CPU, once the cycle's work is done).
+pub fn setup_waker_thread(config: &RtConfig, cpu: usize) {
+    if !pin_current_thread(cpu) {
+        tracing::warn!("cannot pin the task waker of CPU {cpu} there ({})", errno());
+    }
     if config.priority > 1 {
         let param = libc::sched_param { sched_priority: config.priority as i32 - 1 };
         // SAFETY: `param` is valid for the call.

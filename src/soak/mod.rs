@@ -446,11 +446,11 @@ fn targets(report: &Report) -> Vec<Target> {
     let own_cpu_percent = c.rt_cpu_percent - c.simulation_cpu_percent + c.task_waker_cpu_percent;
     out.push(Target {
         target: "RT thread CPU at most 10 % of a core at 1 kHz with 96 axes and 16 tasks, 15 % with 64".into(),
-        // The waker's wakes are the RT thread's work, done on another thread; the drives
+        // The wakers' wakes are the RT thread's work, done on other threads; the drives
         // are counted separately, as the target says.
         measured: format!(
-            "{:.1} % without the drives, the task waker's included: RT thread {:.1} % ({:.1} % simulating the drives), \
-             task waker {:.1} %, with {} axes and {} tasks at {} us",
+            "{:.1} % without the drives, the task wakers' included: RT thread {:.1} % ({:.1} % simulating the drives), \
+             task wakers {:.1} %, with {} axes and {} tasks at {} us",
             own_cpu_percent,
             c.rt_cpu_percent,
             c.simulation_cpu_percent,

@@ -72,8 +72,8 @@ pub struct Counters {
     pub rt_cpu_percent: f64,
     /// ...of which the simulated drives' share.
     pub simulation_cpu_percent: f64,
-    /// CPU time of the task waker thread, which makes the RT thread's futex wakes when more
-    /// than one task is due, percent of one core.
+    /// CPU time of the task waker threads (one per CPU), which make the RT thread's futex
+    /// wakes when more than one task is due, percent of one core.
     pub task_waker_cpu_percent: f64,
     /// Task wakes over the run...
     pub task_wakes: u64,
@@ -255,7 +255,7 @@ impl Report {
             c.calls.call_errors
         );
         println!(
-            "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task waker {:.1} %; \
+            "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task wakers {:.1} %; \
              {} task wakes, {} of them futex syscalls",
             c.cycles,
             c.overruns,
