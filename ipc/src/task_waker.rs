@@ -6,7 +6,9 @@
 //! and 1.5-1.7 us when it slept on another one, whose run queue has to be locked and
 //! interrupted from afar (docs/decisions.md, "The task wakers"). So each task notes the
 //! CPU it goes to sleep on (`TaskSlot::sleep_cpu`), and its wake goes to the waker of that
-//! CPU.
+//! CPU. The RT thread wakes only the first waker, on its own CPU; that one wakes the
+//! others: the RT thread never reaches into another CPU's run queue, whose lock a vCPU
+//! the host has descheduled may hold.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
@@ -28,21 +30,30 @@ struct WakeHandoff {
 }
 
 impl WakeHandoff {
-    fn hand(&self, tasks: u64) {
+    /// Adds `tasks` to what the waker is to wake, without waking it (`ring`).
+    fn give(&self, tasks: u64) {
         self.pending.fetch_or(tasks, Ordering::Release);
+    }
+
+    /// Wakes the waker.
+    fn ring(&self) {
         self.word.fetch_add(1, Ordering::Release);
         futex::wake(&self.word);
     }
 
     fn stop(&self) {
         self.stop.store(true, Ordering::Release);
-        self.hand(0);
+        self.ring();
     }
 
-    /// The waker thread: wakes the tasks handed to it until stopped.
-    fn serve(&self, table: &TaskTable) {
+    /// The waker thread: wakes the tasks handed to it until stopped, and first the
+    /// `others` wakers that were given some.
+    fn serve(&self, table: &TaskTable, others: &[Arc<WakeHandoff>]) {
         while !self.stop.load(Ordering::Acquire) {
             let seen = self.word.load(Ordering::Acquire);
+            for other in others.iter().filter(|o| o.pending.load(Ordering::Acquire) != 0) {
+                other.ring();
+            }
             let pending = self.pending.swap(0, Ordering::AcqRel);
             self.futex_wakes.fetch_add(wake_sleepers(table, pending), Ordering::Relaxed);
             futex::wait(&self.word, seen, std::time::Duration::from_millis(100));
@@ -59,8 +70,14 @@ struct TaskWaker {
 }
 
 impl TaskWaker {
-    /// Starts the thread of `cpu`'s waker; `setup` runs on it first (e.g. pins it there).
-    fn start(ns: &Namespace, cpu: usize, setup: impl FnOnce(usize) + Send + 'static) -> Result<Self, IpcError> {
+    /// Starts the thread of `cpu`'s waker, which also wakes the `others`; `setup` runs on
+    /// it first (e.g. pins it there).
+    fn start(
+        ns: &Namespace,
+        cpu: usize,
+        others: Vec<Arc<WakeHandoff>>,
+        setup: impl FnOnce(usize) + Send + 'static,
+    ) -> Result<Self, IpcError> {
         let handoff = Arc::new(WakeHandoff::default());
         let (served, ns) = (handoff.clone(), ns.clone());
         let (opened_tx, opened) = std::sync::mpsc::channel();
@@ -74,7 +91,7 @@ impl TaskWaker {
                 };
                 setup(cpu);
                 let _ = opened_tx.send(Ok(()));
-                served.serve(&table);
+                served.serve(&table, &others);
             })
             .map_err(|e| IpcError::Service(format!("start the task waker: {e}")))?;
         let waker = TaskWaker { handoff, thread: Some(thread), batch: 0 };
@@ -119,17 +136,21 @@ pub(crate) struct TaskWakers {
 }
 
 impl TaskWakers {
-    /// Starts a waker for each of `cpus` (the first also takes the tasks of any other CPU),
-    /// each running `setup(cpu)` on its thread first.
+    /// Starts a waker for each of `cpus`, each running `setup(cpu)` on its thread first.
+    /// The first is the one the RT thread wakes, and takes the tasks of any other CPU: the
+    /// RT thread's CPU.
     pub(crate) fn start(
         ns: &Namespace,
         cpus: &[usize],
         setup: impl Fn(usize) + Clone + Send + 'static,
     ) -> Result<Self, IpcError> {
-        if cpus.is_empty() || cpus.len() > u8::MAX as usize {
+        let Some((&first, rest)) = cpus.split_first().filter(|_| cpus.len() <= u8::MAX as usize) else {
             return Err(IpcError::Service(format!("task wakers for {} CPUs", cpus.len())));
-        }
-        let wakers = cpus.iter().map(|&cpu| TaskWaker::start(ns, cpu, setup.clone())).collect::<Result<_, _>>()?;
+        };
+        let mut wakers: Vec<TaskWaker> =
+            rest.iter().map(|&cpu| TaskWaker::start(ns, cpu, Vec::new(), setup.clone())).collect::<Result<_, _>>()?;
+        let others = wakers.iter().map(|w| w.handoff.clone()).collect();
+        wakers.insert(0, TaskWaker::start(ns, first, others, setup)?);
         let mut by_cpu = vec![0u8; cpus.iter().max().map_or(0, |&c| c + 1)];
         for (waker, &cpu) in cpus.iter().enumerate() {
             by_cpu[cpu] = waker as u8;
@@ -137,8 +158,8 @@ impl TaskWakers {
         Ok(TaskWakers { wakers, by_cpu })
     }
 
-    /// Hands each of `tasks` (bit t for task t) to the waker of the CPU it sleeps on; each
-    /// waker that gets some is woken once. Does not allocate.
+    /// Hands each of `tasks` (bit t for task t) to the waker of the CPU it sleeps on, and
+    /// wakes the first waker, which wakes the others that got some. Does not allocate.
     pub(crate) fn hand(&mut self, table: &TaskTable, mut tasks: u64) {
         while tasks != 0 {
             let task = tasks.trailing_zeros() as usize;
@@ -147,11 +168,9 @@ impl TaskWakers {
             tasks &= tasks - 1;
         }
         for waker in &mut self.wakers {
-            let batch = std::mem::take(&mut waker.batch);
-            if batch != 0 {
-                waker.handoff.hand(batch);
-            }
+            waker.handoff.give(std::mem::take(&mut waker.batch));
         }
+        self.wakers[0].handoff.ring();
     }
 
     /// The CPU time of all the waker threads so far, ns.
@@ -197,10 +216,12 @@ mod tests {
         Some((cpus.next()?, cpus.next()?))
     }
 
-    /// Task `task` asleep on its slot from a thread pinned to `cpu`, until woken.
+    /// Task `task` asleep on its slot from a thread pinned to `cpu`, until woken; returns
+    /// once the thread sleeps in the kernel, so its wake has to make the futex syscall.
     fn sleeper<'s>(table: &'s TaskTable, task: usize, cpu: usize, scope: &'s std::thread::Scope<'s, '_>) {
         let slot = &table.slots[task];
         let seen = slot.wake_count();
+        let (tid_tx, tid) = std::sync::mpsc::channel();
         scope.spawn(move || {
             // SAFETY: `set` is valid for the call.
             unsafe {
@@ -208,9 +229,17 @@ mod tests {
                 libc::CPU_SET(cpu, &mut set);
                 assert_eq!(libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set), 0);
             }
+            // SAFETY: no arguments.
+            tid_tx.send(unsafe { libc::gettid() }).unwrap();
             slot.sleep(seen, std::time::Duration::from_secs(3600));
         });
-        while !slot.asleep() {
+        let stat = format!("/proc/self/task/{}/stat", tid.recv().unwrap());
+        // The state after the command's closing parenthesis: S once asleep in the futex.
+        let sleeping = || {
+            std::fs::read_to_string(&stat)
+                .is_ok_and(|s| s.rsplit(')').next().unwrap_or("").trim_start().starts_with('S'))
+        };
+        while !(slot.asleep() && sleeping()) {
             std::thread::yield_now();
         }
         assert_eq!(slot.sleep_cpu(), Some(cpu));

@@ -490,15 +490,17 @@ fn targets(report: &Report) -> Vec<Target> {
         ),
         met: (report.scripts.len() > 1).then_some(fair.p50_spread_us <= fair.scripts_cpu_us_per_cycle),
     });
+    // The bound is for one script, which the RT thread wakes itself; with more,
+    // each CPU's task waker wakes its own tasks and no rank is the first woken.
     if let (Some(first), Some(ratio)) = (report.scripts.first(), fair.first_rank_vs_floor_p50) {
         out.push(Target {
-            target: "first-woken script's wake-up p50 within 2x the iceoryx2 floor".into(),
+            target: "one script's wake-up p50 within 2x the iceoryx2 floor (judged with one script)".into(),
             measured: format!(
                 "rank 0 p50 {:.1} us, {ratio:.2}x the iceoryx2 one-way floor ({} the futex wake-up floor)",
                 first.wake_up_p50_us,
                 report::ratio(fair.first_rank_vs_futex_floor_p50)
             ),
-            met: Some(ratio <= 2.0),
+            met: (report.scripts.len() == 1).then_some(ratio <= 2.0),
         });
     }
     let m = &report.memory;

@@ -304,7 +304,7 @@ impl Report {
 
     fn print_scripts(&self) {
         println!();
-        println!("wake-up by script rank (rank = task index: the core wakes a cycle's tasks in index order)");
+        println!("wake-up by script rank (rank = task index: each CPU's task waker wakes its tasks in index order)");
         println!(
             "{:>5} {:>9} {:>9} {:>9} {:>13} {:>12} {:>9} {:>9}",
             "rank", "wake-ups", "p50 us", "p99 us", "CPU us/cycle", "CPU us/wake", "RSS MiB", "PSS MiB"
