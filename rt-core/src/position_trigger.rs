@@ -212,19 +212,21 @@ impl AxisTrigger {
 /// Every axis' position trigger, stepped once a cycle after the kernel.
 #[derive(Default)]
 pub struct PositionTriggers {
-    axes: Vec<Option<AxisTrigger>>,
+    /// Boxed: a trigger holds this cycle's pulses (4.4 KB), and the cycle looks at every
+    /// axis' entry, which unboxed cost a cache miss each (2 % of the RT thread at 96 axes).
+    axes: Vec<Option<Box<AxisTrigger>>>,
     /// GPOs the triggers set high last cycle (bit i = pin i + 1).
     high: u8,
 }
 
 impl PositionTriggers {
     pub fn new(config: &MachineConfig) -> Self {
-        let axes = config.axes.iter().map(|a| a.pt.as_ref().map(|pt| AxisTrigger::new(pt.output))).collect();
+        let axes = config.axes.iter().map(|a| a.pt.as_ref().map(|pt| Box::new(AxisTrigger::new(pt.output)))).collect();
         PositionTriggers { axes, high: 0 }
     }
 
     fn axis(&mut self, axis: usize) -> Result<&mut AxisTrigger, PtError> {
-        self.axes.get_mut(axis).and_then(Option::as_mut).ok_or(PtError::NoTrigger)
+        self.axes.get_mut(axis).and_then(Option::as_deref_mut).ok_or(PtError::NoTrigger)
     }
 
     /// HMPL 12.2: a new pass over the points set last; the axis must be homed.
