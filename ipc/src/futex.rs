@@ -6,11 +6,23 @@ use std::time::Duration;
 
 /// Sleeps while `word` holds `expected`, at most `timeout`; returns at once otherwise.
 pub fn wait(word: &AtomicU32, expected: u32, timeout: Duration) {
+    wait_op(word, expected, timeout, libc::FUTEX_WAIT);
+}
+
+/// `wait` on a word only this process' threads use. A private futex is hashed in the
+/// process' own table (Linux 6.16+, `CONFIG_FUTEX_PRIVATE_HASH`), so its calls never queue
+/// for a hash-bucket lock that another process' futex call holds, perhaps on a vCPU the
+/// host has descheduled.
+pub fn wait_private(word: &AtomicU32, expected: u32, timeout: Duration) {
+    wait_op(word, expected, timeout, libc::FUTEX_WAIT | libc::FUTEX_PRIVATE_FLAG);
+}
+
+fn wait_op(word: &AtomicU32, expected: u32, timeout: Duration, op: libc::c_int) {
     let ts = libc::timespec { tv_sec: timeout.as_secs() as libc::time_t, tv_nsec: timeout.subsec_nanos() as _ };
     // SAFETY: a FUTEX_WAIT on a live, aligned u32; the kernel compares it with `expected`
     // before it sleeps, so a change made before the call is never missed.
     unsafe {
-        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAIT, expected, &ts as *const libc::timespec);
+        libc::syscall(libc::SYS_futex, word.as_ptr(), op, expected, &ts as *const libc::timespec);
     }
 }
 
@@ -43,5 +55,13 @@ pub fn wake(word: &AtomicU32) {
     // SAFETY: FUTEX_WAKE on a live, aligned u32.
     unsafe {
         libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE, i32::MAX);
+    }
+}
+
+/// Wakes whoever sleeps on `word` with `wait_private`. Never blocks.
+pub fn wake_private(word: &AtomicU32) {
+    // SAFETY: FUTEX_WAKE_PRIVATE on a live, aligned u32.
+    unsafe {
+        libc::syscall(libc::SYS_futex, word.as_ptr(), libc::FUTEX_WAKE | libc::FUTEX_PRIVATE_FLAG, i32::MAX);
     }
 }

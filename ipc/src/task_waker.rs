@@ -35,10 +35,10 @@ impl WakeHandoff {
         self.pending.fetch_or(tasks, Ordering::Release);
     }
 
-    /// Wakes the waker.
+    /// Wakes the waker. The word is the controller's own: a private futex (`futex::wake_private`).
     fn ring(&self) {
         self.word.fetch_add(1, Ordering::Release);
-        futex::wake(&self.word);
+        futex::wake_private(&self.word);
     }
 
     fn stop(&self) {
@@ -56,7 +56,7 @@ impl WakeHandoff {
             }
             let pending = self.pending.swap(0, Ordering::AcqRel);
             self.futex_wakes.fetch_add(wake_sleepers(table, pending), Ordering::Relaxed);
-            futex::wait(&self.word, seen, std::time::Duration::from_millis(100));
+            futex::wait_private(&self.word, seen, std::time::Duration::from_millis(100));
         }
     }
 }
