@@ -285,8 +285,8 @@ impl CoreEndpoint {
     /// made by threads of their own, one per CPU of `cpus` ("task-waker<cpu>", each set up
     /// by `setup(cpu)`, e.g. pinned there with a real-time priority below the RT thread's),
     /// each waking the tasks that went to sleep on its CPU (`task_waker`); the RT thread
-    /// makes one wake per waker with work. A single task due is still woken directly: its
-    /// wake-up stays one hop.
+    /// wakes the first waker (`cpus[0]`: its own CPU), which wakes the others with work. A
+    /// single task due is still woken directly: its wake-up stays one hop.
     pub fn hand_wakes_to_threads(
         &mut self,
         ns: &Namespace,

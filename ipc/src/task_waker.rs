@@ -7,8 +7,8 @@
 //! interrupted from afar (docs/decisions.md, "The task wakers"). So each task notes the
 //! CPU it goes to sleep on (`TaskSlot::sleep_cpu`), and its wake goes to the waker of that
 //! CPU. The RT thread wakes only the first waker, on its own CPU; that one wakes the
-//! others: the RT thread never reaches into another CPU's run queue, whose lock a vCPU
-//! the host has descheduled may hold.
+//! others: with the wakes handed over, the RT thread does not reach into another CPU's
+//! run queue, whose lock a vCPU the host has descheduled may hold.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};

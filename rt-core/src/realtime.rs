@@ -97,7 +97,8 @@ pub fn task_cpus(config: &RtConfig) -> Vec<usize> {
     let mut cpus: Vec<usize> = unsafe {
         let mut set: libc::cpu_set_t = std::mem::zeroed();
         if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
-            return config.cpu.into_iter().collect();
+            // Never empty: the wakers need one CPU to start on.
+            return vec![config.cpu.unwrap_or(0)];
         }
         (0..libc::CPU_SETSIZE as usize).filter(|&c| libc::CPU_ISSET(c, &set)).collect()
     };
@@ -151,6 +152,22 @@ pub fn thread_cpu_ns() -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One waker per CPU the controller may use, the RT thread's first; an RT CPU the
+    /// controller may not use changes nothing.
+    #[test]
+    fn the_task_cpus_put_the_rt_cpu_first() {
+        let floating = task_cpus(&RtConfig { cpu: None, ..RtConfig::default() });
+        assert!(!floating.is_empty() && floating.is_sorted(), "{floating:?}");
+        assert!(floating.windows(2).all(|w| w[0] != w[1]), "{floating:?}");
+        let last = *floating.last().unwrap();
+        let pinned = task_cpus(&RtConfig { cpu: Some(last), ..RtConfig::default() });
+        let expected: Vec<usize> =
+            std::iter::once(last).chain(floating.iter().copied().filter(|&c| c != last)).collect();
+        assert_eq!(pinned, expected);
+        let elsewhere = task_cpus(&RtConfig { cpu: Some(libc::CPU_SETSIZE as usize + 1), ..RtConfig::default() });
+        assert_eq!(elsewhere, floating);
+    }
 
     /// Held, the limit is the device's value (its read gives the lowest limit held); not
     /// asked for, nothing is held.
