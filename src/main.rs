@@ -21,10 +21,6 @@ mod test_runner;
 mod tools;
 mod web;
 
-/// Small allocations of the RT thread come from a pre-touched pool (see rt_core::rt_alloc).
-#[global_allocator]
-static ALLOCATOR: rt_core::rt_alloc::RtAllocator = rt_core::rt_alloc::RtAllocator;
-
 #[derive(Parser)]
 #[command(name = "luamotion", version, about = "A controller runtime for motion applications written in Lua")]
 struct Cli {

@@ -168,7 +168,7 @@ fn a_start_without_room_for_the_services_says_what_and_why() {
     assert!(!out.status.success(), "{}", out.stderr);
     assert!(!out.stdout.contains("never printed"));
     assert!(
-        out.stderr.contains("state publisher")
+        out.stderr.contains("snapshot board")
             && out.stderr.contains(&format!("sized for {MAX_TASKS} tasks"))
             && out.stderr.contains("/dev/shm"),
         "{}",

@@ -293,11 +293,11 @@ fn check(fault: Fault, reaction: &str) {
     }
 
     // The core missed no cycle because of it: the cycles that detect the fault, react,
-    // order the kill and handle the process' end (iceoryx2 dropping its state subscriber
-    // included, ARCHITECTURE.md invariant 1) each use less CPU time than their period, in
-    // a debug build too (at most 0.31 ms seen). CPU time, not wall time: on two cores
-    // shared with the other tests a cycle can be preempted, which is the OS's doing, not
-    // the fault handling's (its wall time is in the trace too).
+    // order the kill and handle the process' end (ARCHITECTURE.md invariant 1) each use
+    // less CPU time than their period, in a debug build too (at most 0.31 ms seen). CPU
+    // time, not wall time: on two cores shared with the other tests a cycle can be
+    // preempted, which is the OS's doing, not the fault handling's (its wall time is in
+    // the trace too).
     let budget_us = 1000.0;
     let over: Vec<(u64, f64)> = (detected..detected + 50)
         .map(|c| (c, run.row(c + 1)["previous_cpu_us"]))

@@ -112,7 +112,7 @@ impl Host for Resources {
     }
 
     fn wake(&self) {
-        self.monitor.table().slots[self.drl_task as usize].wake(ipc::clock::monotonic_ns());
+        self.monitor.table().wake(self.drl_task as usize, ipc::clock::monotonic_ns());
     }
 }
 

@@ -1,18 +1,18 @@
-//! The controller's end: publish the state, serve each task's calls, wake tasks.
+//! The controller's end: write the state snapshot, serve each task's calls, wake tasks.
 //!
 //! Everything here is called from the RT thread once per cycle. Ports are created before
 //! the first cycle; serving, publishing and waking do not allocate.
 
 use iceoryx2::prelude::*;
-use iceoryx2::sample_mut::SampleMut;
 
 use crate::clock::monotonic_ns;
 use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
-use crate::services::{self, Ipc, Open, StatePublisher, too_big};
+use crate::services::{self, Ipc};
 use crate::shared::SharedData;
 use crate::shm::Region;
+use crate::snapshot_board::{BoardWriter, SlotWrite, SnapshotBoard};
 use crate::task_table::{RunState, TaskTable};
-use crate::task_waker::{TaskWakers, wake_sleepers};
+use crate::task_waker::TaskWakers;
 use crate::{IpcError, Namespace};
 
 /// Name of the controller's node; a live node of this name owns the namespace.
@@ -45,35 +45,8 @@ struct TaskChannel {
     deferred: Option<Deferred>,
 }
 
-/// The state's samples this publisher has written, by payload address, and the layout
-/// each holds: iceoryx2 hands out the same few chunks of its data segment again and
-/// again, and a chunk that already holds the layout needs only the fields that change.
-/// More chunks than this are still correct, each only costs a whole copy.
-const KNOWN_SAMPLES: usize = 32;
-
-/// The loaned state sample a cycle writes its snapshot into, then `CoreEndpoint::send_snapshot`.
-pub type SnapshotSample = SampleMut<Ipc, Snapshot, ()>;
-
-#[derive(Default)]
-struct KnownSamples {
-    /// Payload address and layout generation plus one (0: free).
-    slots: [(usize, u64); KNOWN_SAMPLES],
-    /// The slot taken next for an address not yet known.
-    next: usize,
-}
-
-impl KnownSamples {
-    /// Records that the sample at `address` holds `generation`; whether it did already.
-    fn holds(&mut self, address: usize, generation: u64) -> bool {
-        let tag = generation + 1;
-        if let Some(slot) = self.slots.iter_mut().find(|(a, _)| *a == address) {
-            return std::mem::replace(&mut slot.1, tag) == tag;
-        }
-        self.slots[self.next] = (address, tag);
-        self.next = (self.next + 1) % KNOWN_SAMPLES;
-        false
-    }
-}
+/// The board slot a cycle writes its snapshot into, then `CoreEndpoint::send_snapshot`.
+pub type SnapshotSample = SlotWrite;
 
 /// Counters the soak test and the logs read.
 #[derive(Clone, Copy, Debug, Default)]
@@ -92,8 +65,8 @@ pub struct CoreIpcStats {
     pub publish_failures: u64,
     /// Of `wakes`, those whose futex wake a task waker made (`hand_wakes_to_threads`).
     pub handed_off: u64,
-    /// Of `wakes`, those that found the task asleep on its word and made the futex
-    /// syscall (the others were seen by the task before it slept).
+    /// Of `wakes`, those that found the task asleep, woken by a futex wake of its bell (the
+    /// others were seen by the task before it slept).
     pub futex_wakes: u64,
     /// CPU time the task waker threads have used, ns: work the RT thread handed them.
     pub waker_cpu_ns: u64,
@@ -101,7 +74,7 @@ pub struct CoreIpcStats {
 
 /// The controller's end of the IPC: publishes the snapshot, serves the tasks' requests and wakes them.
 pub struct CoreEndpoint {
-    state: StatePublisher,
+    board: BoardWriter,
     tasks: Vec<TaskChannel>,
     /// The tasks served, bit t for task t.
     served: u64,
@@ -112,20 +85,16 @@ pub struct CoreEndpoint {
     table: Region<TaskTable>,
     shared: Region<SharedData>,
     stats: CoreIpcStats,
-    samples: KnownSamples,
     wakers: Option<TaskWakers>,
     // Dropped last: the ports above belong to it.
     _node: Node<Ipc>,
 }
 
 impl CoreEndpoint {
-    /// Creates the state service and the task table, with a mailbox for each configured task.
+    /// Creates the snapshot board and the task table, with a mailbox for each configured task.
     pub fn create(ns: &Namespace, task_ids: &[u8]) -> Result<Self, IpcError> {
         let node = services::node(ns, CORE_NODE_NAME)?;
-        let state = services::state(&node, ns, Open::Create)?
-            .publisher_builder()
-            .create()
-            .map_err(|e| too_big("state publisher", e))?;
+        let board = BoardWriter::new(SnapshotBoard::create(ns)?);
         let tasks: Vec<TaskChannel> = task_ids
             .iter()
             .filter(|&&id| (id as usize) < MAX_TASKS)
@@ -136,7 +105,7 @@ impl CoreEndpoint {
         table.calls.set_configured(served);
         let shared = Region::<SharedData>::create(ns, "shared")?;
         Ok(CoreEndpoint {
-            state,
+            board,
             tasks,
             served,
             held: 0,
@@ -144,7 +113,6 @@ impl CoreEndpoint {
             table,
             shared,
             stats: CoreIpcStats::default(),
-            samples: KnownSamples::default(),
             wakers: None,
             _node: node,
         })
@@ -243,42 +211,21 @@ impl CoreEndpoint {
         task.replied = true;
     }
 
-    /// Loans the sample the cycle's snapshot is written into in place, instead of being
+    /// The board slot the cycle's snapshot is written into in place, instead of being
     /// built aside and copied (at 96 axes the copy of ~70 KB was a tenth of the RT
-    /// thread's time). The sample holds `layout` (what changes only with the bus:
+    /// thread's time). The slot holds `layout` (what changes only with the bus:
     /// `generation` numbers each version of it), and the caller writes every other field.
-    /// `None` when no sample can be had (counted): the cycle goes on without publishing.
+    /// `None` when no slot can be had (counted): the cycle goes on without publishing.
     pub fn loan_snapshot(&mut self, layout: &Snapshot, generation: u64) -> Option<SnapshotSample> {
-        let Ok(mut sample) = self.state.loan_uninit() else {
-            self.stats.publish_failures += 1;
-            return None;
-        };
-        let payload = sample.payload_mut().as_mut_ptr();
-        if !self.samples.holds(payload as usize, generation) {
-            // SAFETY: the payload is a writable, aligned Snapshot in the loaned chunk.
-            unsafe { std::ptr::copy_nonoverlapping(layout, payload, 1) };
-        }
-        // SAFETY: the chunk holds a whole Snapshot: written just above, or by an earlier
-        // loan at this address with this layout (only this publisher writes its chunks).
-        // Every field is a plain number, so what a cycle leaves is a valid Snapshot.
-        Some(unsafe { sample.assume_init() })
+        let slot = self.board.begin(layout, generation);
+        self.stats.publish_failures += slot.is_none() as u64;
+        slot
     }
 
-    /// Publishes the snapshot written into `sample`. A failure is counted, not formatted:
-    /// this runs on the RT thread, and the next cycle publishes again.
+    /// Makes the snapshot written into `sample` the latest.
     pub fn send_snapshot(&mut self, mut sample: SnapshotSample) {
         sample.payload_mut().published_ns = monotonic_ns();
-        if sample.send().is_err() {
-            self.stats.publish_failures += 1;
-        }
-    }
-
-    /// Connects new readers of the state (a starting task's) and hands them the last
-    /// snapshot: what a publish does, for a core that waits between two cycles.
-    pub fn update_connections(&self) {
-        use iceoryx2::port::update_connections::UpdateConnections;
-        // A failure is retried at the next call, as a publish would.
-        let _ = self.state.update_connections();
+        self.board.publish(sample);
     }
 
     /// From now on, when more than one task is due in a cycle, their futex wakes are
@@ -323,30 +270,8 @@ impl CoreEndpoint {
                 wakers.hand(&self.table, woken);
                 self.stats.handed_off += woken.count_ones() as u64;
             }
-            _ => self.stats.futex_wakes += wake_sleepers(&self.table, woken),
+            _ => self.stats.futex_wakes += self.table.wake_sleepers(woken),
         }
         woken
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A chunk gets the layout on its first loan and after a new layout, and again once
-    /// more chunks than the table holds have pushed it out.
-    #[test]
-    fn a_sample_is_known_by_its_address_and_layout() {
-        let mut known = KnownSamples::default();
-        assert!(!known.holds(0x1000, 0), "a new chunk needs the layout");
-        assert!(known.holds(0x1000, 0));
-        assert!(!known.holds(0x1000, 1), "a new layout");
-        assert!(known.holds(0x1000, 1));
-        for chunk in 1..KNOWN_SAMPLES {
-            assert!(!known.holds(0x1000 + chunk * 0x100, 1));
-        }
-        assert!(known.holds(0x1000, 1), "the table holds {KNOWN_SAMPLES} chunks");
-        assert!(!known.holds(0x9000, 1));
-        assert!(!known.holds(0x1000, 1), "pushed out by one chunk too many: copied again");
     }
 }

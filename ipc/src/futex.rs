@@ -1,5 +1,5 @@
 //! Futexes on words in shared memory (so not `FUTEX_PRIVATE`): the mutexes of the shared
-//! data and the tasks' wake-up words.
+//! data and the tasks' bells; private ones for the controller's own threads.
 
 use std::sync::atomic::AtomicU32;
 use std::time::Duration;
@@ -48,6 +48,44 @@ pub fn spin_while(word: &AtomicU32, expected: u32, spin: Duration) -> bool {
         }
     }
     false
+}
+
+/// As `wait`, for a waker that wakes by `bits` (`wake_bits`): this sleeper is woken by a
+/// wake whose bits include `bit`.
+pub fn wait_bit(word: &AtomicU32, expected: u32, bit: u32, timeout: Duration) {
+    // FUTEX_WAIT_BITSET takes an absolute CLOCK_MONOTONIC deadline.
+    let at = crate::clock::monotonic_ns() + timeout.as_nanos() as u64;
+    let deadline = libc::timespec { tv_sec: (at / 1_000_000_000) as libc::time_t, tv_nsec: (at % 1_000_000_000) as _ };
+    // SAFETY: a FUTEX_WAIT_BITSET on a live, aligned u32 with a valid deadline and a
+    // nonzero bitset; the kernel compares the word with `expected` before it sleeps.
+    unsafe {
+        libc::syscall(
+            libc::SYS_futex,
+            word.as_ptr(),
+            libc::FUTEX_WAIT_BITSET,
+            expected,
+            &deadline as *const libc::timespec,
+            std::ptr::null::<u32>(),
+            bit,
+        );
+    }
+}
+
+/// Wakes, in one syscall, whoever sleeps on `word` with a bit in `bits` (`wait_bit`).
+/// Never blocks.
+pub fn wake_bits(word: &AtomicU32, bits: u32) {
+    // SAFETY: FUTEX_WAKE_BITSET on a live, aligned u32 with a nonzero bitset.
+    unsafe {
+        libc::syscall(
+            libc::SYS_futex,
+            word.as_ptr(),
+            libc::FUTEX_WAKE_BITSET,
+            i32::MAX,
+            std::ptr::null::<libc::timespec>(),
+            std::ptr::null::<u32>(),
+            bits,
+        );
+    }
 }
 
 /// Wakes whoever sleeps on `word`. Never blocks.

@@ -2,7 +2,7 @@
 //!
 //! | what | pattern | direction |
 //! |---|---|---|
-//! | `state` | publish-subscribe, latest value | core -> everyone |
+//! | `snapshots` | shared memory, latest value (`snapshot_board.rs`) | core -> everyone |
 //! | `tasks`, calls | a mailbox per task in the task table (`mailbox.rs`) | task <-> core |
 //! | `tasks`, wake-up | futex in the task table | core -> task |
 //! | `tasks` | shared memory (atomics) | task -> core: heartbeat, run state, wait requests |
@@ -29,6 +29,7 @@ pub mod scope;
 pub mod services;
 pub mod shared;
 pub mod shm;
+mod snapshot_board;
 mod task_side;
 pub mod task_table;
 mod task_waker;

@@ -4,7 +4,7 @@
 //! and no supervisor in between.
 //!
 //! A place goes Empty → Coming (the supervisor starts a process for it) → Ready (the
-//! process, once its node, state subscriber and VM are made) → Claimed (whoever hands it a task, alone: a compare-and-swap) → Handed (the task is
+//! process, once its node, its view of the snapshot board and VM are made) → Claimed (whoever hands it a task, alone: a compare-and-swap) → Handed (the task is
 //! written) → Empty (the process has read it). The supervisor withdraws a waiting process
 //! that died or must end with a compare-and-swap too, so a process is never both handed a
 //! task and withdrawn. A start that finds no process Ready while one is Coming waits for

@@ -8,8 +8,9 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 
-use crate::messages::{EventRecord, MAX_TASKS, Snapshot};
+use crate::messages::{EventRecord, MAX_TASKS};
 use crate::shared::SharedData;
+use crate::snapshot_board::SnapshotBoard;
 use crate::task_table::TaskTable;
 use crate::{IpcError, Namespace, files};
 
@@ -17,10 +18,6 @@ use crate::{IpcError, Namespace, files};
 pub type Ipc = ipc::Service;
 /// A node of this process.
 pub type IpcNode = Node<Ipc>;
-/// The controller's publisher of the `state` snapshot.
-pub type StatePublisher = Publisher<Ipc, Snapshot, ()>;
-/// A reader of the `state` snapshot.
-pub type StateSubscriber = Subscriber<Ipc, Snapshot, ()>;
 /// The notifier of the soak's event floor.
 pub type WakeNotifier = Notifier<Ipc>;
 /// A publisher of `events` records.
@@ -41,16 +38,14 @@ const PROCESSES_PER_TASK: usize = 2;
 /// `luamotion events`, the soak's monitor, the DRL console, the start-up probe, and at
 /// least 4 more monitors, with room to spare.
 pub const MAX_TOOLS: usize = 12;
-/// Idle script processes the supervisor keeps ready (`[rt] script_pool`), each a node
-/// subscribed to the state. Taken from the tools' former 16, so the shared memory stays
-/// what it was.
+/// Idle script processes the supervisor keeps ready (`[rt] script_pool`), each a node.
 pub const MAX_POOL: usize = 4;
 /// Of those, the ones that follow the event stream at once (`luamotion events`, monitors).
 pub const MAX_EVENT_READERS: usize = 8;
 /// Nodes of the controller process itself: the core's, the supervisor's.
 const CONTROLLER_NODES: usize = 2;
-/// Nodes of the services every process opens (`state`, `events`). A dead process' node
-/// is cleaned when the next one opens the service, so each task counts once.
+/// Nodes of the service every process opens (`events`). A dead process' node is cleaned
+/// when the next one opens the service, so each task counts once.
 pub const MAX_NODES: usize = CONTROLLER_NODES + MAX_TASKS + MAX_POOL + MAX_TOOLS;
 /// Records a reader may fall behind one writer by before the oldest are dropped: more
 /// than a task's burst of events (100) or the supervisor's alarms when all 64 tasks fail
@@ -60,10 +55,6 @@ const EVENT_BUFFER: usize = 128;
 const EVENT_HISTORY: usize = 16;
 /// Records a reader holds at once (it copies each out).
 const EVENT_BORROWED: usize = 2;
-/// The state: only the newest snapshot counts; a reader holds it while taking the next.
-const STATE_HISTORY: usize = 1;
-const STATE_BUFFER: usize = 1;
-const STATE_BORROWED: usize = 2;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 /// Whether a service is created (by its owner) or opened (by the others).
@@ -103,8 +94,8 @@ pub(crate) fn too_big(what: &str, e: impl std::fmt::Debug) -> IpcError {
 
 /// Shared memory one controller takes when every task and tool is attached, bytes:
 /// iceoryx2 gives each publisher a data segment of `subscribers * (buffer + borrowed) +
-/// history + loaned` samples, each with a header; plus the task table (the tasks' call
-/// mailboxes in it) and shared data.
+/// history + loaned` samples, each with a header; plus the snapshot board, the task table
+/// (the tasks' call mailboxes in it) and shared data.
 pub fn planned_shm_bytes() -> usize {
     const LOANED: usize = 2;
     // iceoryx2's sample header and alignment, as measured in 0.10 (52 bytes).
@@ -112,11 +103,10 @@ pub fn planned_shm_bytes() -> usize {
     let segment = |subscribers: usize, buffer: usize, borrowed: usize, history: usize, sample: usize| {
         (subscribers * (buffer + borrowed) + history + LOANED) * (sample + SAMPLE_OVERHEAD)
     };
-    let state = segment(MAX_NODES - 1, STATE_BUFFER, STATE_BORROWED, STATE_HISTORY, size_of::<Snapshot>());
     // One writer per task, the supervisor and the DRL console.
     let events = (MAX_TASKS + 2)
         * segment(MAX_EVENT_READERS, EVENT_BUFFER, EVENT_BORROWED, EVENT_HISTORY, size_of::<EventRecord>());
-    state + events + size_of::<TaskTable>() + size_of::<SharedData>()
+    events + size_of::<SnapshotBoard>() + size_of::<TaskTable>() + size_of::<SharedData>()
 }
 
 /// Refuses to start a controller where `/dev/shm` has no room for `planned_shm_bytes`,
@@ -132,7 +122,7 @@ pub fn check_room() -> Result<(), IpcError> {
     }
 }
 
-fn room_advice() -> String {
+pub(crate) fn room_advice() -> String {
     let free = files::shm_free_bytes().map_or("unknown".to_string(), |b| format!("{} MiB", b >> 20));
     format!(
         "the services are sized for {MAX_TASKS} tasks and {MAX_TOOLS} attached tools ({MAX_NODES} nodes) and need \
@@ -140,28 +130,6 @@ fn room_advice() -> String {
          `--shm-size=256m`) and, where luamotion may lock memory, raise `ulimit -l`",
         planned_shm_bytes().div_ceil(1 << 20)
     )
-}
-
-/// `<ns>/state`: the latest snapshot, published every cycle.
-pub fn state(
-    node: &Node<Ipc>,
-    ns: &Namespace,
-    open: Open,
-) -> Result<publish_subscribe::PortFactory<Ipc, Snapshot, ()>, IpcError> {
-    let builder = node
-        .service_builder(&ns.service_name("state")?)
-        .publish_subscribe::<Snapshot>()
-        .history_size(STATE_HISTORY)
-        .subscriber_max_buffer_size(STATE_BUFFER)
-        .subscriber_max_borrowed_samples(STATE_BORROWED)
-        .enable_safe_overflow(true)
-        .max_publishers(1)
-        .max_subscribers(MAX_NODES - 1)
-        .max_nodes(MAX_NODES);
-    match open {
-        Open::Create => builder.create().map_err(|e| too_big("state", e)),
-        Open::Existing => builder.open().map_err(|e| failed("open state service", e)),
-    }
 }
 
 /// `<ns>/task/<id>/wake`: an iceoryx2 event. Tasks are woken through a futex in the task

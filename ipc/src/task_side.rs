@@ -1,19 +1,18 @@
 //! A script's end: read the latest snapshot, call the core, wait on core time.
 //!
-//! Waiting blocks the process on its wake-up word in the task table (a futex), never spins. Every wait also watches the
+//! Waiting blocks the process on its bell in the task table (a futex), never spins. Every wait also watches the
 //! controller: when it is gone, the wait fails and the script process ends.
 
 use std::time::Duration;
 
 use iceoryx2::prelude::*;
-use iceoryx2::sample::Sample;
 
 use crate::clock::monotonic_ns;
 use crate::events::EventSender;
 use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
-use crate::services::failed;
-use crate::services::{self, DeadNodes, Ipc, Open, StateSubscriber};
+use crate::services::{self, DeadNodes, Ipc, Open};
 use crate::shm::Region;
+use crate::snapshot_board::{BoardReader, SnapshotBoard};
 use crate::task_table::{RunState, TaskSlot, TaskTable, WaitRequest, WatchEntry};
 use crate::{IpcError, Namespace};
 
@@ -52,24 +51,20 @@ pub struct ReplyCounters {
 }
 
 /// What a script process opens before it knows its task (a pooled process waits with it,
-/// `rt-core/src/pool.rs`): its node, the state subscriber, the task table (which holds
-/// every task's mailbox). The subscriber is connected by the time a task is handed over,
-/// so `attach` opens nothing and does not wait a cycle for the first snapshot.
+/// `rt-core/src/pool.rs`): its node, the snapshot board, the task table (which holds
+/// every task's mailbox), so `attach` opens nothing.
 pub struct PreparedEndpoint {
     controller_pid: u32,
-    state: StateSubscriber,
+    state: BoardReader,
     table: Region<TaskTable>,
     node: Node<Ipc>,
 }
 
 impl PreparedEndpoint {
-    /// A node named `name` in namespace `ns`, subscribed to the state.
+    /// A node named `name` in namespace `ns`, with the snapshot board open.
     pub fn new(ns: &Namespace, name: &str, controller_pid: u32, dead: DeadNodes) -> Result<Self, IpcError> {
         let node = services::node_with(ns, name, dead)?;
-        let state = services::state(&node, ns, Open::Existing)?
-            .subscriber_builder()
-            .create()
-            .map_err(|e| failed("state subscriber", e))?;
+        let state = BoardReader::standby(SnapshotBoard::open(ns)?);
         let table = Region::<TaskTable>::open(ns, "tasks")?;
         Ok(PreparedEndpoint { controller_pid, state, table, node })
     }
@@ -107,7 +102,6 @@ impl PreparedEndpoint {
             lockstep: false,
             calls_in_cycle: 0,
             share_cycle: 0,
-            latest: None,
             state,
             table,
             _node: node,
@@ -118,7 +112,7 @@ impl PreparedEndpoint {
 /// The task of an endpoint not attached yet: no slot (indexing with it panics).
 const UNATTACHED: u8 = u8::MAX;
 
-/// A script's end of the IPC: sends its requests, waits on its wake word for the replies, reads the snapshot.
+/// A script's end of the IPC: sends its requests, waits on its bell for the replies, reads the snapshot.
 pub struct TaskEndpoint {
     task: u8,
     controller_pid: u32,
@@ -139,8 +133,8 @@ pub struct TaskEndpoint {
     /// API calls in the cycle `share_cycle`.
     calls_in_cycle: u32,
     share_cycle: u64,
-    latest: Option<Sample<Ipc, Snapshot, ()>>,
-    state: StateSubscriber,
+    /// The snapshot board, read as this task's reader once attached.
+    state: BoardReader,
     table: Region<TaskTable>,
     _node: Node<Ipc>,
 }
@@ -171,6 +165,7 @@ impl TaskEndpoint {
             return Err(IpcError::Service(format!("task {task} is not configured in this controller")));
         }
         self.task = task;
+        self.state.attach_task(task);
         self.wait_seq = self.slot().wait_request().seq;
         self.lockstep = self.slot().lockstep();
         self.slot().set_pid(std::process::id());
@@ -190,21 +185,13 @@ impl TaskEndpoint {
 
     /// The newest snapshot the core has published.
     pub fn snapshot(&mut self) -> &Snapshot {
-        self.refresh();
-        self.latest.as_ref().expect("opened with a snapshot")
-    }
-
-    fn refresh(&mut self) {
-        while let Ok(Some(sample)) = self.state.receive() {
-            self.latest = Some(sample);
-        }
+        self.state.latest().expect("attached after the first snapshot")
     }
 
     fn first_snapshot(&mut self) -> Result<(), IpcError> {
         let deadline = monotonic_ns() + 5_000_000_000;
         loop {
-            self.refresh();
-            if self.latest.is_some() {
+            if self.state.latest().is_some() {
                 return Ok(());
             }
             if monotonic_ns() > deadline {
@@ -436,7 +423,7 @@ impl TaskEndpoint {
                 }
                 self.park();
             }
-            self.slot().sleep_for_turn(seen, LIVENESS_PERIOD);
+            self.table.sleep_for_turn(self.task as usize, seen, LIVENESS_PERIOD);
             self.check_controller()?;
         }
     }
@@ -444,7 +431,7 @@ impl TaskEndpoint {
     /// Sleeps until the core wakes this task, unless it did since `seen` was read (or
     /// until the liveness period passes).
     fn sleep(&self, seen: u32) -> Result<(), IpcError> {
-        self.slot().sleep(seen, LIVENESS_PERIOD);
+        self.table.sleep(self.task as usize, seen, LIVENESS_PERIOD);
         self.check_controller()
     }
 

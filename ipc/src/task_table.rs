@@ -125,12 +125,13 @@ pub struct TaskSlot {
     cpu_ms: AtomicU64,
     /// When the core last woke the task (CLOCK_MONOTONIC, ns).
     notified_ns: AtomicU64,
-    /// The futex word the task sleeps on; the core bumps it to wake the task.
+    /// The task's wake-up count; the core bumps it to wake the task, which sleeps on a
+    /// bell of the table while it stands still (`TaskTable::sleep`).
     wake: AtomicU32,
-    /// Threads asleep on `wake`, or about to be: a wake with none makes no futex syscall.
+    /// The task's thread asleep, or about to be: a wake with none makes no futex syscall.
     sleepers: AtomicU32,
     /// The CPU the task last went to sleep on, plus one (0: not known): its wake goes to
-    /// that CPU's task waker.
+    /// that CPU's task waker, and it sleeps on that CPU's bell.
     sleep_cpu: AtomicU32,
     /// On the simulation clock: nonzero when this task runs in lockstep with the core
     /// (written by the core before any start, never reset).
@@ -260,35 +261,14 @@ impl TaskSlot {
         self.notified_ns.load(Ordering::Acquire)
     }
 
-    /// The core wakes the task: "your reply is ready" or "your wake cycle has come".
-    /// Never blocks.
-    pub fn wake(&self, now_ns: u64) {
-        self.notify(now_ns);
-        self.wake_sleeper();
-    }
-
-    /// The first half of `wake`: a task that looks at its word from now on does not
-    /// sleep; one asleep already needs `wake_sleeper`.
+    /// The first half of a wake (`TaskTable::wake`): a task that looks at its count from
+    /// now on does not sleep; one asleep already needs `TaskTable::wake_sleepers`.
     pub fn notify(&self, now_ns: u64) {
         self.notified_ns.store(now_ns, Ordering::Release);
         self.wake.fetch_add(1, Ordering::SeqCst);
     }
 
-    /// The second half of `wake`: the futex wake of a task asleep on its word, if one is;
-    /// returns whether it made the syscall.
-    pub fn wake_sleeper(&self) -> bool {
-        // Pairs with `sleep`'s count: either the sleeper's futex compare sees the word
-        // `notify` bumped, or this sees the sleeper (also when `notify` ran on another
-        // thread that handed the wake over).
-        std::sync::atomic::fence(Ordering::SeqCst);
-        let asleep = self.sleepers.load(Ordering::SeqCst) != 0;
-        if asleep {
-            futex::wake(&self.wake);
-        }
-        asleep
-    }
-
-    /// Whether a thread sleeps on the task's word, or is about to.
+    /// Whether the task's thread sleeps, or is about to.
     #[cfg(test)]
     pub(crate) fn asleep(&self) -> bool {
         self.sleepers.load(Ordering::SeqCst) != 0
@@ -299,29 +279,10 @@ impl TaskSlot {
         (self.sleep_cpu.load(Ordering::Relaxed) as usize).checked_sub(1)
     }
 
-    /// The wake-up count before a look at the condition the task waits for...
+    /// The wake-up count before a look at the condition the task waits for (then
+    /// `TaskTable::sleep`).
     pub fn wake_count(&self) -> u32 {
         self.wake.load(Ordering::Acquire)
-    }
-
-    /// ...then the sleep, unless a wake-up came in between; at most `timeout`.
-    pub fn sleep(&self, seen: u32, timeout: std::time::Duration) {
-        // SAFETY: no arguments; -1 (not known) is stored as 0.
-        let cpu = unsafe { libc::sched_getcpu() };
-        self.sleep_cpu.store((cpu + 1).max(0) as u32, Ordering::Relaxed);
-        // Counted before the futex compares the word (the kernel orders its read after
-        // this with a full barrier): see `wake_sleeper`.
-        self.sleepers.fetch_add(1, Ordering::SeqCst);
-        futex::wait(&self.wake, seen, timeout);
-        self.sleepers.fetch_sub(1, Ordering::SeqCst);
-    }
-
-    /// `sleep` for the next turn on the simulation clock, watching the word for
-    /// `TURN_SPIN` first (uncounted: the core's wake meanwhile makes no syscall).
-    pub fn sleep_for_turn(&self, seen: u32, timeout: std::time::Duration) {
-        if futex::spin_while(&self.wake, seen, TURN_SPIN) {
-            self.sleep(seen, timeout);
-        }
     }
 
     /// Whether this task runs in lockstep with the simulation clock.
@@ -344,10 +305,9 @@ impl TaskSlot {
         self.baton.store(Baton::Parked.into(), Ordering::Release);
     }
 
-    /// The core grants a parked task a turn and wakes it.
-    pub fn grant(&self, now_ns: u64) {
+    /// The core grants a parked task a turn (then wakes it: `TaskTable::grant`).
+    fn grant(&self) {
         self.baton.store(Baton::Granted.into(), Ordering::Release);
-        self.wake(now_ns);
     }
 
     /// The task takes a granted turn; false when none was granted.
@@ -439,6 +399,11 @@ pub struct TaskTable {
     pub slots: [TaskSlot; MAX_TASKS],
     /// On the simulation clock: bumped by a task that parks; the core sleeps on it.
     gate: AtomicU32,
+    /// The futex words the tasks sleep on, one for each CPU (modulo `BELL_CPUS`) and
+    /// each 32 tasks, each task with its bit: a waker wakes the due sleepers of one bell
+    /// in one syscall (the syscall, the lookup of the shared word and the hash were a
+    /// fifth of a task waker's time).
+    bells: [Bell; BELLS],
     /// The script pool's waiting processes, handed their tasks by the core.
     pub pool: Board,
     /// Each task's calls to the core and their replies.
@@ -446,6 +411,76 @@ pub struct TaskTable {
 }
 
 impl TaskTable {
+    /// The core wakes task `task`: "your reply is ready", "your wake cycle has come" or
+    /// "your turn". Never blocks.
+    pub fn wake(&self, task: usize, now_ns: u64) {
+        self.slots[task].notify(now_ns);
+        self.wake_sleepers(1 << task);
+    }
+
+    /// The core grants parked task `task` a turn on the simulation clock and wakes it.
+    pub fn grant(&self, task: usize, now_ns: u64) {
+        self.slots[task].grant();
+        self.wake(task, now_ns);
+    }
+
+    /// The second half of a wake, for tasks `tasks` (bit t for task t) notified already:
+    /// the futex wakes of those asleep, one syscall per bell they sleep on; returns how
+    /// many were asleep.
+    pub fn wake_sleepers(&self, mut tasks: u64) -> u64 {
+        // Pairs with `sleep`'s count: either the sleeper sees its count bumped, or this
+        // sees the sleeper and the bell it chose (also when `notify` ran on another thread
+        // that handed the wake over).
+        std::sync::atomic::fence(Ordering::SeqCst);
+        let mut rung = [0u32; BELLS];
+        let mut asleep = 0;
+        while tasks != 0 {
+            let task = tasks.trailing_zeros() as usize;
+            tasks &= tasks - 1;
+            let slot = &self.slots[task];
+            if slot.sleepers.load(Ordering::SeqCst) != 0 {
+                let (bell, bit) = bell_of(task, slot.sleep_cpu.load(Ordering::SeqCst));
+                rung[bell] |= bit;
+                asleep += 1;
+            }
+        }
+        for (bell, bits) in self.bells.iter().zip(rung) {
+            if bits != 0 {
+                // A sleeper between its look at the bell and its futex call finds the bell
+                // changed and returns.
+                bell.0.fetch_add(1, Ordering::SeqCst);
+                futex::wake_bits(&bell.0, bits);
+            }
+        }
+        asleep
+    }
+
+    /// Task `task`'s thread sleeps, unless a wake-up came since it read `seen` from
+    /// `wake_count`; at most `timeout`. One thread of a task sleeps at a time.
+    pub fn sleep(&self, task: usize, seen: u32, timeout: std::time::Duration) {
+        let slot = &self.slots[task];
+        // SAFETY: no arguments; -1 (not known) is stored as 0.
+        let cpu = (unsafe { libc::sched_getcpu() } + 1).max(0) as u32;
+        slot.sleep_cpu.store(cpu, Ordering::SeqCst);
+        let (bell, bit) = bell_of(task, cpu);
+        let bell = &self.bells[bell].0;
+        let rung = bell.load(Ordering::SeqCst);
+        // Counted before the count is looked at: see `wake_sleepers`.
+        slot.sleepers.fetch_add(1, Ordering::SeqCst);
+        if slot.wake.load(Ordering::SeqCst) == seen {
+            futex::wait_bit(bell, rung, bit, timeout);
+        }
+        slot.sleepers.fetch_sub(1, Ordering::SeqCst);
+    }
+
+    /// `sleep` for the next turn on the simulation clock, watching the count for
+    /// `TURN_SPIN` first (uncounted: the core's wake meanwhile makes no syscall).
+    pub fn sleep_for_turn(&self, task: usize, seen: u32, timeout: std::time::Duration) {
+        if futex::spin_while(&self.slots[task].wake, seen, TURN_SPIN) {
+            self.sleep(task, seen, timeout);
+        }
+    }
+
     /// Task `task` gives its turn back and wakes the core.
     pub fn park(&self, task: u8) {
         self.slots[task as usize].park();
@@ -463,6 +498,23 @@ impl TaskTable {
     pub fn gate_sleep(&self, seen: u32, timeout: std::time::Duration) {
         futex::wait_spinning(&self.gate, seen, TURN_SPIN, timeout);
     }
+}
+
+/// Tasks that share a bell: a futex wake's bitset has 32 bits.
+const TASKS_PER_BELL: usize = 32;
+/// CPUs the bells tell apart; tasks asleep on CPUs equal modulo this share bells.
+const BELL_CPUS: usize = 8;
+const BELLS: usize = BELL_CPUS * MAX_TASKS / TASKS_PER_BELL;
+
+/// A bell on a cache line of its own: the tasks of one CPU touch only theirs.
+#[repr(C, align(64))]
+struct Bell(AtomicU32);
+
+/// The bell task `task` sleeps on after it noted `sleep_cpu` (a CPU plus one, as stored),
+/// and its bit there.
+fn bell_of(task: usize, sleep_cpu: u32) -> (usize, u32) {
+    let cpu = sleep_cpu as usize % BELL_CPUS;
+    (cpu * (MAX_TASKS / TASKS_PER_BELL) + task / TASKS_PER_BELL, 1 << (task % TASKS_PER_BELL))
 }
 
 // SAFETY: repr(C), only atomics, valid when zeroed (Idle, no heartbeat, no pooled process,
@@ -514,7 +566,7 @@ mod tests {
         assert!(!slot.take_turn());
         table.park(5);
         assert_eq!((slot.baton(), table.gate_count()), (Baton::Parked, 1));
-        slot.grant(0);
+        table.grant(5, 0);
         assert_eq!(slot.wake_count(), 1, "a grant wakes the task");
         assert!(slot.take_turn());
         assert!(!slot.take_turn(), "taken once");
@@ -523,26 +575,70 @@ mod tests {
         assert_eq!(slot.blocked_on(), Some(7));
     }
 
-    /// A wake makes the futex syscall only for a task asleep on its word, and the one it
-    /// makes reaches the sleeper (a lost wake-up leaves the sleeper there for an hour).
+    /// A wake makes the futex syscall only for a task asleep, and the one it makes
+    /// reaches the sleeper (within 5 s: they sleep for up to 20) and no other: task 3 sleeps on the same bell (the sleepers share a CPU), task 34 on the
+    /// same bit of the next bell.
     #[test]
     fn a_wake_makes_the_syscall_only_for_a_sleeper() {
         let table: Box<TaskTable> = crate::shm::zeroed();
-        let slot = &table.slots[2];
-        slot.notify(0);
-        assert!(!slot.wake_sleeper(), "nobody asleep: no syscall");
+        let table = &*table;
+        table.slots[2].notify(0);
+        assert_eq!(table.wake_sleepers(1 << 2), 0, "nobody asleep: no syscall");
+        // SAFETY: no arguments.
+        let cpu = unsafe { libc::sched_getcpu() }.max(0) as usize;
         std::thread::scope(|s| {
-            let seen = slot.wake_count();
-            let sleeper = s.spawn(move || slot.sleep(seen, std::time::Duration::from_secs(3600)));
-            while slot.sleepers.load(Ordering::SeqCst) == 0 {
+            let sleepers: Vec<_> = [2, 3, 34]
+                .into_iter()
+                .map(|task| {
+                    let seen = table.slots[task].wake_count();
+                    s.spawn(move || {
+                        pin_to(cpu);
+                        table.sleep(task, seen, std::time::Duration::from_secs(20))
+                    })
+                })
+                .collect();
+            while ![2, 3, 34].iter().all(|&t| table.slots[t].asleep()) {
                 std::thread::yield_now();
             }
-            slot.notify(0);
-            assert!(slot.wake_sleeper(), "a sleeper: the syscall");
-            sleeper.join().expect("the sleeper returns");
+            let bells = [2, 3, 34].map(|t| bell_of(t, table.slots[t].sleep_cpu.load(Ordering::SeqCst)));
+            assert_eq!(bells[0].0, bells[1].0, "tasks 2 and 3 share a bell");
+            assert_eq!(bells[0].1, bells[2].1, "tasks 2 and 34 share a bit");
+            table.slots[2].notify(0);
+            assert_eq!(table.wake_sleepers(1 << 2), 1, "a sleeper: the syscall");
+            assert!(eventually(|| sleepers[0].is_finished()), "task 2 woken");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            assert!(table.slots[3].asleep() && table.slots[34].asleep(), "tasks 3 and 34 sleep on");
+            for task in [3, 34] {
+                table.slots[task].notify(0);
+            }
+            assert_eq!(table.wake_sleepers(1 << 3 | 1 << 34), 2);
+            assert!(eventually(|| sleepers.iter().all(|s| s.is_finished())), "tasks 3 and 34 woken");
+            for sleeper in sleepers {
+                sleeper.join().expect("the sleeper returns");
+            }
         });
-        assert_eq!(slot.sleepers.load(Ordering::SeqCst), 0, "the sleeper is counted out");
-        assert!(!slot.wake_sleeper());
+        assert!(!table.slots[2].asleep(), "the sleeper is counted out");
+        assert_eq!(table.wake_sleepers(1 << 2), 0);
+    }
+
+    fn pin_to(cpu: usize) {
+        // SAFETY: a zeroed cpu_set_t with one bit set, for the calling thread.
+        unsafe {
+            let mut set: libc::cpu_set_t = std::mem::zeroed();
+            libc::CPU_SET(cpu, &mut set);
+            libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set);
+        }
+    }
+
+    fn eventually(condition: impl Fn() -> bool) -> bool {
+        let until = std::time::Instant::now() + std::time::Duration::from_secs(5);
+        while !condition() {
+            if std::time::Instant::now() > until {
+                return false;
+            }
+            std::thread::yield_now();
+        }
+        true
     }
 
     #[test]

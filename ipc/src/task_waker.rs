@@ -6,7 +6,8 @@
 //! and 1.5-1.7 us when it slept on another one, whose run queue has to be locked and
 //! interrupted from afar (docs/decisions.md, "The task wakers"). So each task notes the
 //! CPU it goes to sleep on (`TaskSlot::sleep_cpu`), and its wake goes to the waker of that
-//! CPU. The RT thread wakes only the first waker, on its own CPU; that one wakes the
+//! CPU, which wakes all of a cycle's tasks asleep on one of that CPU's bells in one futex
+//! call (`TaskTable::wake_sleepers`). The RT thread wakes only the first waker, on its own CPU; that one wakes the
 //! others: with the wakes handed over, the RT thread does not reach into another CPU's
 //! run queue, whose lock a vCPU the host has descheduled may hold.
 
@@ -25,7 +26,7 @@ struct WakeHandoff {
     /// Bumped with each hand-off; the waker sleeps on it.
     word: AtomicU32,
     stop: AtomicBool,
-    /// Of the wakes handed over, those that made the futex syscall.
+    /// Of the wakes handed over, those that found the task asleep (woken through its bell).
     futex_wakes: AtomicU64,
 }
 
@@ -55,7 +56,7 @@ impl WakeHandoff {
                 other.ring();
             }
             let pending = self.pending.swap(0, Ordering::AcqRel);
-            self.futex_wakes.fetch_add(wake_sleepers(table, pending), Ordering::Relaxed);
+            self.futex_wakes.fetch_add(table.wake_sleepers(pending), Ordering::Relaxed);
             futex::wait_private(&self.word, seen, std::time::Duration::from_millis(100));
         }
     }
@@ -178,26 +179,16 @@ impl TaskWakers {
         self.wakers.iter().map(TaskWaker::cpu_ns).sum()
     }
 
-    /// Of the wakes handed over, those that made the futex syscall.
+    /// Of the wakes handed over, those that found the task asleep (woken through its bell).
     pub(crate) fn futex_wakes(&self) -> u64 {
         self.wakers.iter().map(|w| w.handoff.futex_wakes.load(Ordering::Relaxed)).sum()
     }
 
-    /// The wakes handed to each waker so far that made the futex syscall, in `cpus` order.
+    /// The wakes handed to each waker so far that found the task asleep, in `cpus` order.
     #[cfg(test)]
     fn futex_wakes_by_waker(&self) -> impl Iterator<Item = u64> + '_ {
         self.wakers.iter().map(|w| w.handoff.futex_wakes.load(Ordering::Relaxed))
     }
-}
-
-/// The futex wakes of tasks `tasks` (bit t for task t) that sleep; returns how many made one.
-pub(crate) fn wake_sleepers(table: &TaskTable, mut tasks: u64) -> u64 {
-    let mut syscalls = 0;
-    while tasks != 0 {
-        syscalls += table.slots[tasks.trailing_zeros() as usize].wake_sleeper() as u64;
-        tasks &= tasks - 1;
-    }
-    syscalls
 }
 
 #[cfg(test)]
@@ -216,8 +207,8 @@ mod tests {
         Some((cpus.next()?, cpus.next()?))
     }
 
-    /// Task `task` asleep on its slot from a thread pinned to `cpu`, until woken; returns
-    /// once the thread sleeps in the kernel, so its wake has to make the futex syscall.
+    /// Task `task` asleep from a thread pinned to `cpu`, until woken; returns once the
+    /// thread sleeps in the kernel, so its wake has to make the futex syscall.
     fn sleeper<'s>(table: &'s TaskTable, task: usize, cpu: usize, scope: &'s std::thread::Scope<'s, '_>) {
         let slot = &table.slots[task];
         let seen = slot.wake_count();
@@ -231,7 +222,7 @@ mod tests {
             }
             // SAFETY: no arguments.
             tid_tx.send(unsafe { libc::gettid() }).unwrap();
-            slot.sleep(seen, std::time::Duration::from_secs(3600));
+            table.sleep(task, seen, std::time::Duration::from_secs(3600));
         });
         let stat = format!("/proc/self/task/{}/stat", tid.recv().unwrap());
         // The state after the command's closing parenthesis: S once asleep in the futex.
@@ -255,7 +246,7 @@ mod tests {
         wakers.futex_wakes_by_waker().collect()
     }
 
-    /// Each task asleep is woken by the waker of its CPU (one futex wake each), and one
+    /// Each task asleep is woken by the waker of its CPU, and one
     /// that slept on a CPU without a waker by the first waker.
     #[test]
     fn a_task_is_woken_by_the_waker_of_the_cpu_it_sleeps_on() {

@@ -118,7 +118,6 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                 let idle_poll = realtime::IdlePoll::hold(&rt_config);
                 let granted =
                     realtime::Granted { idle_poll: idle_poll.is_some(), ..realtime::setup_current_thread(&rt_config) };
-                crate::rt_alloc::claim_pool_for_this_thread();
                 let mut endpoint = match CoreEndpoint::create(&ns, &task_ids) {
                     Ok(endpoint) => endpoint,
                     Err(e) => {

@@ -249,7 +249,7 @@ impl CycleWork {
         }
         let machine = &mut self.machine;
         self.endpoint.resume(cycle, |_task, request, reply| dispatch::resume(machine, request, reply));
-        // The snapshot is written in place into the loaned sample; without one (counted,
+        // The snapshot is written in place into a slot of the board; without one (counted,
         // not published) into `self.snapshot`, which also holds the layout a new sample
         // starts from.
         let mut loaned = self.endpoint.loan_snapshot(&self.snapshot, self.layout);

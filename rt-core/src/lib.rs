@@ -25,7 +25,6 @@ pub mod position_trigger;
 pub mod profile;
 pub mod realtime;
 pub mod replay;
-pub mod rt_alloc;
 pub mod scope;
 pub mod signals;
 pub mod sim_clock;

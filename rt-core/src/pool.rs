@@ -1,5 +1,5 @@
 //! The supervisor's pool of started script processes (`[rt] script_pool`). A process
-//! start (spawn, exec, the iceoryx2 node, the state subscriber) takes many cycles; a pooled
+//! start (spawn, exec, the iceoryx2 node, the shared memory opened) takes many cycles; a pooled
 //! process has done it and waits on its place of the task table's board
 //! (`ipc::pool`) until the core hands it a task, in the cycle the task starts. It makes
 //! that task's VM only then: a process serves one task start and ends, so no program

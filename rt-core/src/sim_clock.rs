@@ -174,7 +174,7 @@ impl Lockstep {
                     continue;
                 }
                 woken &= !(1 << member.id);
-                slot.grant(monotonic_ns());
+                endpoint.table().grant(member.id as usize, monotonic_ns());
                 granted = true;
                 wait_parked(member, slot, tasks, endpoint, stop);
             }
@@ -261,10 +261,6 @@ fn wait_parked(
         } else if held_too_long(state, slot.state(), now - since, cpu.saturating_sub(cpu_since), patience) {
             member.released = true;
             return false;
-        }
-        // A starting process' first snapshot comes with the connection.
-        if state == TaskState::Starting {
-            endpoint.update_connections();
         }
         table.gate_sleep(seen, GATE_SLICE);
     }

@@ -2,7 +2,9 @@
 //! runs `luaG_traceexec` before every instruction, whatever the count: a program with a
 //! hook runs 2 to 2.7 times slower than stock Lua (benches/lua_speed.rs). So a running
 //! program has no hook, and a watcher thread of the script process arms one by a signal
-//! every `SAMPLE_PERIOD` while the task's slot says the program runs Lua; the hook
+//! every `SAMPLE_PERIOD` while the task's slot says the program runs Lua, and once when the
+//! console brings the debugger news (breakpoints, a command), even while the program waits,
+//! so that the hook takes them at its next instruction; the hook
 //! (`Debugger::on_event`) records the line for the watchdog's report, bounds the depth,
 //! carries out the debugger's work and disarms itself unless the debugger needs lines.
 //!
@@ -91,9 +93,10 @@ pub struct Watcher {
 
 impl Watcher {
     /// Starts watching `lua`, whose hook (the debugger's) is installed already.
-    /// `make_running` is called on the watcher thread and gives the question asked there
-    /// every period: whether the program runs Lua now (the task's slot says `Running`).
-    pub fn start<F, P>(lua: &Lua, make_running: F) -> Result<Watcher, ArmingError>
+    /// `make_should_arm` is called on the watcher thread and gives the question asked there
+    /// every period: whether to arm the hook now (the program runs Lua: the task's slot
+    /// says `Running`; or the debugger has news).
+    pub fn start<F, P>(lua: &Lua, make_should_arm: F) -> Result<Watcher, ArmingError>
     where
         F: FnOnce() -> P + Send + 'static,
         P: Fn() -> bool,
@@ -118,10 +121,10 @@ impl Watcher {
             .spawn({
                 let stop = stop.clone();
                 move || {
-                    let running = make_running();
+                    let should_arm = make_should_arm();
                     while !stop.load(Ordering::Acquire) {
                         std::thread::park_timeout(SAMPLE_PERIOD);
-                        if running() && !stop.load(Ordering::Acquire) {
+                        if should_arm() && !stop.load(Ordering::Acquire) {
                             // SAFETY: `target` is alive: it joins this thread before it ends.
                             unsafe { libc::pthread_kill(target, arm_signal()) };
                         }

@@ -53,6 +53,26 @@ pub const MAX_DEPTH: usize = 50_000;
 /// How often a stopped program checks that its controller is still alive.
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
 
+/// The watcher's question each sample (`arming::Watcher`): arm the hook now? While the
+/// program runs Lua (its slot says `Running`), and once for each news of the console (new
+/// breakpoints or mode, a command) even while the program waits in a call or a `DELAY`:
+/// the hook then takes it at the program's next instruction. A program that mostly waits
+/// is seldom caught running Lua by a sample, and would not see a breakpoint for seconds.
+#[derive(Default)]
+pub struct ArmWhen {
+    /// The debug block's generation and pending command at the last look.
+    seen: Cell<Option<(u32, Option<u32>)>>,
+}
+
+impl ArmWhen {
+    /// Whether to arm the hook of the program in `slot` now.
+    pub fn now(&self, slot: &TaskSlot) -> bool {
+        let news = (slot.debug.generation(), slot.debug.pending().map(|(seq, _)| seq));
+        let fresh = self.seen.replace(Some(news)) != Some(news);
+        slot.state() == RunState::Running || fresh
+    }
+}
+
 /// The task table the debugger works in: in shared memory in a script process, a plain
 /// allocation in tests.
 pub type SharedTable = Rc<dyn Deref<Target = TaskTable>>;
@@ -318,7 +338,7 @@ impl Debugger {
         Ok(())
     }
 
-    /// Sleeps on the task's wake word (the console wakes it after a command) until a
+    /// Sleeps on the task's bell (the console wakes it after a command) until a
     /// Continue or a step; ends the program when the controller is gone.
     fn wait_for_resume(&self, lua: &Lua) -> mlua::Result<Resume> {
         let slot = self.slot();
@@ -332,7 +352,7 @@ impl Debugger {
                     None => slot.debug.mark_done(seq),
                 }
             }
-            slot.sleep(seen, LIVENESS_PERIOD);
+            self.table.sleep(self.task, seen, LIVENESS_PERIOD);
             if !(self.controller_alive)() {
                 self.controller_gone.set(true);
                 return Err(controller_gone());
@@ -468,7 +488,7 @@ mod tests {
 
         fn send(&self, command: DebugCommand) -> u32 {
             let seq = self.slot().debug.send(command);
-            self.slot().wake(0);
+            self.table.wake(TASK, 0);
             seq
         }
 
@@ -492,7 +512,7 @@ mod tests {
         /// The controller goes away: a stopped program ends at its next look.
         fn kill_controller(&self) {
             self.alive.store(false, Ordering::Relaxed);
-            self.slot().wake(0);
+            self.table.wake(TASK, 0);
         }
 
         fn end(&mut self) -> Ended {
@@ -521,12 +541,24 @@ mod tests {
         });
         debugger.install(&lua).unwrap();
         let watched = table.clone();
-        let watcher = Watcher::start(&lua, move || move || watched.slots[TASK].state() == RunState::Running).unwrap();
+        let when = ArmWhen::default();
+        let watcher = Watcher::start(&lua, move || move || when.now(&watched.slots[TASK])).unwrap();
         let slot = &table.slots[TASK];
         slot.set_state(RunState::Running);
         let probe = table.clone();
         let line_now = lua.create_function(move |_, ()| Ok(probe.slots[TASK].line())).unwrap();
         lua.globals().set("line_now", line_now).unwrap();
+        // An API call that waits, as `DELAY` does: the slot says `Waiting` meanwhile.
+        let waiting = table.clone();
+        let wait_ms = lua
+            .create_function(move |_, ms: u64| {
+                waiting.slots[TASK].set_state(RunState::Waiting);
+                thread::sleep(Duration::from_millis(ms));
+                waiting.slots[TASK].set_state(RunState::Running);
+                Ok(())
+            })
+            .unwrap();
+        lua.globals().set("wait_ms", wait_ms).unwrap();
         let hook_mask = lua.create_function(|_, ()| Ok(arming::running_hook_mask())).unwrap();
         lua.globals().set("hook_mask", hook_mask).unwrap();
         let source = std::fs::read_to_string(program).unwrap();
@@ -773,6 +805,23 @@ return M
         let bp = line_of(LOOP_FOREVER, "@loop");
         assert!(console.slot().debug.add_breakpoint(bp));
         assert_eq!(console.stopped(), (Halt::BreakPoint, bp));
+        console.kill_controller();
+        assert_eq!(console.end(), Ended::ControllerGone);
+    }
+
+    /// A program that spends nearly all its time waiting: a sample seldom finds it running
+    /// Lua, but the breakpoint's news arms the hook for its next instruction.
+    #[test]
+    fn a_breakpoint_added_while_the_program_waits_is_honoured_at_once() {
+        let main = "while true do\n  wait_ms(20) -- @wait\nend\n";
+        let mut console = Console::start(main, &[], RunMode::Debug, &[]);
+        eventually("the loop", || console.slot().state() == RunState::Waiting);
+        let bp = line_of(main, "@wait");
+        let added = Instant::now();
+        assert!(console.slot().debug.add_breakpoint(bp));
+        assert_eq!(console.stopped(), (Halt::BreakPoint, bp));
+        let took = added.elapsed();
+        assert!(took < Duration::from_secs(1), "stopped {took:?} after the breakpoint was added");
         console.kill_controller();
         assert_eq!(console.end(), Ended::ControllerGone);
     }

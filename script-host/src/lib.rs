@@ -128,7 +128,7 @@ pub fn run(args: ScriptArgs) -> Result<(), ScriptError> {
 const POOL_LIVENESS: std::time::Duration = std::time::Duration::from_millis(100);
 
 /// A pooled process: everything a start does before it knows its task (the exec, the
-/// node, the state subscriber, the VM with the API bound in it) is done while it waits on
+/// node, the snapshot board opened, the VM with the API bound in it) is done while it waits on
 /// its place of the pool's board; the core hands it a task there, and it runs that one
 /// task as `run` does, and ends. The VM is this task's alone: no other program ran in it.
 pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
@@ -232,7 +232,8 @@ fn run_attached(args: ScriptArgs, source: &str, vm: Vm) -> Result<(), ScriptErro
     let ns = args.ns.clone();
     let watcher = arming::Watcher::start(&lua, move || {
         let watched = Region::<TaskTable>::open(&ns, "tasks").ok();
-        move || watched.as_ref().is_some_and(|t| t.slots[task].state() == RunState::Running)
+        let when = debugger::ArmWhen::default();
+        move || watched.as_ref().is_some_and(|t| when.now(&t.slots[task]))
     })
     .map_err(|e| ScriptError::lua(e.to_string()))?;
     let slot = &table.slots[task];

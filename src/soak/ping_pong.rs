@@ -2,9 +2,9 @@
 //! publish-subscribe services (`floor/request`, `floor/reply`) with a task's call and reply
 //! as payloads, with nothing else in between: what the tasks' calls cost before they went
 //! through mailboxes in the task table. Each side is woken either by an iceoryx2 event (what
-//! iceoryx2 alone costs on this machine) or as the core wakes a task: through its futex
-//! word in a task table (`TaskSlot::wake`), the pong side sleeping as a task does, watching
-//! its word for a moment first (`sleep_for_turn`), and the ping side, in the core's place,
+//! iceoryx2 alone costs on this machine) or as the core wakes a task: through its bell in
+//! a task table (`TaskTable::wake`), the pong side sleeping as a task does, watching its
+//! wake count for a moment first (`sleep_for_turn`), and the ping side, in the core's place,
 //! sleeping at once: a waker that spins after its wake-up keeps its CPU from a wakee
 //! placed there, which the core, back to its sleep, does not.
 
@@ -102,7 +102,7 @@ impl Waker {
             Waker::Event { notifier, .. } => {
                 notifier.notify().map_err(|e| failed("floor notify", e))?;
             }
-            Waker::Futex { table, other, .. } => table.slots[*other as usize].wake(now),
+            Waker::Futex { table, other, .. } => table.wake(*other as usize, now),
         }
         Ok(now)
     }
@@ -117,15 +117,14 @@ impl Waker {
                 work()
             }
             Waker::Futex { table, mine, as_task, .. } => {
-                let slot = &table.slots[*mine as usize];
-                let seen = slot.wake_count();
+                let seen = table.slots[*mine as usize].wake_count();
                 if let Some(found) = work()? {
                     return Ok(Some(found));
                 }
                 if *as_task {
-                    slot.sleep_for_turn(seen, PATIENCE);
+                    table.sleep_for_turn(*mine as usize, seen, PATIENCE);
                 } else {
-                    slot.sleep(seen, PATIENCE);
+                    table.sleep(*mine as usize, seen, PATIENCE);
                 }
                 work()
             }

@@ -77,7 +77,7 @@ pub struct Counters {
     pub task_waker_cpu_percent: f64,
     /// Task wakes over the run...
     pub task_wakes: u64,
-    /// ...of which those that found the task asleep and made the futex syscall.
+    /// ...of which those that found the task asleep (woken by a futex wake of its bell).
     pub futex_wakes: u64,
 }
 
@@ -256,7 +256,7 @@ impl Report {
         );
         println!(
             "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task wakers {:.1} %; \
-             {} task wakes, {} of them futex syscalls",
+             {} task wakes, {} of them of a task asleep",
             c.cycles,
             c.overruns,
             c.rt_cpu_percent,
