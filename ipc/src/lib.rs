@@ -104,6 +104,23 @@ pub fn claim_namespace(ns: &Namespace) -> Result<(), IpcError> {
     }
 }
 
+/// Whether process `pid` exists (signal 0: nothing is sent); one of another user exists too.
+pub fn process_alive(pid: u32) -> bool {
+    // SAFETY: signal 0 only checks that the process exists.
+    unsafe { libc::kill(pid as libc::pid_t, 0) == 0 || *libc::__errno_location() == libc::EPERM }
+}
+
+/// Pins the calling thread to `cpu`; whether it could.
+#[cfg(test)]
+fn pin_current_thread(cpu: usize) -> bool {
+    // SAFETY: a zeroed cpu_set_t with one bit set, for the calling thread.
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_SET(cpu, &mut set);
+        libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
+    }
+}
+
 /// The pid of the controller alive in the namespace, if any.
 pub fn controller_pid(ns: &Namespace) -> Result<Option<u32>, IpcError> {
     scan_nodes(ns, false)

@@ -21,7 +21,7 @@ use std::sync::atomic::{AtomicU8, AtomicU32, Ordering};
 use crate::messages::{MAX_TASKS, Snapshot};
 use crate::services::{self, MAX_TOOLS};
 use crate::shm::{Region, Shareable};
-use crate::{IpcError, Namespace};
+use crate::{IpcError, Namespace, process_alive};
 
 /// Readers that are tools (monitors, the web view, the soak), after the tasks'.
 pub const TOOLS: usize = MAX_TOOLS;
@@ -244,11 +244,6 @@ impl Drop for BoardReader {
             self.board.owners.0[self.reader - MAX_TASKS].store(0, Ordering::Release);
         }
     }
-}
-
-fn process_alive(pid: u32) -> bool {
-    // SAFETY: signal 0 only checks that the process exists.
-    unsafe { libc::kill(pid as libc::pid_t, 0) == 0 || *libc::__errno_location() == libc::EPERM }
 }
 
 #[cfg(test)]

@@ -1,7 +1,8 @@
 //! A script's end: read the latest snapshot, call the core, wait on core time.
 //!
-//! Waiting blocks the process on its bell in the task table (a futex), never spins. Every wait also watches the
-//! controller: when it is gone, the wait fails and the script process ends.
+//! Waiting blocks the process on its bell in the task table (a futex), never spins. Every
+//! wait also watches the controller: when it is gone, the wait fails and the script
+//! process ends.
 
 use std::time::Duration;
 
@@ -437,8 +438,6 @@ impl TaskEndpoint {
 
     /// Fails when the controller is gone.
     pub fn check_controller(&self) -> Result<(), IpcError> {
-        // SAFETY: signal 0 only checks that the process exists.
-        let alive = unsafe { libc::kill(self.controller_pid as libc::pid_t, 0) } == 0;
-        if alive { Ok(()) } else { Err(IpcError::ControllerGone) }
+        if crate::process_alive(self.controller_pid) { Ok(()) } else { Err(IpcError::ControllerGone) }
     }
 }

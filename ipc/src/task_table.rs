@@ -576,8 +576,9 @@ mod tests {
     }
 
     /// A wake makes the futex syscall only for a task asleep, and the one it makes
-    /// reaches the sleeper (within 5 s: they sleep for up to 20) and no other: task 3 sleeps on the same bell (the sleepers share a CPU), task 34 on the
-    /// same bit of the next bell.
+    /// reaches the sleeper (within 5 s: they sleep for up to 20) and no other: task 3
+    /// sleeps on the same bell (the sleepers share a CPU), task 34 on the same bit of the
+    /// next bell.
     #[test]
     fn a_wake_makes_the_syscall_only_for_a_sleeper() {
         let table: Box<TaskTable> = crate::shm::zeroed();
@@ -592,7 +593,7 @@ mod tests {
                 .map(|task| {
                     let seen = table.slots[task].wake_count();
                     s.spawn(move || {
-                        pin_to(cpu);
+                        crate::pin_current_thread(cpu);
                         table.sleep(task, seen, std::time::Duration::from_secs(20))
                     })
                 })
@@ -619,15 +620,6 @@ mod tests {
         });
         assert!(!table.slots[2].asleep(), "the sleeper is counted out");
         assert_eq!(table.wake_sleepers(1 << 2), 0);
-    }
-
-    fn pin_to(cpu: usize) {
-        // SAFETY: a zeroed cpu_set_t with one bit set, for the calling thread.
-        unsafe {
-            let mut set: libc::cpu_set_t = std::mem::zeroed();
-            libc::CPU_SET(cpu, &mut set);
-            libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set);
-        }
     }
 
     fn eventually(condition: impl Fn() -> bool) -> bool {

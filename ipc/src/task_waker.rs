@@ -7,9 +7,9 @@
 //! interrupted from afar (docs/decisions.md, "The task wakers"). So each task notes the
 //! CPU it goes to sleep on (`TaskSlot::sleep_cpu`), and its wake goes to the waker of that
 //! CPU, which wakes all of a cycle's tasks asleep on one of that CPU's bells in one futex
-//! call (`TaskTable::wake_sleepers`). The RT thread wakes only the first waker, on its own CPU; that one wakes the
-//! others: with the wakes handed over, the RT thread does not reach into another CPU's
-//! run queue, whose lock a vCPU the host has descheduled may hold.
+//! call (`TaskTable::wake_sleepers`). The RT thread wakes only the first waker, on its own
+//! CPU; that one wakes the others: with the wakes handed over, the RT thread does not
+//! reach into another CPU's run queue, whose lock a vCPU the host has descheduled may hold.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
@@ -214,15 +214,11 @@ mod tests {
         let seen = slot.wake_count();
         let (tid_tx, tid) = std::sync::mpsc::channel();
         scope.spawn(move || {
-            // SAFETY: `set` is valid for the call.
-            unsafe {
-                let mut set: libc::cpu_set_t = std::mem::zeroed();
-                libc::CPU_SET(cpu, &mut set);
-                assert_eq!(libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set), 0);
-            }
+            assert!(crate::pin_current_thread(cpu), "pinned to CPU {cpu}");
             // SAFETY: no arguments.
             tid_tx.send(unsafe { libc::gettid() }).unwrap();
-            table.sleep(task, seen, std::time::Duration::from_secs(3600));
+            // A lost wake shows as a count short after `counted`'s 10 s, not as an hour's hang.
+            table.sleep(task, seen, std::time::Duration::from_secs(20));
         });
         let stat = format!("/proc/self/task/{}/stat", tid.recv().unwrap());
         // The state after the command's closing parenthesis: S once asleep in the futex.

@@ -290,8 +290,7 @@ fn process_cpu_ns(pid: u32) -> u64 {
 
 /// A process that has not registered yet (pid 0) counts as alive: it is starting.
 fn process_alive(pid: u32) -> bool {
-    // SAFETY: signal 0 only checks that the process exists.
-    pid == 0 || unsafe { libc::kill(pid as libc::pid_t, 0) } == 0
+    pid == 0 || ipc::process_alive(pid)
 }
 
 #[cfg(test)]

@@ -148,7 +148,7 @@ pub fn run_pooled(pool: PoolArgs) -> Result<(), ScriptError> {
     // Closed or withdrawn: the controller is ending or gone.
     let assignment = place
         .offer(std::process::id())
-        .then(|| place.wait(|| controller_alive(controller_pid), POOL_LIVENESS))
+        .then(|| place.wait(|| ipc::process_alive(controller_pid), POOL_LIVENESS))
         .flatten()
         .ok_or(ScriptError::ControllerGone)?;
     set_process_name(RUNNING_NAME);
@@ -225,8 +225,9 @@ fn run_attached(args: ScriptArgs, source: &str, vm: Vm) -> Result<(), ScriptErro
 
     let name = args.program.display().to_string();
     let controller_pid = args.controller_pid;
-    let debugger =
-        Debugger::new(table.clone() as SharedTable, task, chunk_name(&name), move || controller_alive(controller_pid));
+    let debugger = Debugger::new(table.clone() as SharedTable, task, chunk_name(&name), move || {
+        ipc::process_alive(controller_pid)
+    });
     debugger.install(&lua).map_err(|e| ScriptError::lua(e.to_string()))?;
     // The watcher maps the task table for itself: a mapping belongs to one thread.
     let ns = args.ns.clone();
@@ -259,13 +260,6 @@ fn run_attached(args: ScriptArgs, source: &str, vm: Vm) -> Result<(), ScriptErro
     // On the simulation clock the core may be waiting for this turn to end.
     table.park(args.task);
     result
-}
-
-/// Whether the controller process still exists (the same check as `TaskEndpoint`'s, which
-/// a stopped program makes without borrowing the bindings' endpoint).
-fn controller_alive(pid: u32) -> bool {
-    // SAFETY: signal 0 only checks that the process exists.
-    unsafe { libc::kill(pid as libc::pid_t, 0) == 0 }
 }
 
 /// The program file's chunk name: Lua's messages give `<name>:<line>`, and the debugger

@@ -133,9 +133,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
 /// running with that process (a stopped task's or a restarted one's claim is stale).
 fn runs(snapshot: &Snapshot, task: u8, pid: u32) -> bool {
     let Some(t) = snapshot.tasks.get(task as usize) else { return false };
-    // SAFETY: signal 0 only checks that the process exists.
-    let exists = unsafe { libc::kill(pid as libc::pid_t, 0) == 0 };
-    !TaskState::from(t.state).is_stopped() && t.pid == pid && exists
+    !TaskState::from(t.state).is_stopped() && t.pid == pid && ipc::process_alive(pid)
 }
 
 /// Whether this task runs the agent (and is not serving it right now).
