@@ -43,6 +43,8 @@ fn soak(args: &[&str], json: &std::path::Path) -> (serde_json::Value, String) {
         "floor: bare loop lateness",
         "floor: fixed work execution",
         "floor: fixed work CPU time",
+        "cycle wake-up CPU time",
+        "floor: wake-up CPU time",
     ] {
         let m = metrics.iter().find(|m| m["name"] == name).unwrap_or_else(|| panic!("{name} in {report}"));
         assert!(m["count"].as_u64().unwrap() > 0, "{name}");
@@ -91,6 +93,9 @@ fn check_cycle(report: &serde_json::Value, stdout: &str) {
     let (late, long, both) = (u(&cycle["late_wake_up"]), u(&cycle["long_execution"]), u(&cycle["both"]));
     assert_eq!(late + long + both, overruns, "each overrun has one cause: {cycle}");
     assert!(u(&cycle["own_work"]) <= long + both, "own work is a long execution: {cycle}");
+    let floor_periods = u(&metric(report, "floor: fixed work execution")["count"]);
+    assert_eq!(u(&cycle["floor_periods"]), floor_periods, "{cycle}");
+    assert!(u(&cycle["floor_works_over_budget"]) <= floor_periods, "{cycle}");
     let period = f(&cycle["period_us"]);
     assert_eq!(period, f(&report["run"]["period_us"]));
     assert_eq!(f(&cycle["wake_up_allowance_us"]), period / 10.0);
@@ -103,6 +108,14 @@ fn check_cycle(report: &serde_json::Value, stdout: &str) {
     }
     assert!(stdout.contains(&format!("overruns {overruns}: {late} late wake-up")), "{stdout}");
     assert!(stdout.contains("cycle execution / period"), "{stdout}");
+    // The way out of a sleep is a few microseconds of the kernel's, at its median less than
+    // a cycle's work; the own-work target says how much the machine charged at worst.
+    let (wake_up, work) =
+        (f(&metric(report, "cycle wake-up CPU time")["p50"]), f(&metric(report, "cycle CPU time")["p50"]));
+    assert!(wake_up < work, "a wake-up's CPU time {wake_up} us vs a cycle's {work} us");
+    let line = stdout.lines().find(|l| l.contains("overruns caused by the cycle's own work")).unwrap();
+    assert!(line.contains("the bare loop's fixed work (0.2 of the period) took more CPU time than that"), "{line}");
+    assert!(line.contains("the machine charged a wake-up up to"), "{line}");
 }
 
 /// One row per script in rank order; their wake-ups are the `wake-up` metric's.

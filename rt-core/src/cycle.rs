@@ -24,7 +24,7 @@ use crate::console::{ConsoleInbox, ControllerState};
 use crate::dispatch;
 use crate::machine::Machine;
 use crate::master;
-use crate::overrun::OverrunCauses;
+use crate::overrun::{OverrunCauses, OverrunCycle};
 use crate::realtime::{self, Granted};
 use crate::scope::ScopeSampler;
 use crate::sim_clock::Lockstep;
@@ -75,9 +75,12 @@ pub struct CycleStats {
     pub lateness: Histogram<u64>,
     /// Execution time of one cycle's work, ns.
     pub execution: Histogram<u64>,
-    /// The RT thread's CPU time for one cycle's work (from its wake-up to the work's end;
-    /// the sleep is not in it), ns.
+    /// The RT thread's CPU time for one cycle (from its wake-up to its sleep), ns.
     pub cpu: Histogram<u64>,
+    /// The CPU time charged to the RT thread on its way out of each sleep, before the wake-up
+    /// is timed (`realtime::WokeCpuTime`), ns: what the machine charges as CPU time while
+    /// the thread does next to nothing.
+    pub wake_up_cpu: Histogram<u64>,
     pub ipc: CoreIpcStats,
     pub granted: Granted,
     /// CPU time the RT thread used over the run, and the run's length, ns.
@@ -106,6 +109,7 @@ impl CycleStats {
             lateness: histogram(),
             execution: histogram(),
             cpu: histogram(),
+            wake_up_cpu: histogram(),
             ipc: CoreIpcStats::default(),
             granted,
             cpu_ns: 0,
@@ -334,6 +338,10 @@ pub fn run(
     let mut stats = CycleStats::new(granted);
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();
+    // A cycle's CPU time is known at the next wake-up (`CycleCpuTime`), and so is an
+    // overrun's cause: it waits there, its CPU time to be filled in.
+    let mut cycle_cpu = realtime::CycleCpuTime::default();
+    let mut unclassified_overrun: Option<OverrunCycle> = None;
     let mut deadline = started_ns + pace.unwrap_or(0);
     let mut shutdown_since = None;
     let stopping = || control.shutdown.load(Ordering::Acquire) || control.stop_tasks.load(Ordering::Acquire);
@@ -342,10 +350,17 @@ pub fn run(
         if pace.is_some() {
             realtime::sleep_until(deadline);
         }
+        let cpu = cycle_cpu.woke();
         let woke = monotonic_ns();
-        // The work's CPU time, without the sleep: a stall of the VM while the thread
-        // waits to wake is charged to it as CPU time, and is a late wake-up, not work.
-        let woke_cpu_ns = realtime::thread_cpu_ns();
+        if let Some(cpu) = cpu {
+            work.timing.previous_cpu_ns = cpu.previous_cycle_ns;
+            let _ = stats.cpu.record(cpu.previous_cycle_ns.max(1));
+            let _ = stats.wake_up_cpu.record(cpu.wake_up_ns.max(1));
+            if let Some(mut overrun) = unclassified_overrun.take() {
+                overrun.cpu_ns = cpu.previous_cycle_ns;
+                stats.overrun_causes.count(period, overrun);
+            }
+        }
         work.timing.lateness_ns = woke.saturating_sub(deadline);
         let _ = stats.lateness.record(work.timing.lateness_ns.max(1));
 
@@ -366,16 +381,12 @@ pub fn run(
         control.cycle.store(work.cycle, Ordering::Release);
         control.active_tasks.store(work.machine.tasks.active() as u64, Ordering::Release);
 
-        // Read inside the wall-time window (`woke`..`done`), so the CPU time is never more.
-        let cycle_cpu_ns = realtime::thread_cpu_ns() - woke_cpu_ns;
         let done = monotonic_ns();
         if work.recording {
             stats.recorded_wall_ns = done - started_ns;
         }
         work.timing.previous_execution_ns = done.saturating_sub(woke);
         let _ = stats.execution.record(work.timing.previous_execution_ns.max(1));
-        work.timing.previous_cpu_ns = cycle_cpu_ns;
-        let _ = stats.cpu.record(cycle_cpu_ns.max(1));
         stats.cycles = work.cycle;
         if let Some(lockstep) = &mut lockstep {
             lockstep.settle(
@@ -396,8 +407,11 @@ pub fn run(
                 if done > deadline {
                     // Missed the next deadline: count it and resume on the period grid.
                     stats.overruns += 1;
-                    let timing = work.timing;
-                    stats.overrun_causes.count(pace, timing.lateness_ns, timing.previous_execution_ns, cycle_cpu_ns);
+                    unclassified_overrun = Some(OverrunCycle {
+                        lateness_ns: work.timing.lateness_ns,
+                        execution_ns: work.timing.previous_execution_ns,
+                        cpu_ns: 0,
+                    });
                     work.overruns = stats.overruns;
                     deadline += (done - deadline).div_ceil(pace) * pace;
                 }
@@ -412,6 +426,11 @@ pub fn run(
                 break;
             }
         }
+    }
+    if let Some(mut overrun) = unclassified_overrun {
+        // The last cycle did not sleep: its CPU time is read after it.
+        overrun.cpu_ns = cycle_cpu.since_woke();
+        stats.overrun_causes.count(period, overrun);
     }
     stats.ipc = work.endpoint.stats();
     stats.cpu_ns = realtime::thread_cpu_ns() - started_cpu_ns;

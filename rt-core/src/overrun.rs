@@ -6,11 +6,24 @@
 //! wake-up is L > X and a long execution E > P - X; since L + E > P, every overrun is at
 //! least one of the two, so "late only", "long only" and "both" add up to the overruns.
 //! E is wall time: of the long executions, those whose own CPU time also exceeded P - X
-//! were the cycle's own work; the rest were the thread preempted while it worked.
+//! were the cycle's own work; the rest were the thread preempted while it worked. (A VM
+//! may charge a stall of its vCPU to the thread as CPU time: the soak measures how often
+//! the machine alone does so, beside the count.)
 
 /// The wake-up allowance: a tenth of the period.
 pub fn wake_up_allowance_ns(period_ns: u64) -> u64 {
     period_ns / 10
+}
+
+/// What is known of an overrun cycle at the next wake-up, ns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OverrunCycle {
+    /// How late it woke after its deadline.
+    pub lateness_ns: u64,
+    /// Its work's wall time.
+    pub execution_ns: u64,
+    /// The RT thread's CPU time from its wake-up to its sleep.
+    pub cpu_ns: u64,
 }
 
 /// The overruns of a run by cause; plain counters, so the RT thread counts without allocating.
@@ -28,20 +41,19 @@ pub struct OverrunCauses {
 }
 
 impl OverrunCauses {
-    /// Counts one overrun: the cycle woke `lateness_ns` after its deadline, took
-    /// `execution_ns` of wall time and `cpu_ns` of the thread's CPU time.
-    pub fn count(&mut self, period_ns: u64, lateness_ns: u64, execution_ns: u64, cpu_ns: u64) {
+    /// Counts one overrun.
+    pub fn count(&mut self, period_ns: u64, cycle: OverrunCycle) {
         let allowance = wake_up_allowance_ns(period_ns);
         let budget = period_ns.saturating_sub(allowance);
-        let late = lateness_ns > allowance;
+        let late = cycle.lateness_ns > allowance;
         // An overrun that woke in time must have worked past the budget (L + E > P).
-        let long = execution_ns > budget || !late;
+        let long = cycle.execution_ns > budget || !late;
         match (late, long) {
             (true, true) => self.both += 1,
             (true, false) => self.late_wake_up += 1,
             _ => self.long_execution += 1,
         }
-        if long && cpu_ns > budget {
+        if long && cycle.cpu_ns > budget {
             self.own_work += 1;
         }
     }
@@ -58,16 +70,21 @@ mod tests {
 
     const P: u64 = 1_000_000;
 
+    fn cycle(lateness_ns: u64, execution_ns: u64, cpu_ns: u64) -> OverrunCycle {
+        OverrunCycle { lateness_ns, execution_ns, cpu_ns }
+    }
+
     #[test]
     fn each_overrun_has_one_cause() {
         let mut c = OverrunCauses::default();
-        c.count(P, 500_000, 600_000, 100_000); // late wake-up, the work fitted
-        c.count(P, 20_000, 990_000, 950_000); // on time, the work itself too long
-        c.count(P, 20_000, 990_000, 300_000); // on time, preempted while working
-        c.count(P, 300_000, 950_000, 950_000); // both
-        // CPU time counts from the end of the previous cycle's work, so it may exceed this
-        // one's execution: a late wake-up whose work fitted is still not the work's fault.
-        c.count(P, 300_000, 800_000, 950_000);
+        c.count(P, cycle(500_000, 600_000, 100_000)); // late wake-up, the work fitted
+        c.count(P, cycle(20_000, 990_000, 950_000)); // on time, the work itself too long
+        c.count(P, cycle(20_000, 990_000, 300_000)); // on time, preempted while working
+        c.count(P, cycle(300_000, 950_000, 950_000)); // both
+        // CPU time counts from the wake-up to the sleep, the way out of and into the sleep
+        // too, so it may exceed the execution: a late wake-up whose work fitted is still not
+        // the work's fault.
+        c.count(P, cycle(300_000, 800_000, 950_000));
         assert_eq!(c, OverrunCauses { late_wake_up: 2, long_execution: 2, both: 1, own_work: 2 });
         assert_eq!(c.total(), 5);
     }
@@ -81,7 +98,7 @@ mod tests {
             for execution in (0..=P).step_by(P as usize / 40) {
                 if lateness + execution > P {
                     overruns += 1;
-                    c.count(P, lateness, execution, execution);
+                    c.count(P, cycle(lateness, execution, execution));
                 }
             }
         }

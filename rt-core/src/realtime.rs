@@ -141,12 +141,70 @@ pub fn sleep_until(deadline_ns: u64) {
     {}
 }
 
-/// CPU time the calling thread has used, ns (CLOCK_THREAD_CPUTIME_ID).
+/// CPU time the calling thread has used, ns (CLOCK_THREAD_CPUTIME_ID). For a running
+/// thread Linux brings the count up to date under its run queue's lock
+/// (`task_sched_runtime`); on a VM a lock held by a vCPU the host has descheduled stalls the
+/// reader for milliseconds, and the stall counts as its CPU time.
 pub fn thread_cpu_ns() -> u64 {
     let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
     // SAFETY: `ts` is valid for the call.
     unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
     ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
+}
+
+/// CPU time the calling thread had used when the kernel last accounted it, ns, to the
+/// microsecond (getrusage RUSAGE_THREAD), without any run-queue lock: as of its last sleep,
+/// or of a scheduler tick since. Read right after a wake-up it is the CPU time up to the
+/// sleep before.
+pub fn thread_cpu_ns_at_last_sleep() -> u64 {
+    // SAFETY: an all-zero `rusage` is valid, and the call only writes it.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    unsafe { libc::getrusage(libc::RUSAGE_THREAD, &mut usage) };
+    let us = |t: libc::timeval| t.tv_sec as u64 * 1_000_000 + t.tv_usec as u64;
+    (us(usage.ru_utime) + us(usage.ru_stime)) * 1_000
+}
+
+/// The CPU time of a thread that sleeps once a cycle, from each wake-up to the next sleep,
+/// with one read under the run-queue lock a cycle.
+///
+/// At the wake-up the exact count is read before the caller reads the wall time: a wait for
+/// the lock there, or a stall of the VM on the way out of the sleep (both charged to the
+/// thread as CPU time), fall into the wake-up's lateness, not into the work. The cycle's
+/// end is read at the next wake-up from the lock-free count the kernel brought up to date
+/// as the thread went to sleep (`thread_cpu_ns_at_last_sleep`).
+#[derive(Debug, Default)]
+pub struct CycleCpuTime {
+    woke_ns: Option<u64>,
+}
+
+/// What a wake-up learns of the CPU time (`CycleCpuTime::woke`), ns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WokeCpuTime {
+    /// The previous cycle's, from its wake-up to its sleep.
+    pub previous_cycle_ns: u64,
+    /// This wake-up's, from the end of the sleep to now: the way out of the sleep (a few
+    /// microseconds) and whatever stall of the VM the kernel charged to the thread there.
+    pub wake_up_ns: u64,
+}
+
+impl CycleCpuTime {
+    /// Called first thing after each wake-up (none for the first).
+    pub fn woke(&mut self) -> Option<WokeCpuTime> {
+        // Before the exact read, which brings the lock-free count up to date as well.
+        let at_sleep_ns = thread_cpu_ns_at_last_sleep();
+        let now_ns = thread_cpu_ns();
+        let woke_ns = self.woke_ns.replace(now_ns)?;
+        Some(WokeCpuTime {
+            previous_cycle_ns: at_sleep_ns.saturating_sub(woke_ns),
+            wake_up_ns: now_ns.saturating_sub(at_sleep_ns),
+        })
+    }
+
+    /// The CPU time since the last wake-up, read now: for a last cycle, which ends without
+    /// a sleep.
+    pub fn since_woke(&self) -> u64 {
+        self.woke_ns.map_or(0, |woke_ns| thread_cpu_ns().saturating_sub(woke_ns))
+    }
 }
 
 #[cfg(test)]
@@ -181,5 +239,37 @@ mod tests {
         let limit = std::fs::read(CPU_LATENCY_DEVICE).expect("the device reads while held");
         assert_eq!(limit, 0i32.to_ne_bytes(), "0 us while held");
         drop(held);
+    }
+
+    /// Right after a sleep the lock-free count is the thread's CPU time up to that sleep
+    /// (without the sleep's update it lags by up to a scheduler tick, 4 ms here), and a
+    /// cycle's CPU time is its work's.
+    #[test]
+    fn a_cycle_counts_its_work_up_to_its_sleep() {
+        use std::time::{Duration, Instant};
+        std::thread::spawn(|| {
+            let mut cycle = CycleCpuTime::default();
+            assert_eq!(cycle.woke(), None, "no cycle before the first wake-up");
+            for work in [20, 3].map(Duration::from_millis) {
+                // Work without reading the CPU time, which would bring the count up to date.
+                let started = Instant::now();
+                let mut x = 1.0f64;
+                while started.elapsed() < work {
+                    x = std::hint::black_box(x * 1.000_001);
+                }
+                std::thread::sleep(Duration::from_millis(5));
+                let at_sleep = thread_cpu_ns_at_last_sleep();
+                let now = thread_cpu_ns();
+                assert!(now - at_sleep < 100_000, "{now} ns used, {at_sleep} ns counted at the sleep");
+                let WokeCpuTime { previous_cycle_ns: cpu, wake_up_ns } = cycle.woke().expect("a cycle ended");
+                // Preemption may take some of the work's wall time; nothing adds to it but
+                // the way into the sleep (the scheduler's, which on a busy machine may
+                // balance the CPU's load then), never the sleep itself.
+                assert!(cpu > 0 && cpu < work.as_nanos() as u64 + 2_000_000, "{cpu} ns for {work:?} of work");
+                assert!(wake_up_ns < 2_000_000, "{wake_up_ns} ns for the way out of the sleep");
+            }
+        })
+        .join()
+        .unwrap();
     }
 }

@@ -41,8 +41,8 @@ pub struct TracedAxis {
 }
 
 /// The wall-time columns of a row, ns: how late this cycle woke, how long the previous
-/// cycle's work took, and how much CPU time the RT thread used for that work (which a
-/// preempted cycle does not inflate).
+/// cycle's work took, and how much CPU time the RT thread used from that cycle's wake-up to
+/// its sleep (which a preempted cycle does not inflate).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CycleTiming {
     pub lateness_ns: u64,

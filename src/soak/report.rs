@@ -97,6 +97,10 @@ pub struct CycleReport {
     pub both: u64,
     /// Of `long_execution` and `both`, the cycles whose own CPU time was too long.
     pub own_work: u64,
+    /// The same test on the bare loop's fixed work (`floor::BareLoop::works_over_budget`),
+    /// and the bare loop's periods.
+    pub floor_works_over_budget: u64,
+    pub floor_periods: u64,
 }
 
 /// Percentiles as fractions of a period.
