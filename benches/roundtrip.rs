@@ -51,11 +51,11 @@ fn main() {
     let idle = dir.path().join("idle.lua");
     std::fs::write(&idle, "").unwrap();
     let config = dir.path().join("machine.toml");
-    std::fs::write(&config, "[[axes]]\n[[tasks]]\nid = 0\nprogram = \"idle.lua\"\nexternal = true\nautorun = true\n")
-        .unwrap();
+    // The bench is task 0's process: a controller that serves without programs of its own.
+    std::fs::write(&config, "[[axes]]\n[[tasks]]\nid = 0\nprogram = \"idle.lua\"\nexternal = true\n").unwrap();
     let ns = format!("bench-{}", std::process::id());
     let mut controller = Command::new(env!("CARGO_BIN_EXE_luamotion"))
-        .args(["run", "--ns", &ns, "--config", config.to_str().unwrap()])
+        .args(["serve", "--ns", &ns, "--config", config.to_str().unwrap()])
         .arg("--data-dir")
         .arg(dir.path())
         .stdout(Stdio::null())
