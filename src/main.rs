@@ -434,10 +434,12 @@ fn run(
     let ns = controller.namespace()?;
 
     let mut launcher = controller.launcher(&config, &config.ascii.bind)?;
-    if !config.tasks.iter().any(|t| t.autorun) {
+    // An external task's program is the user's to start: `run` would end at once.
+    if !config.tasks.iter().any(|t| t.autorun && !t.external) {
         eprintln!(
             "error: nothing to run: name a program (`luamotion run a.lua`) or give a machine file with a task \
-             that has `autorun = true`; `luamotion serve` keeps a controller running without programs"
+             that has `autorun = true` and is not `external`; `luamotion serve` keeps a controller running \
+             without programs"
         );
         return Ok(ExitCode::from(2));
     }

@@ -172,15 +172,22 @@ fn every_stop_signal_ends_a_run_in_order() {
     }
 }
 
-/// `luamotion run` with nothing to run says so and exits with 2, instead of waiting forever.
+/// `luamotion run` with nothing to run says so and exits with 2, instead of waiting forever
+/// or ending at once: no program, a task not autorun, an autorun task that is external
+/// (the user's to start).
 #[test]
 fn a_run_with_nothing_to_run_says_so() {
     let dir = tempfile::tempdir().unwrap();
     program(dir.path(), "idle.lua", "Print('never started')\n");
     std::fs::write(dir.path().join("machine.toml"), "[[tasks]]\nid = 3\nprogram = \"idle.lua\"\nautorun = false\n")
         .unwrap();
-    let config = dir.path().join("machine.toml");
-    for args in [vec![], vec!["--config", config.to_str().unwrap()]] {
+    std::fs::write(
+        dir.path().join("external.toml"),
+        "[[tasks]]\nid = 0\nprogram = \"idle.lua\"\nautorun = true\nexternal = true\n",
+    )
+    .unwrap();
+    let (config, external) = (dir.path().join("machine.toml"), dir.path().join("external.toml"));
+    for args in [vec![], vec!["--config", config.to_str().unwrap()], vec!["--config", external.to_str().unwrap()]] {
         let ns = unique_ns("idle");
         let out = finish(start_run(&ns, &args), Duration::from_secs(20));
         assert_eq!(out.status.code(), Some(2), "{args:?}: {}", out.stderr);
