@@ -15,6 +15,11 @@ pub fn wake_up_allowance_ns(period_ns: u64) -> u64 {
     period_ns / 10
 }
 
+/// What a cycle's work may take: the period less the wake-up allowance.
+pub fn work_budget_ns(period_ns: u64) -> u64 {
+    period_ns.saturating_sub(wake_up_allowance_ns(period_ns))
+}
+
 /// What is known of an overrun cycle at the next wake-up, ns.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct OverrunCycle {
@@ -43,9 +48,8 @@ pub struct OverrunCauses {
 impl OverrunCauses {
     /// Counts one overrun.
     pub fn count(&mut self, period_ns: u64, cycle: OverrunCycle) {
-        let allowance = wake_up_allowance_ns(period_ns);
-        let budget = period_ns.saturating_sub(allowance);
-        let late = cycle.lateness_ns > allowance;
+        let budget = work_budget_ns(period_ns);
+        let late = cycle.lateness_ns > wake_up_allowance_ns(period_ns);
         // An overrun that woke in time must have worked past the budget (L + E > P).
         let long = cycle.execution_ns > budget || !late;
         match (late, long) {

@@ -59,7 +59,7 @@ pub fn bare_loop(rt: &RtConfig, period_ns: u64, duration: Duration) -> Result<Ba
     let thread = std::thread::Builder::new().name("floor-loop".into()).spawn(move || {
         realtime::setup_current_thread(&rt);
         let mut work = FixedWork::calibrated((period_ns as f64 * WORK_SHARE) as u64);
-        let budget = period_ns - rt_core::overrun::wake_up_allowance_ns(period_ns);
+        let budget = rt_core::overrun::work_budget_ns(period_ns);
         let mut works_over_budget = 0;
         let (mut lateness, mut fixed_work, mut fixed_work_cpu, mut wake_up_cpu) =
             (metrics::histogram(), metrics::histogram(), metrics::histogram(), metrics::histogram());
