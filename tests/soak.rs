@@ -168,7 +168,15 @@ fn check_memory(report: &serde_json::Value, stdout: &str) {
 fn a_five_second_soak() {
     let dir = tempfile::tempdir().unwrap();
     let (json, plot) = (dir.path().join("soak.json"), dir.path().join("soak.svg"));
-    let (report, stdout) = soak(&["--duration", "5", "--scripts", "2", "--plot", plot.to_str().unwrap()], &json);
+    let args = ["--duration", "5", "--scripts", "2", "--script-cpus", "others", "--plot", plot.to_str().unwrap()];
+    let (report, stdout) = soak(&args, &json);
+    // The workers kept off the RT thread's CPU, where another is left.
+    let run = &report["run"];
+    if u(&run["cpus"]) > 1 && !run["rt_cpu"].is_null() {
+        let others: Vec<u64> = (0..u(&run["cpus"])).filter(|&c| c != u(&run["rt_cpu"])).collect();
+        assert_eq!(run["script_cpus"], serde_json::json!(others), "{stdout}");
+        assert!(stdout.contains(&format!("scripts on CPUs {others:?}")), "{stdout}");
+    }
     let counters = &report["counters"];
     assert!(counters["commands"].as_u64().unwrap() > 1000, "{stdout}");
     assert!(counters["cycles"].as_u64().unwrap() >= 5000, "{stdout}");
@@ -197,4 +205,10 @@ fn a_soak_with_64_scripts() {
     let (report, stdout) = soak(&["--duration", "2", "--scripts", "64"], &json);
     assert_eq!(report["run"]["scripts"], 64, "{stdout}");
     assert!(report["counters"]["commands"].as_u64().unwrap() > 0, "{stdout}");
+    // By default (`auto`) the scripts share the RT thread's CPU unless two others are left.
+    let cpus = u(&report["run"]["cpus"]);
+    assert_eq!(report["run"]["script_cpus"].is_null(), cpus < 3, "{stdout}");
+    if cpus < 3 {
+        assert!(stdout.contains("scripts on every CPU"), "{stdout}");
+    }
 }

@@ -306,6 +306,24 @@ pub struct RtConfig {
     /// (the cycle's timer, a task's reply) finds its CPU awake; false leaves the idle
     /// states to the OS.
     pub idle_poll: bool,
+    /// Which CPUs the script processes the controller starts may run on.
+    pub script_cpus: ScriptCpus,
+}
+
+/// Where the script processes run beside the RT thread (`[rt] script_cpus`). Sharing the
+/// RT thread's CPU costs the cycle its caches and delays its wake-ups while a script holds
+/// that CPU (docs/decisions.md, "Script CPUs"); keeping off it leaves the scripts a CPU
+/// fewer.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ScriptCpus {
+    /// `Others` when at least two CPUs are left besides the RT thread's, else `All`.
+    #[default]
+    Auto,
+    /// Every CPU the controller may use, the RT thread's included.
+    All,
+    /// Every CPU the controller may use but the RT thread's.
+    Others,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
@@ -572,7 +590,14 @@ impl Default for MachineConfig {
 impl Default for RtConfig {
     fn default() -> Self {
         let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-        RtConfig { priority: 80, cpu: (cpus > 1).then(|| cpus - 1), lock_memory: true, script_pool: 2, idle_poll: true }
+        RtConfig {
+            priority: 80,
+            cpu: (cpus > 1).then(|| cpus - 1),
+            lock_memory: true,
+            script_pool: 2,
+            idle_poll: true,
+            script_cpus: ScriptCpus::Auto,
+        }
     }
 }
 
@@ -985,6 +1010,18 @@ mod tests {
         {
             assert!(matches!(parse(text).validate(), Err(ConfigError::Invalid { key: k, .. }) if k == key), "{text}");
         }
+    }
+
+    /// `[rt] script_cpus`: "auto" by default, the three words read, any other refused by
+    /// name.
+    #[test]
+    fn the_script_cpus_are_read_by_name() {
+        assert_eq!(MachineConfig::default().rt.script_cpus, ScriptCpus::Auto);
+        for (word, cpus) in [("auto", ScriptCpus::Auto), ("all", ScriptCpus::All), ("others", ScriptCpus::Others)] {
+            assert_eq!(parse(&format!("[rt]\nscript_cpus = \"{word}\"\n")).rt.script_cpus, cpus, "{word}");
+        }
+        let refused = toml::from_str::<MachineConfig>("[rt]\nscript_cpus = \"rt\"\n").unwrap_err().to_string();
+        assert!(refused.contains("unknown variant `rt`, expected one of `auto`, `all`, `others`"), "{refused}");
     }
 
     /// `[rt] script_pool`: 2 waiting processes by default, 0 allowed, more than the

@@ -2,7 +2,7 @@
 //! CPUs that poll, and absolute-deadline sleeps. Each request the OS refuses is logged and skipped, so that
 //! the controller also runs as a plain thread (in a container, on a laptop).
 
-use crate::config::RtConfig;
+use crate::config::{RtConfig, ScriptCpus};
 
 /// What the OS granted, for the logs and the soak report.
 #[derive(Clone, Copy, Debug, Default)]
@@ -79,28 +79,64 @@ const CPU_LATENCY_DEVICE: &str = "/dev/cpu_dma_latency";
 
 /// Pins the calling thread to `cpu`; whether the OS agreed.
 fn pin_current_thread(cpu: usize) -> bool {
-    // SAFETY: the set is zeroed then filled with a CPU index checked against its size.
+    confine_current_thread(&[cpu])
+}
+
+/// Has the calling thread, and every thread and process it starts from now on, run only
+/// on `cpus`; whether the OS agreed (an empty set or a CPU past the set's size: no).
+pub fn confine_current_thread(cpus: &[usize]) -> bool {
+    if cpus.is_empty() || cpus.iter().any(|&cpu| cpu >= libc::CPU_SETSIZE as usize) {
+        return false;
+    }
+    // SAFETY: the set is zeroed then filled with CPU indices checked against its size.
     unsafe {
         let mut set: libc::cpu_set_t = std::mem::zeroed();
-        cpu < libc::CPU_SETSIZE as usize && {
+        for &cpu in cpus {
             libc::CPU_SET(cpu, &mut set);
-            libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
         }
+        libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set) == 0
     }
 }
 
-/// The CPUs the calling thread may run on, and so the script processes it starts: one
-/// task waker each (`CoreEndpoint::hand_wakes_to_threads`). The RT thread's CPU comes
-/// first, whose waker also takes the tasks of a CPU not listed.
-pub fn task_cpus(config: &RtConfig) -> Vec<usize> {
+/// The CPUs the calling thread may run on; none when the OS does not say.
+fn allowed_cpus() -> Option<Vec<usize>> {
     // SAFETY: `set` is valid for the call, which only writes it; CPU_ISSET reads it.
-    let mut cpus: Vec<usize> = unsafe {
+    unsafe {
         let mut set: libc::cpu_set_t = std::mem::zeroed();
-        if libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) != 0 {
-            // Never empty: the wakers need one CPU to start on.
-            return vec![config.cpu.unwrap_or(0)];
-        }
-        (0..libc::CPU_SETSIZE as usize).filter(|&c| libc::CPU_ISSET(c, &set)).collect()
+        (libc::sched_getaffinity(0, size_of::<libc::cpu_set_t>(), &mut set) == 0)
+            .then(|| (0..libc::CPU_SETSIZE as usize).filter(|&c| libc::CPU_ISSET(c, &set)).collect())
+    }
+}
+
+/// The CPUs the script processes are kept to (`[rt] script_cpus`), read from the calling
+/// thread before the RT thread pins itself; none: they run wherever the controller may.
+pub fn script_cpus(config: &RtConfig) -> Option<Vec<usize>> {
+    script_cpus_among(config.script_cpus, config.cpu, &allowed_cpus()?)
+}
+
+/// `script_cpus` with the RT thread on `rt_cpu` among the controller's `allowed` CPUs:
+/// kept off the RT thread's CPU when asked (`Others`, where another CPU is left) or by
+/// default (`Auto`) where two or more are left, so that one script's CPU time never
+/// waits for another's on a machine of two CPUs.
+fn script_cpus_among(choice: ScriptCpus, rt_cpu: Option<usize>, allowed: &[usize]) -> Option<Vec<usize>> {
+    let rt = rt_cpu.filter(|cpu| allowed.contains(cpu))?;
+    let others: Vec<usize> = allowed.iter().copied().filter(|&cpu| cpu != rt).collect();
+    let keep_off = match choice {
+        ScriptCpus::All => false,
+        ScriptCpus::Others => !others.is_empty(),
+        ScriptCpus::Auto => others.len() >= 2,
+    };
+    keep_off.then_some(others)
+}
+
+/// The CPUs the calling thread may run on, and so the script processes: one task waker
+/// each (`CoreEndpoint::hand_wakes_to_threads`). The RT thread's CPU comes first, whose
+/// waker rings the others and takes the tasks of a CPU not listed (with the scripts kept
+/// off its CPU, it only rings).
+pub fn task_cpus(config: &RtConfig) -> Vec<usize> {
+    // Never empty: the wakers need one CPU to start on.
+    let Some(mut cpus) = allowed_cpus().filter(|cpus| !cpus.is_empty()) else {
+        return vec![config.cpu.unwrap_or(0)];
     };
     if let Some(rt) = config.cpu.filter(|rt| cpus.contains(rt)) {
         cpus.retain(|&c| c != rt);
@@ -225,6 +261,53 @@ mod tests {
         assert_eq!(pinned, expected);
         let elsewhere = task_cpus(&RtConfig { cpu: Some(libc::CPU_SETSIZE as usize + 1), ..RtConfig::default() });
         assert_eq!(elsewhere, floating);
+    }
+
+    /// `[rt] script_cpus` on machines of 1 to 4 CPUs with the RT thread on the last (one
+    /// row per case): the scripts keep off its CPU when asked and another is left, or by
+    /// default when two are; an RT thread not pinned, or pinned outside, keeps nothing.
+    #[test]
+    fn the_scripts_keep_off_the_rt_cpu_as_asked() {
+        use ScriptCpus::{All, Auto, Others};
+        // (asked, the RT thread's CPU, the controller's CPUs, the scripts' CPUs)
+        type Row = (ScriptCpus, Option<usize>, &'static [usize], Option<&'static [usize]>);
+        let rows: [Row; 11] = [
+            (Auto, Some(3), &[0, 1, 2, 3], Some(&[0, 1, 2])),
+            (Auto, Some(2), &[0, 1, 2], Some(&[0, 1])),
+            (Auto, Some(1), &[0, 1], None),
+            (Auto, Some(0), &[0], None),
+            (Others, Some(1), &[0, 1], Some(&[0])),
+            (Others, Some(0), &[0], None),
+            (All, Some(3), &[0, 1, 2, 3], None),
+            (Auto, None, &[0, 1, 2, 3], None),
+            (Others, None, &[0, 1], None),
+            (Others, Some(7), &[0, 1], None),
+            (Others, Some(2), &[1, 2, 5], Some(&[1, 5])),
+        ];
+        for (choice, rt, allowed, expected) in rows {
+            let got = script_cpus_among(choice, rt, allowed);
+            assert_eq!(got.as_deref(), expected, "{choice:?} with the RT thread on {rt:?} of {allowed:?}");
+        }
+    }
+
+    /// A thread confined to a CPU starts its processes there (a process inherits its
+    /// starter's mask); an empty set is refused and changes nothing.
+    #[test]
+    fn a_confined_thread_starts_its_processes_on_its_cpus() {
+        let cpu = *allowed_cpus().expect("this thread's CPUs").last().expect("a CPU");
+        let listed = std::thread::spawn(move || {
+            assert!(!confine_current_thread(&[]), "an empty set is refused");
+            assert!(confine_current_thread(&[cpu]), "confined to CPU {cpu}");
+            assert_eq!(allowed_cpus(), Some(vec![cpu]));
+            let mut child = std::process::Command::new("sleep").arg("5").spawn().expect("start sleep");
+            let status = std::fs::read_to_string(format!("/proc/{}/status", child.id())).expect("its status");
+            let _ = child.kill();
+            let _ = child.wait();
+            status.lines().find_map(|l| l.strip_prefix("Cpus_allowed_list:")).map(|l| l.trim().to_string())
+        })
+        .join()
+        .unwrap();
+        assert_eq!(listed, Some(cpu.to_string()), "the child may run on CPU {cpu} only");
     }
 
     /// Held, the limit is the device's value (its read gives the lowest limit held); not

@@ -24,7 +24,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-use config::{AxisConfig, DC_CYCLES_US, MachineConfig, RtConfig, TaskConfig};
+use config::{AxisConfig, DC_CYCLES_US, MachineConfig, RtConfig, ScriptCpus, TaskConfig};
 use ipc::{Monitor, Namespace};
 use rt_core::supervisor::ScriptLauncher;
 
@@ -56,6 +56,10 @@ pub struct SoakArgs {
     /// soak, floors included, as the controller has them (`[rt] idle_poll`).
     #[arg(long)]
     pub no_idle_poll: bool,
+    /// Where the worker processes run beside the RT thread, as the controller's
+    /// `[rt] script_cpus`: auto (off its CPU where two others are left), all, others.
+    #[arg(long, default_value = "auto", value_parser = script_cpus)]
+    pub script_cpus: ScriptCpus,
     /// Keep every CPU busy with background work during the floors and the run.
     #[arg(long)]
     pub load: bool,
@@ -109,6 +113,13 @@ impl Drop for Load {
     }
 }
 
+/// `--script-cpus`, read by the machine file's words.
+fn script_cpus(word: &str) -> Result<ScriptCpus, String> {
+    use serde::Deserialize;
+    let word = serde::de::value::StrDeserializer::<serde::de::value::Error>::new(word);
+    ScriptCpus::deserialize(word).map_err(|e| e.to_string())
+}
+
 fn kernel_release() -> String {
     std::fs::read_to_string("/proc/sys/kernel/osrelease").map(|s| s.trim().to_string()).unwrap_or_default()
 }
@@ -132,6 +143,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
     let rt = RtConfig {
         cpu: if args.no_pin { None } else { defaults.cpu },
         idle_poll: defaults.idle_poll && !args.no_idle_poll,
+        script_cpus: args.script_cpus,
         ..defaults
     };
     // The floors are measured with the CPUs the run's controller has.
@@ -153,7 +165,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         in_namespace(&format!("{ns}-floor"), |ns| floor::iceoryx2(ns, period_ns, floor_time))?;
     let futex_wake = in_namespace(&format!("{ns}-futex"), |ns| floor::futex(ns, period_ns, floor_time))?;
 
-    let Measured { merged, workers, stats, memory } = run(&args, &rt, axes, &ns)?;
+    let Measured { merged, workers, stats, memory, script_cpus } = run(&args, &rt, axes, &ns)?;
     let granted = stats.granted;
 
     let floor_one_way = Row::new(floor::ONE_WAY, &one_way);
@@ -207,6 +219,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         rt_cpu: granted.cpu,
         memory_locked: granted.memory_locked,
         idle_poll: granted.idle_poll,
+        script_cpus,
     };
     let period_us = args.period_us as f64;
     let row = |name: &str| rows.iter().find(|r| r.name == name).expect("a row of the table");
@@ -260,6 +273,8 @@ struct Measured {
     workers: Vec<WorkerResult>,
     stats: rt_core::cycle::CycleStats,
     memory: memory::Sample,
+    /// The CPUs the workers were kept to; none: every CPU.
+    script_cpus: Option<Vec<usize>>,
 }
 
 /// One row per script: its wake-ups, its CPU time, its memory.
@@ -354,6 +369,14 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
         "run: {} scripts against a {} us controller with {axes} axes, {} s",
         args.scripts, args.period_us, args.duration
     );
+    // The workers start where the controller's own scripts would: from this thread,
+    // kept to those CPUs.
+    let script_cpus = rt_core::realtime::script_cpus(rt);
+    if let Some(cpus) = &script_cpus
+        && !rt_core::realtime::confine_current_thread(cpus)
+    {
+        bail!("cannot keep the workers to CPUs {cpus:?}");
+    }
     let mut workers = Vec::new();
     for task in 0..args.scripts {
         let out = dir.path().join(format!("worker-{task}.json"));
@@ -415,7 +438,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
     if !failures.is_empty() {
         bail!("soak workers failed: {}", failures.join(", "));
     }
-    Ok(Measured { merged, workers: results, stats: report.stats, memory })
+    Ok(Measured { merged, workers: results, stats: report.stats, memory, script_cpus })
 }
 
 /// The targets, evaluated on this run.

@@ -188,6 +188,8 @@ pub struct RunInfo {
     pub memory_locked: bool,
     /// Idle CPUs polled (`[rt] idle_poll`).
     pub idle_poll: bool,
+    /// The CPUs the scripts were kept to (`[rt] script_cpus`); none: every CPU.
+    pub script_cpus: Option<Vec<usize>>,
 }
 
 #[derive(Debug, Serialize)]
@@ -229,11 +231,12 @@ impl Report {
             r.kernel
         );
         println!(
-            "RT thread: SCHED_FIFO {}, CPU {}, memory {}, idle CPUs {}",
+            "RT thread: SCHED_FIFO {}, CPU {}, memory {}, idle CPUs {}; scripts on {}",
             r.fifo_priority.map_or("refused".to_string(), |p| p.to_string()),
             r.rt_cpu.map_or("not pinned".to_string(), |c| c.to_string()),
             if r.memory_locked { "locked" } else { "not locked" },
-            if r.idle_poll { "poll" } else { "may halt" }
+            if r.idle_poll { "poll" } else { "may halt" },
+            r.script_cpus.as_ref().map_or("every CPU".to_string(), |cpus| format!("CPUs {cpus:?}"))
         );
         println!();
         println!(
