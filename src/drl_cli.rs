@@ -64,18 +64,9 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
 
     // Before the tasks start, so their first FreePort.Serial call finds it.
     let serial = args.controller.serial_port(&config, None);
-    let options = rt_core::RunOptions {
-        ns: ns.clone(),
-        launcher: args.controller.launcher(&config, &ascii_bind)?,
-        exit_when_tasks_end: false,
-        data_dir,
-        trace: None,
-        scope: Vec::new(),
-        stop: None,
-        console: Some(inbox),
-        clock: rt_core::sim_clock::Clock::RealTime,
-        inputs: None,
-    };
+    let launcher = args.controller.launcher(&config, &ascii_bind)?;
+    let options =
+        rt_core::RunOptions { console: Some(inbox), ..rt_core::RunOptions::serving(ns.clone(), launcher, data_dir) };
     let controller = rt_core::controller::Background::start(config, options)?;
     let servers = drl::Server::start(setup, &bind, port, limits).and_then(|modbus| {
         let ascii = drl::ascii::Server::start(ns.clone(), agent_task, &ascii_bind, ascii_port, ascii_limits)?;

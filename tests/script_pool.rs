@@ -212,3 +212,33 @@ fn places_come_back_while_their_tasks_run_and_every_script_dies_with_the_control
     assert_eq!(scripts.len(), 1 + starts + 2, "main, the started tasks, two waiting: {scripts:?}");
     assert!(gone, "every script process died with the controller: {scripts:?}");
 }
+
+/// The supervisor sleeps while nothing happens (a task asleep, the pool full): it wakes
+/// for an order or a process' end, and otherwise looks every 10 ms, not every
+/// millisecond. Counted by its thread's voluntary context switches (the controller's
+/// main thread in `luamotion run`) over 2 s: about 200 then, 2000 with a 1 ms poll.
+#[test]
+fn the_supervisor_sleeps_while_nothing_happens() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = program(dir.path(), "main.lua", "Sleep(6000)\nPrint('woke')\n");
+    let ns = unique_ns("pool-quiet");
+    let child = start(&ns, &machine(dir.path(), 2, &[(main.as_path(), true)]));
+    let pid = child.id();
+    let switches = || {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/task/{pid}/status")).unwrap_or_default();
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix("voluntary_ctxt_switches:"))
+            .and_then(|n| n.trim().parse::<u64>().ok())
+    };
+    let full = eventually(Duration::from_secs(20), || waiting_children_of(pid).len() == 2);
+    let before = switches();
+    std::thread::sleep(Duration::from_secs(2));
+    let after = switches();
+    let out = finish(child, Duration::from_secs(60));
+    let context = format!("{}\n{}", out.stdout, out.stderr);
+    assert!(out.status.success() && full, "{context}");
+    assert_eq!(out.lines_of_task(0), vec!["woke"], "{context}");
+    let (Some(before), Some(after)) = (before, after) else { panic!("the main thread's status read: {context}") };
+    assert!(after - before < 600, "{} wake-ups of the supervisor in 2 s", after - before);
+}

@@ -21,8 +21,6 @@ use crate::supervisor::{ScriptLauncher, Supervisor, TaskReport};
 use crate::tasks::{self, Tasks};
 use crate::trace;
 
-/// How often the supervisor looks at its processes and the core's orders.
-const POLL_PERIOD: Duration = Duration::from_millis(1);
 /// How long the tasks have to be stopped in order at shutdown before the rest are killed.
 const STOP_PATIENCE: Duration = Duration::from_secs(2);
 
@@ -62,6 +60,26 @@ pub struct RunOptions {
     pub inputs: Option<crate::replay::Feed>,
 }
 
+impl RunOptions {
+    /// A controller that runs until it is stopped, on the real-time clock, without a
+    /// trace, a scope, a console or recorded inputs: what `serve`, the DRL console and the
+    /// soak start from.
+    pub fn serving(ns: Namespace, launcher: ScriptLauncher, data_dir: PathBuf) -> Self {
+        RunOptions {
+            ns,
+            launcher,
+            exit_when_tasks_end: false,
+            data_dir,
+            trace: None,
+            scope: Vec::new(),
+            stop: None,
+            console: None,
+            clock: Clock::RealTime,
+            inputs: None,
+        }
+    }
+}
+
 pub struct RunReport {
     pub tasks: Vec<TaskReport>,
     pub stats: CycleStats,
@@ -96,7 +114,8 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         tracing::error!("EtherCAT start-up stopped in {:?}: {e}", network.state());
     }
     let kernel = Kernel::new(&config, &network);
-    let (core_link, supervisor_end) = tasks::link();
+    let (core_link, supervisor_end) =
+        tasks::link().map_err(|e| ControllerError::RtStart(format!("the supervisor's bell: {e}")))?;
     let tasks = Tasks::new(&config.tasks, config.period_ns(), core_link);
     let machine = Machine::new(network, kernel, tasks, config.period_ns()).with_position_triggers(&config);
     let task_ids: Vec<u8> = config.tasks.iter().map(|t| t.id).collect();
@@ -196,7 +215,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
             failure = Some(ControllerError::RtDied("the cycle ended on its own".into()));
             break;
         }
-        std::thread::sleep(POLL_PERIOD);
+        supervisor.wait();
     }
 
     stop_tasks(&mut supervisor, &control);
@@ -227,7 +246,7 @@ fn stop_tasks(supervisor: &mut Supervisor, control: &RtControl) {
     let since = std::time::Instant::now();
     while (supervisor.running() > 0 || control.active_tasks() > 0) && since.elapsed() < STOP_PATIENCE {
         supervisor.poll();
-        std::thread::sleep(POLL_PERIOD);
+        supervisor.wait();
     }
     supervisor.stop_all();
 }

@@ -35,6 +35,11 @@ impl Pool {
         Pool { size, waiting: Vec::with_capacity(size), next_start: Instant::now() + FIRST_FILL_AFTER }
     }
 
+    /// Every place of the pool has its waiting process (a pool of none is full).
+    pub fn is_full(&self) -> bool {
+        self.waiting.len() >= self.size
+    }
+
     /// The waiting process `pid`, which the core handed a task; `None` when it died
     /// before it took the task (the caller starts one the usual way). One that took it
     /// and ended already (a short program) is the task's process all the same: its end is

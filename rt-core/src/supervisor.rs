@@ -3,6 +3,7 @@
 //! output line by line with the task id in front (`crate::output`), and keeps each task's CPU time in the
 //! task table for the tools.
 
+use std::os::fd::{AsFd, AsRawFd, BorrowedFd, FromRawFd, OwnedFd};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
@@ -58,10 +59,19 @@ struct Running {
     forwarders: Vec<JoinHandle<()>>,
     kill_ordered: bool,
     alarm: Option<String>,
+    /// Readable once the process has ended (`pidfd_open`), to wake the supervisor's wait;
+    /// none where the OS has no pidfds: the end is then seen at the next look.
+    ended: Option<OwnedFd>,
 }
 
 /// How often CPU times are read from /proc.
 const CPU_PERIOD: Duration = Duration::from_millis(100);
+/// How long the supervisor sleeps when neither an order nor a process' end wakes it: the
+/// pool, the CPU times and the controller's stop are looked at this often.
+const IDLE_LOOK: Duration = Duration::from_millis(10);
+/// As `IDLE_LOOK`, while the pool is short of a process or a task handed to one has not
+/// started yet, which nothing rings for.
+const BUSY_LOOK: Duration = Duration::from_millis(1);
 
 pub struct Supervisor {
     ns: Namespace,
@@ -119,6 +129,7 @@ impl Supervisor {
 
     /// One round: the core's orders, the processes that ended, the CPU times.
     pub fn poll(&mut self) {
+        self.link.clear_bell();
         while let Some(order) = self.link.next_order() {
             match order {
                 Order::Start { task, entry } => self.start(task, entry),
@@ -142,9 +153,7 @@ impl Supervisor {
         }
         // A replacement waits until the processes handed a task have started it: its own
         // start (ms of CPU) would compete with theirs, which a program is waiting for.
-        let handed_starting =
-            self.running.iter().any(|r| r.place.is_some() && !self.table.slots[r.id as usize].started());
-        if !self.shutting_down && !handed_starting {
+        if !self.shutting_down && !self.handed_starting() {
             let (launcher, ns, data_dir) = (&self.launcher, &self.ns, &self.data_dir);
             self.pool.refill(&self.table.pool, |place| {
                 let mut command = script_command(launcher, ns, data_dir);
@@ -163,6 +172,20 @@ impl Supervisor {
                 }
             }
         }
+    }
+
+    /// Sleeps until the core orders something or a task's process ends, at most until
+    /// the next look (`IDLE_LOOK`, `BUSY_LOOK` while the pool refills or a handed task
+    /// starts). A signal cuts it short.
+    pub fn wait(&self) {
+        let busy = !self.shutting_down && (!self.pool.is_full() || self.handed_starting());
+        let ends = self.running.iter().filter_map(|r| r.ended.as_ref()).map(|fd| fd.as_fd());
+        wait_for_any(std::iter::once(self.link.bell()).chain(ends), if busy { BUSY_LOOK } else { IDLE_LOOK });
+    }
+
+    /// A process handed a task from the pool has not started it yet.
+    fn handed_starting(&self) -> bool {
+        self.running.iter().any(|r| r.place.is_some() && !self.table.slots[r.id as usize].started())
     }
 
     fn start(&mut self, id: u8, entry: Entry) {
@@ -226,6 +249,7 @@ impl Supervisor {
         ];
         let pooled = place.is_some();
         tracing::info!(task = task.id, pid, pooled, program = %task.program.display(), "started");
+        let ended = end_of(pid);
         self.running.push(Running {
             id: task.id,
             program: task.program.clone(),
@@ -235,6 +259,7 @@ impl Supervisor {
             forwarders,
             kill_ordered: false,
             alarm: None,
+            ended,
         });
         pid
     }
@@ -350,6 +375,23 @@ fn script_command(launcher: &ScriptLauncher, ns: &Namespace, data_dir: &Path) ->
     command
 }
 
+/// A descriptor that reads ready once process `pid`, a child not reaped yet, has ended
+/// (`pidfd_open`, Linux 5.3); none where the OS refuses it.
+fn end_of(pid: u32) -> Option<OwnedFd> {
+    // SAFETY: pidfd_open with no flags; the result is checked before it is owned.
+    let fd = unsafe { libc::syscall(libc::SYS_pidfd_open, pid as libc::pid_t, 0) };
+    // SAFETY: a fresh descriptor nothing else owns.
+    (fd >= 0).then(|| unsafe { OwnedFd::from_raw_fd(fd as i32) })
+}
+
+/// Sleeps until one of `fds` reads ready, at most `timeout` (a signal cuts it short).
+fn wait_for_any<'a>(fds: impl Iterator<Item = BorrowedFd<'a>>, timeout: Duration) {
+    let mut fds: Vec<libc::pollfd> =
+        fds.map(|fd| libc::pollfd { fd: fd.as_raw_fd(), events: libc::POLLIN, revents: 0 }).collect();
+    // SAFETY: `fds` is a live array of `fds.len()` pollfds on open descriptors.
+    unsafe { libc::poll(fds.as_mut_ptr(), fds.len() as libc::nfds_t, timeout.as_millis() as i32) };
+}
+
 /// An alarm as the log and the event stream say it.
 pub fn describe(report: &AlarmReport) -> String {
     let alarm = Alarm(report.alarm);
@@ -385,4 +427,45 @@ fn cpu_ms(pid: u32) -> Option<u64> {
 /// The program's name as tests and messages show it.
 pub fn display_name(program: &Path) -> String {
     program.file_name().map_or_else(|| program.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wait ends when a watched process ends, not at its timeout.
+    #[test]
+    fn a_wait_ends_with_a_process_end() {
+        let mut child = Command::new("sleep").arg("0.2").spawn().unwrap();
+        let end = end_of(child.id()).expect("pidfd_open (Linux 5.3)");
+        let since = Instant::now();
+        wait_for_any(std::iter::once(end.as_fd()), Duration::from_secs(30));
+        assert!(since.elapsed() < Duration::from_secs(15), "woken by the end, not the timeout: {:?}", since.elapsed());
+        assert!(child.try_wait().unwrap().is_some(), "the process has ended");
+    }
+
+    /// An order rings the supervisor's bell and a wait ends with it; with nothing rung, or
+    /// the bell cleared before the orders are taken, a wait sleeps its whole timeout.
+    #[test]
+    fn an_order_wakes_the_supervisor() {
+        let (mut core, supervisor) = crate::tasks::link().unwrap();
+        let quiet = Instant::now();
+        wait_for_any(std::iter::once(supervisor.bell()), Duration::from_millis(50));
+        assert!(quiet.elapsed() >= Duration::from_millis(50), "nothing rang");
+        std::thread::scope(|scope| {
+            let core = &mut core;
+            scope.spawn(move || {
+                std::thread::sleep(Duration::from_millis(100));
+                core.order(Order::Kill { task: 0, pid: 1 });
+            });
+            let since = Instant::now();
+            wait_for_any(std::iter::once(supervisor.bell()), Duration::from_secs(30));
+            assert!(since.elapsed() < Duration::from_secs(15), "woken by the order: {:?}", since.elapsed());
+        });
+        supervisor.clear_bell();
+        assert!(matches!(supervisor.next_order(), Some(Order::Kill { task: 0, pid: 1 })));
+        let cleared = Instant::now();
+        wait_for_any(std::iter::once(supervisor.bell()), Duration::from_millis(50));
+        assert!(cleared.elapsed() >= Duration::from_millis(50), "the bell was cleared");
+    }
 }

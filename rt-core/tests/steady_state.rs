@@ -249,7 +249,7 @@ fn a_cycle_never_allocates_in_steady_state() {
     let kernel = Kernel::new(&config, &network);
     // Task 0 is played by a thread of this test: attached, as a tool would be.
     let task = TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(0, "-".into()) };
-    let (link, _supervisor) = tasks::link();
+    let (link, _supervisor) = tasks::link().expect("the bell");
     let tasks = Tasks::new(&[task], config.period_ns(), link);
     let machine = Machine::new(network, kernel, tasks, config.period_ns()).with_position_triggers(&config);
     let ns = Namespace::new(&format!("t{}-alloc", std::process::id())).unwrap();

@@ -349,18 +349,8 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
     };
     config.validate()?;
     let dir = tempfile::tempdir()?;
-    let options = rt_core::RunOptions {
-        ns: Namespace::new(ns)?,
-        launcher: ScriptLauncher { executable: exe.clone(), subcommand: vec!["script".into()] },
-        exit_when_tasks_end: false,
-        data_dir: dir.path().to_path_buf(),
-        trace: None,
-        scope: Vec::new(),
-        stop: None,
-        console: None,
-        clock: rt_core::sim_clock::Clock::RealTime,
-        inputs: None,
-    };
+    let launcher = ScriptLauncher { executable: exe.clone(), subcommand: vec!["script".into()] };
+    let options = rt_core::RunOptions::serving(Namespace::new(ns)?, launcher, dir.path().to_path_buf());
     let controller = rt_core::controller::Background::start(config, options)?;
     let namespace = Namespace::new(ns)?;
     let mut monitor = Monitor::open(&namespace)?;

@@ -1,7 +1,9 @@
 //! The RT thread and the supervisor talk through two bounded lock-free queues: the core
 //! orders (start a process, kill one, publish an alarm), the supervisor reports what the
-//! processes did. Neither side ever waits for the other.
+//! processes did. Neither side ever waits for the other; the supervisor sleeps until an
+//! order rings its bell or one of its processes ends.
 
+use std::os::fd::{AsFd, AsRawFd, BorrowedFd, FromRawFd, OwnedFd};
 use std::sync::Arc;
 
 use crossbeam::queue::ArrayQueue;
@@ -102,6 +104,7 @@ pub enum Report {
 pub struct CoreLink {
     orders: Arc<ArrayQueue<Order>>,
     reports: Arc<ArrayQueue<Report>>,
+    bell: Arc<OrderBell>,
     lost_orders: u64,
 }
 
@@ -109,19 +112,57 @@ pub struct CoreLink {
 pub struct SupervisorEnd {
     orders: Arc<ArrayQueue<Order>>,
     reports: Arc<ArrayQueue<Report>>,
+    bell: Arc<OrderBell>,
 }
 
-pub fn link() -> (CoreLink, SupervisorEnd) {
+/// What the RT thread rings with each order, so that the supervisor sleeps until there
+/// is one instead of looking every millisecond: an eventfd, whose write takes a spinlock
+/// and never sleeps, so the RT thread never blocks on it.
+struct OrderBell(OwnedFd);
+
+impl OrderBell {
+    fn new() -> std::io::Result<Self> {
+        // SAFETY: eventfd with constant flags; the descriptor is checked before it is owned.
+        let fd = unsafe { libc::eventfd(0, libc::EFD_NONBLOCK | libc::EFD_CLOEXEC) };
+        if fd < 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+        // SAFETY: a fresh descriptor nothing else owns.
+        Ok(OrderBell(unsafe { OwnedFd::from_raw_fd(fd) }))
+    }
+
+    fn ring(&self) {
+        let one = 1u64;
+        // SAFETY: an 8-byte write from a live u64 to the eventfd; a full counter (EAGAIN)
+        // still leaves it readable, so a failure loses no wake-up.
+        unsafe { libc::write(self.0.as_raw_fd(), (&raw const one).cast(), 8) };
+    }
+
+    /// Takes the rings so far: the bell reads quiet again.
+    fn clear(&self) {
+        let mut rings = 0u64;
+        // SAFETY: an 8-byte read into a live u64 from the non-blocking eventfd.
+        unsafe { libc::read(self.0.as_raw_fd(), (&raw mut rings).cast(), 8) };
+    }
+}
+
+/// The two ends; an error when the OS refuses the bell (no file descriptor left).
+pub fn link() -> std::io::Result<(CoreLink, SupervisorEnd)> {
     let orders = Arc::new(ArrayQueue::new(CAPACITY));
     let reports = Arc::new(ArrayQueue::new(CAPACITY));
-    (CoreLink { orders: orders.clone(), reports: reports.clone(), lost_orders: 0 }, SupervisorEnd { orders, reports })
+    let bell = Arc::new(OrderBell::new()?);
+    Ok((
+        CoreLink { orders: orders.clone(), reports: reports.clone(), bell: bell.clone(), lost_orders: 0 },
+        SupervisorEnd { orders, reports, bell },
+    ))
 }
 
 impl CoreLink {
     /// Never blocks; an order that finds the queue full is counted and dropped.
     pub fn order(&mut self, order: Order) {
-        if self.orders.push(order).is_err() {
-            self.lost_orders += 1;
+        match self.orders.push(order) {
+            Ok(()) => self.bell.ring(),
+            Err(_) => self.lost_orders += 1,
         }
     }
 
@@ -137,6 +178,17 @@ impl CoreLink {
 impl SupervisorEnd {
     pub fn next_order(&self) -> Option<Order> {
         self.orders.pop()
+    }
+
+    /// The bell the RT thread rings with each order, to wait on (`poll`: readable once
+    /// rung).
+    pub fn bell(&self) -> BorrowedFd<'_> {
+        self.bell.0.as_fd()
+    }
+
+    /// Before the orders are taken: a ring from now on wakes the next wait.
+    pub fn clear_bell(&self) {
+        self.bell.clear();
     }
 
     /// Reports never get lost: a full queue is retried until the RT thread drains it.

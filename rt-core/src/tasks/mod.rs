@@ -457,7 +457,7 @@ mod tests {
                 watchdog_ms: 10,
                 ..TaskConfig::autorun(id, "p.lua".into())
             };
-            let (link, supervisor) = link();
+            let (link, supervisor) = link().expect("the bell");
             let configs = [config(0, FaultReaction::Decelerate), config(1, FaultReaction::Disable)];
             let tasks = Tasks::new(&configs, 1_000_000, link);
             Rig { tasks, supervisor, table: zeroed(), shared: zeroed(), cycle: 0, reactions: Vec::new() }

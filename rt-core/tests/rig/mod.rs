@@ -48,7 +48,7 @@ impl Rig {
             fault_reaction: reaction,
             ..TaskConfig::autorun(id, "-".into())
         };
-        let (link, supervisor) = tasks::link();
+        let (link, supervisor) = tasks::link().expect("the bell");
         let tasks = Tasks::new(&[attached(0), attached(1)], config.period_ns(), link);
         let machine = Machine::new(network, kernel, tasks, config.period_ns());
         Rig { machine, table: zeroed(), shared: zeroed(), _supervisor: supervisor }
