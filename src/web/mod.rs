@@ -120,11 +120,8 @@ fn read_state(
     stop: &AtomicBool,
     ready: mpsc::Sender<Result<(), IpcError>>,
 ) {
-    let opened = Monitor::open(&ns).and_then(|monitor| Ok((monitor, EventReader::open(&ns)?)));
-    let Some((mut monitor, events)) = drl::listener::opened(&ready, opened) else { return };
     let mut recent = VecDeque::with_capacity(EVENTS);
-    let mut next = Instant::now();
-    while !stop.load(Ordering::Relaxed) {
+    let mut look = |monitor: &mut Monitor, events: &EventReader| {
         monitor.refresh();
         while let Ok(Some(record)) = events.try_next() {
             if recent.len() == EVENTS {
@@ -135,8 +132,20 @@ fn read_state(
         if let Some(snapshot) = monitor.latest() {
             publish.send_replace(view(snapshot, monitor.table(), &recent).to_string().into());
         }
+    };
+    // The first state is published before the view says it is ready: once announced, it
+    // never answers `{}` for a controller that has a state.
+    let opened = Monitor::open(&ns).and_then(|mut monitor| {
+        let events = EventReader::open(&ns)?;
+        look(&mut monitor, &events);
+        Ok((monitor, events))
+    });
+    let Some((mut monitor, events)) = drl::listener::opened(&ready, opened) else { return };
+    let mut next = Instant::now();
+    while !stop.load(Ordering::Relaxed) {
         next += PERIOD;
         std::thread::sleep(next.saturating_duration_since(Instant::now()));
+        look(&mut monitor, &events);
     }
 }
 
@@ -360,5 +369,35 @@ fn write_register(drl: &mut DrlHandler, address: u16, value: u16) -> Result<(), 
     match response.first() {
         Some(0x06) => Ok(()),
         _ => Err(format!("the DRL console refused {value} at {address:#06X}: {response:02X?}")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The state thread publishes the controller's state before it says it is ready, so
+    /// the view, once announced, never answers `{}`: with its loop stopped from the start,
+    /// what it published before the ready is all there is, and it has the axes.
+    #[test]
+    fn the_first_state_is_published_before_the_view_is_ready() {
+        let ns = Namespace::new(&format!("web-first-{}", std::process::id())).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let config = config::MachineConfig {
+            axes: vec![config::AxisConfig::default(); 2],
+            rt: config::RtConfig { priority: 0, lock_memory: false, ..config::RtConfig::default() },
+            ..config::MachineConfig::default()
+        };
+        let launcher = rt_core::supervisor::ScriptLauncher { executable: "/bin/false".into(), subcommand: Vec::new() };
+        let options = rt_core::RunOptions::serving(ns.clone(), launcher, dir.path().to_path_buf());
+        let controller = rt_core::controller::Background::start(config, options).unwrap();
+        let (publish, state) = watch::channel(Arc::<str>::from("{}"));
+        let (ready_tx, ready) = mpsc::channel();
+        read_state(ns.clone(), publish, &AtomicBool::new(true), ready_tx);
+        assert!(matches!(ready.try_recv(), Ok(Ok(()))), "the view said it was ready");
+        let published: serde_json::Value = serde_json::from_str(&state.borrow()).unwrap();
+        controller.stop().unwrap();
+        ipc::remove_namespace_files(&ns);
+        assert_eq!(published["axes"].as_array().map(Vec::len), Some(2), "{published}");
     }
 }
