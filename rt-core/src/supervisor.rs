@@ -145,7 +145,15 @@ impl Supervisor {
                     let task = self.running.swap_remove(i);
                     self.reap(task, status);
                 }
-                _ => i += 1,
+                Ok(None) => i += 1,
+                Err(e) => {
+                    // Not ours to reap (someone else waited for it): its pidfd would read
+                    // ready for good and wake every wait, so it is watched by the looks only.
+                    if self.running[i].ended.take().is_some() {
+                        tracing::warn!(task = self.running[i].id, "cannot wait for the task's process: {e}");
+                    }
+                    i += 1;
+                }
             }
         }
         if self.pool.reap(&self.table.pool) {
