@@ -121,8 +121,6 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     let task_ids: Vec<u8> = config.tasks.iter().map(|t| t.id).collect();
 
     let control = Arc::new(RtControl::default());
-    // Read before the RT thread pins itself, like the wakers' CPUs below.
-    let script_cpus = realtime::script_cpus(&config.rt);
     let (ready_tx, ready_rx) = mpsc::channel();
     let rt = {
         let (ns, control, rt_config) = (options.ns.clone(), control.clone(), config.rt.clone());
@@ -178,8 +176,8 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     let granted = ready_rx.recv().map_err(|_| ControllerError::RtStart("no word from the RT thread".into()))??;
     tracing::info!(?granted, cycle_us = config.cycle_us, axes = config.axes.len(), ns = %options.ns, "controller up");
     // The supervisor's thread takes the scripts' CPUs, and so does every script process
-    // it starts from now on.
-    if let Some(cpus) = script_cpus {
+    // it starts from now on (the RT thread pinned only itself).
+    if let Some(cpus) = realtime::script_cpus(&config.rt) {
         if realtime::confine_current_thread(&cpus) {
             tracing::info!(?cpus, "script processes run off the RT thread's CPU");
         } else {

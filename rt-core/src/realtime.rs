@@ -108,16 +108,16 @@ fn allowed_cpus() -> Option<Vec<usize>> {
     }
 }
 
-/// The CPUs the script processes are kept to (`[rt] script_cpus`), read from the calling
-/// thread before the RT thread pins itself; none: they run wherever the controller may.
+/// The CPUs the script processes are kept to (`[rt] script_cpus`), of those the calling
+/// thread may run on; none: they run wherever the controller may.
 pub fn script_cpus(config: &RtConfig) -> Option<Vec<usize>> {
     script_cpus_among(config.script_cpus, config.cpu, &allowed_cpus()?)
 }
 
 /// `script_cpus` with the RT thread on `rt_cpu` among the controller's `allowed` CPUs:
 /// kept off the RT thread's CPU when asked (`Others`, where another CPU is left) or by
-/// default (`Auto`) where two or more are left, so that one script's CPU time never
-/// waits for another's on a machine of two CPUs.
+/// default (`Auto`) where two or more are left: on a machine of two CPUs the scripts
+/// would otherwise have one between them.
 fn script_cpus_among(choice: ScriptCpus, rt_cpu: Option<usize>, allowed: &[usize]) -> Option<Vec<usize>> {
     let rt = rt_cpu.filter(|cpu| allowed.contains(cpu))?;
     let others: Vec<usize> = allowed.iter().copied().filter(|&cpu| cpu != rt).collect();
