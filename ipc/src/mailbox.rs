@@ -28,15 +28,33 @@ const REQUEST_HEAD: usize = 2 + MAX_ARGS;
 /// blob_len << 48`, the values.
 const REPLY_HEAD: usize = 5 + MAX_ARGS;
 
-/// One task's mailbox: its request and the core's reply, each behind its sequence word.
+/// One side of a mailbox without its blob: the sequence word and the words before the blob,
+/// on cache lines of their own (the side's writer is another process than its reader).
+#[repr(C, align(64))]
+struct Head<const WORDS: usize> {
+    seq: AtomicU64,
+    words: [AtomicU64; WORDS],
+}
+
+/// What every call of one task touches: its request's head and its reply's, 320 bytes.
 #[repr(C)]
-pub struct Mailbox {
-    request_seq: AtomicU64,
-    request: [AtomicU64; REQUEST_HEAD],
-    request_blob: [AtomicU64; BLOB_WORDS],
-    reply_seq: AtomicU64,
-    reply: [AtomicU64; REPLY_HEAD],
-    reply_blob: [AtomicU64; BLOB_WORDS],
+struct Heads {
+    request: Head<REQUEST_HEAD>,
+    reply: Head<REPLY_HEAD>,
+}
+
+/// One task's blobs, kept apart from the heads: only a call that carries a blob touches them.
+#[repr(C)]
+struct Blobs {
+    request: [AtomicU64; BLOB_WORDS],
+    reply: [AtomicU64; BLOB_WORDS],
+}
+
+/// One task's mailbox: its request and the core's reply, each behind its sequence word.
+#[derive(Clone, Copy)]
+pub struct Mailbox<'a> {
+    heads: &'a Heads,
+    blobs: &'a Blobs,
 }
 
 /// The words that hold `len` bytes of a blob (`len` at most `BLOB_SIZE`).
@@ -68,17 +86,18 @@ fn copy_is_whole(seq: &AtomicU64, seen: u64) -> bool {
     seq.load(Ordering::Relaxed) == seen
 }
 
-impl Mailbox {
+impl Mailbox<'_> {
     /// The task's side: writes `request` (its `seq` set) and publishes its sequence number.
     pub fn write_request(&self, request: &Request) {
-        begin_write(&self.request_seq);
+        let head = &self.heads.request;
+        begin_write(&head.seq);
         let words =
             [request.sent_ns, request.func as u64 | (request.argc as u64) << 16 | (request.blob_len as u64) << 32];
-        for (word, value) in self.request.iter().zip(words.iter().chain(&request.args)) {
+        for (word, value) in head.words.iter().zip(words.iter().chain(&request.args)) {
             word.store(*value, Ordering::Relaxed);
         }
-        store_blob(&self.request_blob, &request.blob, request.blob_len as usize);
-        self.request_seq.store(request.seq, Ordering::Release);
+        store_blob(&self.blobs.request, &request.blob, request.blob_len as usize);
+        head.seq.store(request.seq, Ordering::Release);
     }
 
     /// The core's side: copies the request out into `into`; its sequence number, or `None`
@@ -86,24 +105,26 @@ impl Mailbox {
     /// blob length are copied as written (the decoder refuses what no binding sends); only
     /// the blob's words up to `BLOB_SIZE` are read.
     pub fn read_request(&self, into: &mut Request) -> Option<u64> {
-        let seq = self.request_seq.load(Ordering::Acquire);
+        let head = &self.heads.request;
+        let seq = head.seq.load(Ordering::Acquire);
         if seq == 0 {
             return None;
         }
         into.seq = seq;
-        into.sent_ns = self.request[0].load(Ordering::Relaxed);
-        let packed = self.request[1].load(Ordering::Relaxed);
+        into.sent_ns = head.words[0].load(Ordering::Relaxed);
+        let packed = head.words[1].load(Ordering::Relaxed);
         (into.func, into.argc, into.blob_len) = (packed as u16, (packed >> 16) as u16, (packed >> 32) as u32);
-        for (arg, word) in into.args.iter_mut().zip(&self.request[2..]) {
+        for (arg, word) in into.args.iter_mut().zip(&head.words[2..]) {
             *arg = word.load(Ordering::Relaxed);
         }
-        load_blob(&self.request_blob, &mut into.blob, into.blob_len as usize);
-        copy_is_whole(&self.request_seq, seq).then_some(seq)
+        load_blob(&self.blobs.request, &mut into.blob, into.blob_len as usize);
+        copy_is_whole(&head.seq, seq).then_some(seq)
     }
 
     /// The core's side: writes `reply` and publishes its sequence number.
     pub fn write_reply(&self, reply: &Reply) {
-        begin_write(&self.reply_seq);
+        let words = &self.heads.reply;
+        begin_write(&words.seq);
         let head = [
             reply.request_sent_ns,
             reply.received_ns,
@@ -111,33 +132,34 @@ impl Mailbox {
             reply.cycle,
             reply.rc as u64 | (reply.valuec as u64) << 32 | (reply.blob_len as u64) << 48,
         ];
-        for (word, value) in self.reply.iter().zip(head.iter().chain(&reply.values)) {
+        for (word, value) in words.words.iter().zip(head.iter().chain(&reply.values)) {
             word.store(*value, Ordering::Relaxed);
         }
-        store_blob(&self.reply_blob, &reply.blob, reply.blob_len as usize);
-        self.reply_seq.store(reply.seq, Ordering::Release);
+        store_blob(&self.blobs.reply, &reply.blob, reply.blob_len as usize);
+        words.seq.store(reply.seq, Ordering::Release);
     }
 
     /// The task's side: the sequence number of the reply the mailbox holds, copied into
     /// `into`; `None` when it holds none or was rewritten during the copy. The value count
     /// and blob length are kept within their arrays.
     pub fn read_reply(&self, into: &mut Reply) -> Option<u64> {
-        let seq = self.reply_seq.load(Ordering::Acquire);
+        let head = &self.heads.reply;
+        let seq = head.seq.load(Ordering::Acquire);
         if seq == 0 {
             return None;
         }
         into.seq = seq;
-        let word = |i: usize| self.reply[i].load(Ordering::Relaxed);
+        let word = |i: usize| head.words[i].load(Ordering::Relaxed);
         (into.request_sent_ns, into.received_ns, into.sent_ns, into.cycle) = (word(0), word(1), word(2), word(3));
         let packed = word(4);
         into.rc = packed as u32;
         into.valuec = ((packed >> 32) as u16).min(MAX_ARGS as u16);
         into.blob_len = ((packed >> 48) as u16).min(BLOB_SIZE as u16);
-        for (value, word) in into.values.iter_mut().zip(&self.reply[5..]) {
+        for (value, word) in into.values.iter_mut().zip(&head.words[5..]) {
             *value = word.load(Ordering::Relaxed);
         }
-        load_blob(&self.reply_blob, &mut into.blob, into.blob_len as usize);
-        copy_is_whole(&self.reply_seq, seq).then_some(seq)
+        load_blob(&self.blobs.reply, &mut into.blob, into.blob_len as usize);
+        copy_is_whole(&head.seq, seq).then_some(seq)
     }
 }
 
@@ -149,13 +171,17 @@ pub struct Calls {
     posted: AtomicU64,
     /// Bit t: the core serves task t (written once, when the core creates the table).
     configured: AtomicU64,
-    mailboxes: [Mailbox; MAX_TASKS],
+    /// Every task's heads, side by side: a cycle that serves 64 calls touches 5 pages of
+    /// them, not 64 (on a virtual machine each page the RT thread touches may stall it,
+    /// README "Huge pages"); the blobs after them.
+    heads: [Heads; MAX_TASKS],
+    blobs: [Blobs; MAX_TASKS],
 }
 
 impl Calls {
     /// Task `task`'s mailbox.
-    pub fn mailbox(&self, task: u8) -> &Mailbox {
-        &self.mailboxes[task as usize]
+    pub fn mailbox(&self, task: u8) -> Mailbox<'_> {
+        Mailbox { heads: &self.heads[task as usize], blobs: &self.blobs[task as usize] }
     }
 
     /// The task's side: writes `request` into task `task`'s mailbox and posts it.
@@ -194,6 +220,18 @@ mod tests {
         }
         request.set_blob(blob);
         request
+    }
+
+    /// The heads the core touches for every call fit 5 pages for the 64 tasks, and no two
+    /// writers share a cache line: a task's request head, the core's reply head, the next
+    /// task's request head.
+    #[test]
+    fn the_heads_are_dense_and_each_writer_has_its_own_cache_lines() {
+        assert_eq!(size_of::<Head<REQUEST_HEAD>>(), 128);
+        assert_eq!(size_of::<Heads>(), 320);
+        assert_eq!(std::mem::offset_of!(Heads, reply), 128);
+        assert_eq!(std::mem::offset_of!(Calls, heads) % 64, 0);
+        assert!(size_of::<[Heads; MAX_TASKS]>() <= 5 * 4096);
     }
 
     /// A posted request reaches the core whole, once; the core's reply reaches the task.
@@ -273,15 +311,15 @@ mod tests {
         let table: Box<TaskTable> = crate::shm::zeroed();
         let mailbox = table.calls.mailbox(4);
         mailbox.write_request(&request(5 << 32 | 1, &[1], b""));
-        begin_write(&mailbox.request_seq);
-        mailbox.request[2].store(666, Ordering::Relaxed);
+        begin_write(&mailbox.heads.request.seq);
+        mailbox.heads.request.words[2].store(666, Ordering::Relaxed);
         let mut taken = Request::new(0);
         assert_eq!(mailbox.read_request(&mut taken), None, "died halfway: nothing to take");
 
         mailbox.write_request(&request(5 << 32 | 2, &[2], b""));
-        let seen = mailbox.request_seq.load(Ordering::Acquire);
+        let seen = mailbox.heads.request.seq.load(Ordering::Acquire);
         mailbox.write_request(&request(5 << 32 | 3, &[3], b""));
-        assert!(!copy_is_whole(&mailbox.request_seq, seen), "rewritten during a copy: dropped");
+        assert!(!copy_is_whole(&mailbox.heads.request.seq, seen), "rewritten during a copy: dropped");
     }
 
     /// Two threads, one posting calls and waiting for their replies, one serving: every
