@@ -296,8 +296,20 @@ enum ApiFormat {
     Lua,
 }
 
+impl Cmd {
+    /// Whether the command runs a controller in this process (its heap is then kept as the
+    /// RT thread wants it, `rt_core::huge_pages::keep_one_heap`).
+    fn hosts_a_controller(&self) -> bool {
+        matches!(self, Cmd::Run { .. } | Cmd::Test(_) | Cmd::Serve(_) | Cmd::Soak(_))
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if cli.command.hosts_a_controller() {
+        // Before any thread starts.
+        rt_core::huge_pages::keep_one_heap();
+    }
     init_logging(cli.verbose);
     // plotters lays text out with it (the soak's report and the scope's plots).
     scope::register_font();

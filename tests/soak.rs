@@ -177,6 +177,12 @@ fn a_five_second_soak() {
         assert_eq!(run["script_cpus"], serde_json::json!(others), "{stdout}");
         assert!(stdout.contains(&format!("scripts on CPUs {others:?}")), "{stdout}");
     }
+    // The controller's memory in huge pages, where the kernel has them.
+    let thp = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled").unwrap_or_default();
+    if !thp.is_empty() && !thp.contains("[never]") {
+        assert!(u(&run["huge_page_bytes"]) >= 2 << 20, "{stdout}");
+        assert!(stdout.contains("MiB in huge pages"), "{stdout}");
+    }
     let counters = &report["counters"];
     assert!(counters["commands"].as_u64().unwrap() > 1000, "{stdout}");
     assert!(counters["cycles"].as_u64().unwrap() >= 5000, "{stdout}");
@@ -202,8 +208,9 @@ fn a_five_second_soak() {
 fn a_soak_with_64_scripts() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("soak.json");
-    let (report, stdout) = soak(&["--duration", "2", "--scripts", "64"], &json);
+    let (report, stdout) = soak(&["--duration", "2", "--scripts", "64", "--no-huge-pages"], &json);
     assert_eq!(report["run"]["scripts"], 64, "{stdout}");
+    assert!(report["run"]["huge_page_bytes"].is_null() && stdout.contains("in 4 KiB pages"), "{stdout}");
     assert!(report["counters"]["commands"].as_u64().unwrap() > 0, "{stdout}");
     // By default (`auto`) the scripts share the RT thread's CPU unless two others are left.
     let cpus = u(&report["run"]["cpus"]);

@@ -308,6 +308,10 @@ pub struct RtConfig {
     pub idle_poll: bool,
     /// Which CPUs the script processes the controller starts may run on.
     pub script_cpus: ScriptCpus,
+    /// Before its first cycle the RT thread has the controller's private memory rebuilt in
+    /// 2 MiB pages (transparent huge pages, `MADV_COLLAPSE`): fewer pages for the cycle to
+    /// touch, each a possible stall on a virtual machine; false leaves 4 KiB pages.
+    pub huge_pages: bool,
 }
 
 /// Where the script processes run beside the RT thread (`[rt] script_cpus`). Sharing the
@@ -597,6 +601,7 @@ impl Default for RtConfig {
             script_pool: 2,
             idle_poll: true,
             script_cpus: ScriptCpus::Auto,
+            huge_pages: true,
         }
     }
 }
@@ -1022,6 +1027,13 @@ mod tests {
         }
         let refused = toml::from_str::<MachineConfig>("[rt]\nscript_cpus = \"rt\"\n").unwrap_err().to_string();
         assert!(refused.contains("unknown variant `rt`, expected one of `auto`, `all`, `others`"), "{refused}");
+    }
+
+    /// `[rt] huge_pages`: on by default, off when asked.
+    #[test]
+    fn huge_pages_are_on_unless_turned_off() {
+        assert!(MachineConfig::default().rt.huge_pages);
+        assert!(!parse("[rt]\nhuge_pages = false\n").rt.huge_pages);
     }
 
     /// `[rt] script_pool`: 2 waiting processes by default, 0 allowed, more than the

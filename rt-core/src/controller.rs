@@ -169,7 +169,11 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                     Clock::Sim { speed } => Some(Lockstep::new(&task_configs, speed, &endpoint).with_feed(feed)),
                 };
                 let _ = ready_tx.send(Ok(granted));
-                Some(cycle::run(machine, endpoint, control, granted, trace, Some(scope), console, lockstep))
+                let work = cycle::CycleWork::new(machine, endpoint)
+                    .with_trace(trace)
+                    .with_scope(Some(scope))
+                    .with_console(console);
+                Some(cycle::run(work, control, granted, rt_config.huge_pages, lockstep))
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };

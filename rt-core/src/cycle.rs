@@ -22,6 +22,7 @@ use ipc::{CoreEndpoint, CoreIpcStats};
 
 use crate::console::{ConsoleInbox, ControllerState};
 use crate::dispatch;
+use crate::huge_pages::{self, HugePages};
 use crate::machine::Machine;
 use crate::master;
 use crate::overrun::{OverrunCauses, OverrunCycle};
@@ -83,6 +84,8 @@ pub struct CycleStats {
     pub wake_up_cpu: Histogram<u64>,
     pub ipc: CoreIpcStats,
     pub granted: Granted,
+    /// What the kernel rebuilt in huge pages before the first cycle; none: not asked.
+    pub huge_pages: Option<HugePages>,
     /// CPU time the RT thread used over the run, and the run's length, ns.
     pub cpu_ns: u64,
     pub wall_ns: u64,
@@ -112,6 +115,7 @@ impl CycleStats {
             wake_up_cpu: histogram(),
             ipc: CoreIpcStats::default(),
             granted,
+            huge_pages: None,
             cpu_ns: 0,
             wall_ns: 0,
             simulation_ns: 0,
@@ -315,19 +319,15 @@ impl CycleWork {
 }
 
 /// Runs cycles until a shutdown is requested and the axes are disabled; with `lockstep`,
-/// on the simulation clock (`sim_clock`).
-#[allow(clippy::too_many_arguments)]
+/// on the simulation clock (`sim_clock`). With `huge_pages` the process' memory is first
+/// rebuilt in huge pages (`huge_pages`), once everything the cycles use is allocated.
 pub fn run(
-    machine: Machine,
-    endpoint: CoreEndpoint,
+    mut work: CycleWork,
     control: Arc<RtControl>,
     granted: Granted,
-    trace: Option<TraceSender>,
-    scope: Option<ScopeSampler>,
-    console: Option<ConsoleInbox>,
+    huge_pages: bool,
     mut lockstep: Option<Lockstep>,
 ) -> CycleStats {
-    let mut work = CycleWork::new(machine, endpoint).with_trace(trace).with_scope(scope).with_console(console);
     work.sim = lockstep.is_some();
     // The wall time between two deadlines; none: no sleep (`--speed max`).
     let period = work.machine.period_ns;
@@ -336,6 +336,9 @@ pub fn run(
         Some(lockstep) => lockstep.speed().pace_ns(period),
     };
     let mut stats = CycleStats::new(granted);
+    if huge_pages {
+        stats.huge_pages = Some(huge_pages::back_with_huge_pages());
+    }
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();
     // A cycle's CPU time is known at the next wake-up (`CycleCpuTime`), and so is an

@@ -14,6 +14,7 @@ pub mod dispatch;
 pub mod drive;
 pub mod ecat;
 pub mod fun147_boxes;
+pub mod huge_pages;
 pub mod io;
 pub mod machine;
 pub mod master;

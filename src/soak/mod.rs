@@ -56,6 +56,10 @@ pub struct SoakArgs {
     /// soak, floors included, as the controller has them (`[rt] idle_poll`).
     #[arg(long)]
     pub no_idle_poll: bool,
+    /// Leave the controller's memory in 4 KiB pages: by default the RT thread has it
+    /// rebuilt in 2 MiB pages before its first cycle (`[rt] huge_pages`).
+    #[arg(long)]
+    pub no_huge_pages: bool,
     /// Where the worker processes run beside the RT thread, as the controller's
     /// `[rt] script_cpus`: auto (off its CPU where two others are left), all, others.
     #[arg(long, default_value = "auto", value_parser = script_cpus)]
@@ -144,6 +148,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         cpu: if args.no_pin { None } else { defaults.cpu },
         idle_poll: defaults.idle_poll && !args.no_idle_poll,
         script_cpus: args.script_cpus,
+        huge_pages: defaults.huge_pages && !args.no_huge_pages,
         ..defaults
     };
     // The floors are measured with the CPUs the run's controller has.
@@ -219,6 +224,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         rt_cpu: granted.cpu,
         memory_locked: granted.memory_locked,
         idle_poll: granted.idle_poll,
+        huge_page_bytes: stats.huge_pages.map(|h| h.anonymous + h.code),
         script_cpus,
     };
     let period_us = args.period_us as f64;

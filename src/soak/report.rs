@@ -188,6 +188,9 @@ pub struct RunInfo {
     pub memory_locked: bool,
     /// Idle CPUs polled (`[rt] idle_poll`).
     pub idle_poll: bool,
+    /// The controller's memory rebuilt in huge pages before the first cycle, bytes
+    /// (`[rt] huge_pages`); none: not asked.
+    pub huge_page_bytes: Option<usize>,
     /// The CPUs the scripts were kept to (`[rt] script_cpus`); none: every CPU.
     pub script_cpus: Option<Vec<usize>>,
 }
@@ -231,10 +234,11 @@ impl Report {
             r.kernel
         );
         println!(
-            "RT thread: SCHED_FIFO {}, CPU {}, memory {}, idle CPUs {}; scripts on {}",
+            "RT thread: SCHED_FIFO {}, CPU {}, memory {} and {}, idle CPUs {}; scripts on {}",
             r.fifo_priority.map_or("refused".to_string(), |p| p.to_string()),
             r.rt_cpu.map_or("not pinned".to_string(), |c| c.to_string()),
             if r.memory_locked { "locked" } else { "not locked" },
+            r.huge_page_bytes.map_or("in 4 KiB pages".to_string(), |b| format!("{} MiB in huge pages", b >> 20)),
             if r.idle_poll { "poll" } else { "may halt" },
             r.script_cpus.as_ref().map_or("every CPU".to_string(), |cpus| format!("CPUs {cpus:?}"))
         );
