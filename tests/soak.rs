@@ -183,6 +183,9 @@ fn a_five_second_soak() {
         assert!(u(&run["huge_page_bytes"]) >= 2 << 20, "{stdout}");
         assert!(stdout.contains("MiB in huge pages"), "{stdout}");
     }
+    let cycle = &report["cycle"];
+    assert!(u(&cycle["stalled"]) < u(&cycle["cycles"]) / 2 && u(&cycle["cycles"]) >= 5000, "{stdout}");
+    assert!(stdout.contains("cycles stalled (execution over its p50 + 80 us)"), "{stdout}");
     let counters = &report["counters"];
     assert!(counters["commands"].as_u64().unwrap() > 1000, "{stdout}");
     assert!(counters["cycles"].as_u64().unwrap() >= 5000, "{stdout}");

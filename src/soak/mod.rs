@@ -235,6 +235,11 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         wake_up_allowance_us: rt_core::overrun::wake_up_allowance_ns(period_ns) as f64 / 1000.0,
         execution_of_period: Fractions::of(row(CYCLE_EXECUTION), period_us),
         cpu_of_period: Fractions::of(row(CYCLE_CPU), period_us),
+        stalled: {
+            let over = stats.execution.value_at_quantile(0.5) + (report::STALL_US * 1000.0) as u64;
+            stats.execution.count_between(over + 1, stats.execution.max().max(over + 1))
+        },
+        cycles: stats.execution.len(),
         overruns: stats.overruns,
         late_wake_up: causes.late_wake_up,
         long_execution: causes.long_execution,

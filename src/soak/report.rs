@@ -91,6 +91,10 @@ pub struct CycleReport {
     /// `cycle execution` (wall time) and `cycle CPU time` as fractions of the period.
     pub execution_of_period: Fractions,
     pub cpu_of_period: Fractions,
+    /// Cycles whose execution exceeded its median by more than `STALL_US`: on a virtual
+    /// machine mostly the host's stalls of about 135 us (README, "Huge pages").
+    pub stalled: u64,
+    pub cycles: u64,
     pub overruns: u64,
     pub late_wake_up: u64,
     pub long_execution: u64,
@@ -102,6 +106,9 @@ pub struct CycleReport {
     pub floor_works_over_budget: u64,
     pub floor_periods: u64,
 }
+
+/// How much longer than its median a cycle's execution must be to count as stalled, us.
+pub const STALL_US: f64 = 80.0;
 
 /// Percentiles as fractions of a period.
 #[derive(Debug, Serialize)]
@@ -299,6 +306,12 @@ impl Report {
         };
         println!("cycle execution / period {:.0} us: {}", y.period_us, f(&y.execution_of_period));
         println!("cycle CPU time / period:  {}", f(&y.cpu_of_period));
+        println!(
+            "cycles stalled (execution over its p50 + {STALL_US:.0} us): {} of {} ({:.2} %)",
+            y.stalled,
+            y.cycles,
+            y.stalled as f64 * 100.0 / y.cycles.max(1) as f64
+        );
         println!(
             "overruns {}: {} late wake-up (woke > {:.0} us late), {} long execution (work > {:.0} us), {} both; \
              {} of the long ones the cycle's own work (its CPU time > {:.0} us)",
