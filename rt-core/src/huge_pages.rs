@@ -12,9 +12,6 @@
 /// 2 MiB: the x86-64 and arm64 (4 KiB granule) PMD page.
 const HUGE_PAGE: usize = 2 << 20;
 
-/// Linux 6.1's `MADV_COLLAPSE` (not yet in every libc).
-const MADV_COLLAPSE: libc::c_int = 25;
-
 /// What one mapping of `/proc/self/maps` is, as far as huge pages go.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kind {
@@ -108,7 +105,7 @@ pub fn back_with_huge_pages() -> HugePages {
         // SAFETY: advice on a range of this process' own mappings; it changes how the
         // memory is backed, never its contents.
         let ok = unsafe {
-            libc::madvise(addr, len, libc::MADV_HUGEPAGE) == 0 && libc::madvise(addr, len, MADV_COLLAPSE) == 0
+            libc::madvise(addr, len, libc::MADV_HUGEPAGE) == 0 && libc::madvise(addr, len, libc::MADV_COLLAPSE) == 0
         };
         match (ok, mapping.kind) {
             (true, Kind::Anonymous) => done.anonymous += len,
