@@ -296,20 +296,25 @@ enum ApiFormat {
     Lua,
 }
 
-impl Cmd {
-    /// Whether the command runs a controller in this process (its heap is then kept as the
-    /// RT thread wants it, `rt_core::huge_pages::keep_one_heap`).
-    fn hosts_a_controller(&self) -> bool {
-        matches!(self, Cmd::Run { .. } | Cmd::Test(_) | Cmd::Serve(_) | Cmd::Soak(_))
-    }
+/// The commands that run a controller in this process, whose heap is then kept as the RT
+/// thread wants it (`rt_core::huge_pages::keep_one_heap`).
+const HOSTING_COMMANDS: [&str; 4] = ["run", "test", "serve", "soak"];
+
+/// Whether the command line names one of `HOSTING_COMMANDS` (the first word not an option:
+/// the only options before the command are flags). Read before clap parses the line, whose
+/// allocations, freed, would sit in the heap's first page and be reused for the
+/// controller's data, outside its huge pages.
+fn hosts_a_controller(args: impl IntoIterator<Item = std::ffi::OsString>) -> bool {
+    let command = args.into_iter().skip(1).find(|arg| !arg.to_string_lossy().starts_with('-'));
+    command.is_some_and(|command| HOSTING_COMMANDS.iter().any(|hosting| command == *hosting))
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    if cli.command.hosts_a_controller() {
+    if hosts_a_controller(std::env::args_os()) {
         // Before any thread starts.
         rt_core::huge_pages::keep_one_heap();
     }
+    let cli = Cli::parse();
     init_logging(cli.verbose);
     // plotters lays text out with it (the soak's report and the scope's plots).
     scope::register_font();
@@ -630,6 +635,27 @@ fn script(result: Result<(), script_host::ScriptError>) -> ExitCode {
 #[cfg(test)]
 mod tests {
     use clap::CommandFactory;
+
+    /// The commands that host a controller are told from the command line as clap will
+    /// read it, and each is one of `luamotion`'s commands.
+    #[test]
+    fn hosting_commands_are_told_from_the_command_line() {
+        let rows: [(&[&str], bool); 7] = [
+            (&["luamotion", "run", "app.lua"], true),
+            (&["luamotion", "-vv", "soak", "--scripts", "64"], true),
+            (&["luamotion", "test", "-v", "tests/"], true),
+            (&["luamotion", "serve", "project"], true),
+            (&["luamotion", "script", "--ns", "run"], false),
+            (&["luamotion", "--help"], false),
+            (&["luamotion"], false),
+        ];
+        for (line, hosts) in rows {
+            assert_eq!(super::hosts_a_controller(line.iter().map(Into::into)), hosts, "{line:?}");
+        }
+        for command in super::HOSTING_COMMANDS {
+            assert!(super::Cli::command().find_subcommand(command).is_some(), "no command {command}");
+        }
+    }
 
     /// Every argument of every command, hidden ones included, and every value of an
     /// argument that takes a fixed set, says in `--help` what it is.

@@ -12,6 +12,7 @@ use crate::config::MachineConfig;
 use crate::console::ConsoleInbox;
 use crate::cycle::{self, CycleStats, RtControl};
 use crate::ecat::Network;
+use crate::huge_pages;
 use crate::machine::Machine;
 use crate::motion::Kernel;
 use crate::realtime;
@@ -132,6 +133,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         let (clock, task_configs, feed) = (options.clock, config.tasks.clone(), options.inputs);
         std::thread::Builder::new()
             .name("rt-cycle".into())
+            .stack_size(huge_pages::RT_STACK)
             .spawn(move || {
                 // Held until the RT thread ends, with the controller.
                 let idle_poll = realtime::IdlePoll::hold(&rt_config);
@@ -168,12 +170,15 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                     Clock::RealTime => None,
                     Clock::Sim { speed } => Some(Lockstep::new(&task_configs, speed, &endpoint).with_feed(feed)),
                 };
-                let _ = ready_tx.send(Ok(granted));
                 let work = cycle::CycleWork::new(machine, endpoint)
                     .with_trace(trace)
                     .with_scope(Some(scope))
                     .with_console(console);
-                Some(cycle::run(work, control, granted, rt_config.huge_pages, lockstep))
+                // Once everything the cycles use is allocated, and before the controller is
+                // announced: the first cycle follows the word at once.
+                let huge_pages = rt_config.huge_pages.then(huge_pages::back_with_huge_pages);
+                let _ = ready_tx.send(Ok(granted));
+                Some(cycle::run(work, control, granted, huge_pages, lockstep))
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };

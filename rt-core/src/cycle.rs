@@ -22,7 +22,7 @@ use ipc::{CoreEndpoint, CoreIpcStats};
 
 use crate::console::{ConsoleInbox, ControllerState};
 use crate::dispatch;
-use crate::huge_pages::{self, HugePages};
+use crate::huge_pages::HugePages;
 use crate::machine::Machine;
 use crate::master;
 use crate::overrun::{OverrunCauses, OverrunCycle};
@@ -319,13 +319,13 @@ impl CycleWork {
 }
 
 /// Runs cycles until a shutdown is requested and the axes are disabled; with `lockstep`,
-/// on the simulation clock (`sim_clock`). With `huge_pages` the process' memory is first
-/// rebuilt in huge pages (`huge_pages`), once everything the cycles use is allocated.
+/// on the simulation clock (`sim_clock`). `huge_pages`: what `huge_pages` rebuilt before,
+/// for the statistics.
 pub fn run(
     mut work: CycleWork,
     control: Arc<RtControl>,
     granted: Granted,
-    huge_pages: bool,
+    huge_pages: Option<HugePages>,
     mut lockstep: Option<Lockstep>,
 ) -> CycleStats {
     work.sim = lockstep.is_some();
@@ -335,10 +335,7 @@ pub fn run(
         None => Some(period),
         Some(lockstep) => lockstep.speed().pace_ns(period),
     };
-    let mut stats = CycleStats::new(granted);
-    if huge_pages {
-        stats.huge_pages = Some(huge_pages::back_with_huge_pages());
-    }
+    let mut stats = CycleStats { huge_pages, ..CycleStats::new(granted) };
     let started_ns = monotonic_ns();
     let started_cpu_ns = realtime::thread_cpu_ns();
     // A cycle's CPU time is known at the next wake-up (`CycleCpuTime`), and so is an

@@ -224,7 +224,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         rt_cpu: granted.cpu,
         memory_locked: granted.memory_locked,
         idle_poll: granted.idle_poll,
-        huge_page_bytes: stats.huge_pages.map(|h| h.anonymous + h.code),
+        huge_page_bytes: stats.huge_pages.map(|h| h.total()),
         script_cpus,
     };
     let period_us = args.period_us as f64;
