@@ -82,9 +82,9 @@ impl Mapping {
 /// elsewhere nothing): one arena for every thread, grown 2 MiB ahead of what it holds, never
 /// trimmed, no block `mmap`ed apart, and filled up to its first 2 MiB boundary. So the heap
 /// is one region whose 2 MiB pages with data lie whole inside it, which
-/// `back_with_huge_pages` can rebuild (not an arena per
-/// thread, each under 2 MiB); and memory locked once stays locked: no `munmap` later,
-/// whose TLB shootdown would interrupt the RT thread's CPU too.
+/// `back_with_huge_pages` can rebuild (not an arena per thread, each under 2 MiB); and
+/// memory locked once stays locked: no `munmap` later, whose TLB shootdown would interrupt
+/// the RT thread's CPU too.
 pub fn keep_one_heap() {
     #[cfg(target_env = "gnu")]
     // SAFETY: glibc tunables, set while the process has one thread.
@@ -150,8 +150,9 @@ impl HugePages {
     }
 }
 
-/// Rebuilds the process' anonymous memory, shared memory and code in huge pages, as far as the kernel
-/// agrees; at start-up, never in a cycle (it copies memory and takes the `mmap` lock).
+/// Rebuilds the process' anonymous memory, shared memory and code in huge pages, as far
+/// as the kernel agrees; at start-up, never in a cycle (it copies memory and takes the
+/// `mmap` lock).
 pub fn back_with_huge_pages() -> HugePages {
     let started = std::time::Instant::now();
     // Room on the heap for what the controller's other threads allocate once the cycles
