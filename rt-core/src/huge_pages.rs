@@ -372,6 +372,14 @@ mod tests {
         assert_eq!(range(0x1000, 0x3000), None);
     }
 
+    /// Whether the kernel's transparent huge pages `setting` (`enabled`, `shmem_enabled`)
+    /// is there and not `refused` (`never`, `deny`).
+    fn thp_allowed(setting: &str, refused: &str) -> bool {
+        let path = format!("/sys/kernel/mm/transparent_hugepage/{setting}");
+        let value = std::fs::read_to_string(path).unwrap_or_default();
+        !value.is_empty() && !value.contains(&format!("[{refused}]"))
+    }
+
     /// The size of the huge pages backing the mapping that holds `address`, KiB, by
     /// `field` of `/proc/self/smaps` (`AnonHugePages:`, `ShmemPmdMapped:`).
     fn huge_kib_at(address: usize, field: &str) -> u64 {
@@ -395,12 +403,11 @@ mod tests {
     fn memory_allocated_before_is_rebuilt_in_huge_pages() {
         let block = vec![1u8; 16 << 20];
         let inside = (block.as_ptr() as usize).next_multiple_of(HUGE_PAGE);
-        let thp = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled").unwrap_or_default();
         let done = {
             let _turn = ONE_CALL_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
             back_with_huge_pages()
         };
-        if thp.contains("[never]") || thp.is_empty() {
+        if !thp_allowed("enabled", "never") {
             assert_eq!(done.anonymous, 0, "no THP: {done:?}");
             assert!(done.refused > 0, "{done:?}");
         } else {
@@ -417,12 +424,11 @@ mod tests {
         let ns = ipc::Namespace::new(&format!("huge-{}", std::process::id())).expect("namespace");
         let region = ipc::shm::Region::<ipc::shared::SharedData>::create(&ns, "huge").expect("a region");
         let at = &*region as *const _ as usize;
-        let shmem = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/shmem_enabled").unwrap_or_default();
         let done = {
             let _turn = ONE_CALL_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
             back_with_huge_pages()
         };
-        if shmem.contains("[deny]") || shmem.is_empty() {
+        if !thp_allowed("shmem_enabled", "deny") {
             assert_eq!(done.shared, 0, "shared memory may not be huge: {done:?}");
         } else {
             assert!(done.shared >= 2 << 20, "{done:?}");
@@ -438,7 +444,6 @@ mod tests {
         let release = std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default();
         let mut version = release.split(['.', '-']).map(|part| part.parse::<u32>().unwrap_or(0));
         let aligns = (version.next().unwrap_or(0), version.next().unwrap_or(0)) >= (6, 7);
-        let thp = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled").unwrap_or_default();
         let huge = std::thread::Builder::new()
             .stack_size(RT_STACK)
             .spawn(|| {
@@ -450,7 +455,7 @@ mod tests {
             .expect("a thread")
             .join()
             .expect("no panic");
-        if aligns && !thp.contains("[never]") && !thp.is_empty() {
+        if aligns && thp_allowed("enabled", "never") {
             assert!(huge >= 2048, "the stack's frames are in 4 KiB pages (Linux {release})");
         }
     }
@@ -481,7 +486,6 @@ mod tests {
         let mut file = tempfile::tempfile_in(exe.parent().expect("a folder")).expect("a file");
         file.write_all(&image).expect("written");
         let (filled, len) = (image.len(), 2 * HUGE_PAGE);
-        let thp = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled").unwrap_or_default();
         let prot = libc::PROT_READ | libc::PROT_EXEC;
         // SAFETY: the file mapped read-only and executable at a free aligned address of this
         // process' own, everything unmapped at the end; the code called is the one above.
@@ -507,7 +511,7 @@ mod tests {
             let image_mapping = Mapping { start: at, end: at + filled, kind: Kind::Image { prot } };
             assert_eq!(image_mapping.huge_range_into_room(at + len), Some((at, len)));
             let moved = move_to_anonymous(at, len, filled, prot);
-            if thp.contains("[never]") || thp.is_empty() {
+            if !thp_allowed("enabled", "never") {
                 assert!(moved.is_err(), "no THP, yet moved");
             } else {
                 moved.expect("moved");

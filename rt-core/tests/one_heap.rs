@@ -2,7 +2,7 @@
 //! controller allocates after it lands past the heap's first 2 MiB boundary, in the heap's
 //! whole huge pages (a plain `main`, so that no test harness allocates first).
 
-const HUGE_PAGE: usize = 2 << 20;
+use ipc::shm::HUGE_PAGE;
 
 fn main() {
     rt_core::huge_pages::keep_one_heap();
