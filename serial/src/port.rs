@@ -172,8 +172,10 @@ struct Line {
     rtu: Assembler,
     ascii: ascii::Assembler,
     /// The line as the pseudo-terminal keeps the port's settings: a Linux pseudo-terminal
-    /// records the baud rate and stop bits but always says 8 bits without parity.
+    /// always says 8 bits, and shows parity only through PARODD and INPCK (`pty.rs`).
     expected: LineSettings,
+    /// Bytes dropped for a wrong line setting since the peer's line was last right.
+    dropped: u64,
     /// When the last byte from the peer came (RTU's silence).
     last_byte: Instant,
     /// Bytes were dropped for a wrong line setting since the last `Rx`.
@@ -202,6 +204,7 @@ impl Line {
             rtu: Assembler::default(),
             ascii: ascii::Assembler::default(),
             expected: LineSettings { frame: settings.protocol.frame, baud: settings.baud },
+            dropped: 0,
             last_byte: Instant::now(),
             line_error: false,
             logged_setting: None,
@@ -272,26 +275,35 @@ impl Line {
         }
     }
 
-    /// Bytes from the peer: the line's settings must match the port's, as a UART's must.
+    /// Bytes from the peer: the line's settings must match the port's (DXMC 8.2), as a
+    /// UART's must: on another baud rate, stop bits or parity it sees framing and parity
+    /// errors, not data, and answers nothing.
     fn received(&mut self, bytes: &[u8]) {
         let expected = self.expected;
-        if let Ok(line) = self.pty.line()
-            && line != expected
-        {
-            self.line_error = true;
-            if self.logged_setting != Some(line) {
-                self.logged_setting = Some(line);
-                tracing::warn!(
-                    "serial port 1: the peer's line is {} baud with {} stop bit(s), the port's {} at {} baud \
-                     (protocol {:#04x}): received bytes dropped",
-                    line.baud,
-                    line.frame.stop_bits,
-                    self.protocol.frame,
-                    self.baud,
-                    self.protocol.code
-                );
+        match self.pty.line() {
+            Ok(line) if !expected.admits(&line) => {
+                self.line_error = true;
+                self.dropped += bytes.len() as u64;
+                if self.logged_setting != Some(line) {
+                    self.logged_setting = Some(line);
+                    tracing::warn!(
+                        "serial port 1: the peer's line reads {line}, the port's is {} at {} baud (protocol {:#04x}): \
+                         received bytes dropped",
+                        self.protocol.frame,
+                        self.baud,
+                        self.protocol.code
+                    );
+                }
+                return;
             }
-            return;
+            Ok(_) if self.dropped > 0 => {
+                tracing::warn!(
+                    "serial port 1: the peer's line is right again; {} byte(s) were dropped on a wrong setting",
+                    std::mem::take(&mut self.dropped)
+                );
+                self.logged_setting = None;
+            }
+            _ => {}
         }
         match &mut self.sim {
             Some(sim) if self.protocol.kind == Kind::FreePort => {

@@ -2,6 +2,14 @@
 //! (socat, pyserial, minicom, mbpoll) opens the slave as it would a serial device. The
 //! controller keeps a slave descriptor open too, so the master never reads EIO while no
 //! peer is attached, and reads the slave's settings to see the frame the peer chose.
+//!
+//! A Linux pseudo-terminal keeps what a peer sets, except CSIZE and PARENB: the kernel
+//! forces 8 bits without the parity flag on every change (drivers/tty/pty.c,
+//! `pty_set_termios`). What stays says the parity all the same, where the peer set it:
+//! PARODD is set only for odd parity, and INPCK (input parity checking) only with parity
+//! on (libmodbus, and so mbpoll, sets it; pyserial clears it). So the line shows odd
+//! (PARODD), even (INPCK without PARODD) or "none or even" (neither), docs/decisions.md
+//! "Serial line settings".
 
 use std::ffi::CStr;
 use std::io;
@@ -36,6 +44,16 @@ const SPEEDS: [(u32, libc::speed_t); 6] = [
 pub struct LineSettings {
     pub frame: CharFrame,
     pub baud: u32,
+}
+
+impl LineSettings {
+    /// Whether a peer whose line reads as `seen` may be on this one (both as `Pty::line`
+    /// reads them): the same settings, or no sign of parity where this line has even
+    /// parity, since a peer may have set even parity without INPCK (pyserial does).
+    pub fn admits(&self, seen: &LineSettings) -> bool {
+        let unseen_even = LineSettings { frame: CharFrame { parity: Parity::None, ..self.frame }, ..*self };
+        seen == self || (self.frame.parity == Parity::Even && *seen == unseen_even)
+    }
 }
 
 impl std::fmt::Display for LineSettings {
@@ -99,6 +117,11 @@ impl Pty {
             Parity::Even => libc::PARENB,
             Parity::Odd => libc::PARENB | libc::PARODD,
         };
+        // What a pseudo-terminal keeps of the parity (see the top of this file).
+        t.c_iflag &= !libc::INPCK;
+        if line.frame.parity != Parity::None {
+            t.c_iflag |= libc::INPCK;
+        }
         if line.frame.stop_bits == 2 {
             t.c_cflag |= libc::CSTOPB;
         }
@@ -108,13 +131,16 @@ impl Pty {
         Ok(())
     }
 
-    /// The settings the line has now (the peer may have changed them).
+    /// The settings the line has now (the peer may have changed them). Parity: PARENB
+    /// where the device keeps it, else PARODD for odd and INPCK for even; `None` on a
+    /// pseudo-terminal may be even parity set without INPCK (`LineSettings::admits`).
     pub fn line(&self) -> io::Result<LineSettings> {
         let t = self.termios()?;
-        let parity = match (t.c_cflag & libc::PARENB != 0, t.c_cflag & libc::PARODD != 0) {
-            (false, _) => Parity::None,
-            (true, false) => Parity::Even,
-            (true, true) => Parity::Odd,
+        let (parenb, parodd) = (t.c_cflag & libc::PARENB != 0, t.c_cflag & libc::PARODD != 0);
+        let parity = match (parenb, parodd, t.c_iflag & libc::INPCK != 0) {
+            (true, false, _) | (false, false, true) => Parity::Even,
+            (_, true, _) => Parity::Odd,
+            (false, false, false) => Parity::None,
         };
         let data_bits = if t.c_cflag & libc::CSIZE == libc::CS7 { 7 } else { 8 };
         let stop_bits = if t.c_cflag & libc::CSTOPB != 0 { 2 } else { 1 };
@@ -150,5 +176,66 @@ impl Pty {
             }
         }
         written
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::fs::OpenOptions;
+
+    use super::*;
+
+    /// Sets the line from the peer's end, as a serial program does (tcsetattr on its own
+    /// descriptor of the slave), with `cflag` and `iflag` bits on or off.
+    fn peer_sets(pty: &Pty, on: Flags, off: Flags) {
+        let peer = OpenOptions::new().read(true).write(true).open(pty.path()).unwrap();
+        let fd = peer.as_raw_fd();
+        // SAFETY: termios is plain data; a valid descriptor.
+        let mut t: libc::termios = unsafe { std::mem::zeroed() };
+        check(unsafe { libc::tcgetattr(fd, &mut t) }).unwrap();
+        t.c_cflag = (t.c_cflag | on.0) & !off.0;
+        t.c_iflag = (t.c_iflag | on.1) & !off.1;
+        // The ioctl itself: glibc's tcsetattr may report EINVAL for the PARENB the kernel dropped.
+        check(unsafe { libc::ioctl(fd, libc::TCSETS, &t) }).unwrap();
+    }
+
+    fn frame(text: &str) -> CharFrame {
+        let b = text.as_bytes();
+        let parity = match b[2] {
+            b'E' => Parity::Even,
+            b'O' => Parity::Odd,
+            _ => Parity::None,
+        };
+        CharFrame { data_bits: b[0] - b'0', parity, stop_bits: b[4] - b'0' }
+    }
+
+    /// The flags a peer turns on and off: (c_cflag, c_iflag).
+    type Flags = (libc::tcflag_t, libc::tcflag_t);
+
+    /// What the pseudo-terminal shows of each peer setting, and which the port admits.
+    #[test]
+    fn the_peer_s_parity_as_a_pseudo_terminal_shows_it() {
+        use libc::{CSTOPB, INPCK, PARENB, PARODD};
+        // Port frame, the peer's change (cflag, iflag on; cflag, iflag off), what reads, admitted.
+        let rows: [(&str, Flags, Flags, &str, bool); 9] = [
+            ("8,N,1", (0, 0), (0, 0), "8,N,1", true),
+            ("8,N,1", (PARENB, 0), (PARODD, INPCK), "8,N,1", true), // pyserial's even: unseen
+            ("8,N,1", (PARENB, INPCK), (PARODD, 0), "8,E,1", false), // libmodbus' even
+            ("8,N,1", (PARENB | PARODD, 0), (0, INPCK), "8,O,1", false),
+            ("8,N,1", (CSTOPB, 0), (0, 0), "8,N,2", false),
+            ("8,E,1", (0, 0), (0, 0), "8,E,1", true),
+            ("8,E,1", (PARENB, 0), (PARODD, INPCK), "8,N,1", true),
+            ("8,E,1", (PARENB | PARODD, 0), (0, INPCK), "8,O,1", false),
+            ("8,O,1", (PARENB, 0), (PARODD, INPCK), "8,N,1", false),
+        ];
+        for (port, on, off, reads, admitted) in rows {
+            let line = LineSettings { frame: frame(port), baud: 38400 };
+            let pty = Pty::open(line).unwrap();
+            let expected = pty.line().unwrap();
+            peer_sets(&pty, on, off);
+            let seen = pty.line().unwrap();
+            assert_eq!(seen.frame.to_string(), reads, "port {port}, peer {on:x?} {off:x?}");
+            assert_eq!(expected.admits(&seen), admitted, "port {port}, peer reads {seen}");
+        }
     }
 }
