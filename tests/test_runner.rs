@@ -6,6 +6,7 @@ mod common;
 use std::ffi::OsStr;
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpListener;
+use std::os::unix::process::CommandExt;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -19,6 +20,8 @@ fn luamotion_test<S: AsRef<OsStr>>(args: &[S]) -> Finished {
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
+        // Its own group, with the controllers it starts: a timeout kills them all.
+        .process_group(0)
         .spawn()
         .expect("start luamotion test");
     finish(child, Duration::from_secs(300))
@@ -142,7 +145,7 @@ fn files_run_in_parallel_each_on_its_own_controller() {
         let mut peers = Vec::new();
         let mut names = Vec::new();
         for _ in 0..FILES {
-            let (stream, _) = listener.accept().unwrap();
+            let (stream, _) = accept_within(&listener, Duration::from_secs(120), "each test file's program");
             let mut line = String::new();
             BufReader::new(&stream).read_line(&mut line).unwrap();
             names.push(line.trim().to_string());

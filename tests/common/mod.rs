@@ -6,6 +6,7 @@
 
 pub mod serve;
 
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::OnceLock;
@@ -31,6 +32,7 @@ pub fn program(dir: &Path, name: &str, source: &str) -> PathBuf {
     path
 }
 
+#[derive(Debug)]
 pub struct Finished {
     pub status: ExitStatus,
     pub stdout: String,
@@ -58,6 +60,8 @@ pub fn start_run(ns: &str, args: &[&str]) -> Child {
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
+        // Its own group: a timeout kills it with whatever it started.
+        .process_group(0)
         .spawn()
         .expect("start luamotion")
 }
@@ -83,26 +87,83 @@ pub fn freeport_port() -> u16 {
     freeport_listener().local_addr().unwrap().port()
 }
 
-/// Waits for a child, killing it after `timeout`.
+/// Waits for a child, killing it after `timeout`. Its pipes are read while it runs, so a
+/// child that prints more than a pipe holds cannot block on its output and look hung; on
+/// the deadline its process group goes too (a `luamotion test` child's controllers hold
+/// the pipes open), and the output is collected for at most a few seconds more.
 pub fn finish(mut child: Child, timeout: Duration) -> Finished {
+    let stdout = drain(child.stdout.take());
+    let stderr = drain(child.stderr.take());
     let deadline = Instant::now() + timeout;
-    while child.try_wait().expect("wait").is_none() {
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break Some(status);
+        }
         if Instant::now() > deadline {
-            let _ = child.kill();
-            let output = child.wait_with_output().expect("collect");
-            panic!(
-                "timed out after {timeout:?}\nstdout:\n{}\nstderr:\n{}",
-                String::from_utf8_lossy(&output.stdout),
-                String::from_utf8_lossy(&output.stderr)
-            );
+            break None;
         }
         std::thread::sleep(Duration::from_millis(10));
-    }
-    let output = child.wait_with_output().expect("collect");
-    Finished {
-        status: output.status,
-        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
+    };
+    let Some(status) = status else {
+        kill_all(&mut child);
+        let until = Instant::now() + Duration::from_secs(5);
+        panic!("timed out after {timeout:?}\nstdout:\n{}\nstderr:\n{}", collect(stdout, until), collect(stderr, until));
+    };
+    // A grandchild that outlived the child may hold the pipes: what it wrote in the next
+    // seconds is kept, then the test goes on without it.
+    let until = Instant::now() + Duration::from_secs(10);
+    Finished { status, stdout: collect(stdout, until), stderr: collect(stderr, until) }
+}
+
+/// Kills a child and, where it leads one, its process group, and reaps it.
+pub fn kill_all(child: &mut Child) {
+    // SAFETY: kill(2) of the group our own child leads, if it leads one (else ESRCH).
+    unsafe { libc::kill(-(child.id() as libc::pid_t), libc::SIGKILL) };
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
+/// A pipe read to its end by a thread of its own; the text arrives on the channel.
+fn drain(pipe: Option<impl std::io::Read + Send + 'static>) -> std::sync::mpsc::Receiver<String> {
+    let (text, received) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        if let Some(mut pipe) = pipe {
+            let _ = pipe.read_to_end(&mut bytes);
+        }
+        let _ = text.send(String::from_utf8_lossy(&bytes).into_owned());
+    });
+    received
+}
+
+/// What a drained pipe gave, waiting for its end until `until` at most.
+fn collect(reader: std::sync::mpsc::Receiver<String>, until: Instant) -> String {
+    reader
+        .recv_timeout(until.saturating_duration_since(Instant::now()))
+        .unwrap_or_else(|_| "(the pipe was still open seconds after the process ended)".to_string())
+}
+
+/// Accepts one connection within `timeout`, or fails the test saying what it waited for.
+pub fn accept_within(
+    listener: &std::net::TcpListener,
+    timeout: Duration,
+    what: &str,
+) -> (std::net::TcpStream, std::net::SocketAddr) {
+    listener.set_nonblocking(true).expect("non-blocking listener");
+    let deadline = Instant::now() + timeout;
+    loop {
+        match listener.accept() {
+            Ok((stream, peer)) => {
+                stream.set_nonblocking(false).expect("blocking stream");
+                // Its reads wait no longer than the accept did.
+                stream.set_read_timeout(Some(timeout)).expect("read timeout");
+                return (stream, peer);
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock && Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            Err(e) => panic!("no connection from {what} within {timeout:?}: {e}"),
+        }
     }
 }
 
