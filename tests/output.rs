@@ -174,7 +174,7 @@ fn sandbox_messages_say_where_and_what() {
             "local ok, e = pcall(MoveAbs, 'x')\nprint(e)",
             "caught.lua:1: bad argument #1 to 'MoveAbs' (integer expected, got string)\n",
         ),
-        ("mutex.lua", "MutexLock(8)", "mutex.lua:1: mutex ids are 0..7, not integer 8 (0x138F)"),
+        ("mutex.lua", "MutexLock(8)", "mutex.lua:1: MutexLock: mutex ids are 0..7, not integer 8 (0x138F)"),
         (
             "hang_in_c.lua",
             "local s = string.find(string.rep('a', 40), string.rep('a*', 20) .. 'b')",
@@ -202,7 +202,7 @@ fn sandbox_messages_say_where_and_what() {
             "local co = coroutine.create(function() GetPosFb({}) end)\nprint(select(2, coroutine.resume(co)))",
             "caught_in_coroutine.lua:1: bad argument #1 to 'GetPosFb' (integer expected, got table)\n",
         ),
-        ("mutex_float.lua", "MutexUnlock(2.5)", "mutex ids are 0..7, not number 2.5 (0x138F)"),
+        ("mutex_float.lua", "MutexUnlock(2.5)", "MutexUnlock: mutex ids are 0..7, not number 2.5 (0x138F)"),
         ("long_error.lua", "error(string.rep('e', 100000))", "long_error.lua:1: eeeeeeee"),
     ];
     let paths: Vec<String> =

@@ -197,6 +197,15 @@ pub enum ArgError {
     },
 }
 
+/// Refuses more values than `spec` takes (`FunctionSpec::max_args`): a front end that
+/// checks the count before it reads any value does nothing for a refused call.
+pub fn check_count(spec: &crate::FunctionSpec, given: usize) -> Result<(), ArgError> {
+    match spec.max_args() {
+        Some(takes) if given > takes => Err(ArgError::TooMany { takes, given }),
+        _ => Ok(()),
+    }
+}
+
 /// The typed call of `func` from neutral values, in the declaration's order: the one
 /// encoder of every front end. The first argument that does not fit is the error; then
 /// values past the last argument.

@@ -345,6 +345,21 @@ impl FunctionSpec {
             .collect();
         format!("{ret} {}({})", self.name, args.join(", "))
     }
+
+    /// The most values a call may pass: every declared argument (the trailing ones a
+    /// function says it may do without included); `None` for a variadic one (`...`).
+    pub fn max_args(&self) -> Option<usize> {
+        match self.args.last() {
+            Some(ArgSpec { ty: ArgType::Rest, .. }) => None,
+            _ => Some(self.args.len()),
+        }
+    }
+
+    /// Why a call that passed `given` values, more than `max_args`, is refused, in every
+    /// front end's words: `MoveAbs takes 2 argument(s), got 4: int MoveAbs(int axis_id, double pos)`.
+    pub fn too_many_args(&self, given: usize) -> String {
+        format!("{} takes {} argument(s), got {given}: {}", self.name, self.args.len(), self.signature())
+    }
 }
 
 /// A function, typed by where it runs, so that each side matches exhaustively on its own kind.

@@ -16,10 +16,10 @@ use std::time::{Duration, Instant};
 use api::{Local, SystemError};
 use ipc::messages::{Snapshot, TaskState};
 use ipc::shared::BROADCAST_BYTES;
-use mlua::{Function, Lua, MultiValue, Value};
+use mlua::{Function, Lua, Value};
 
 use super::locals::system_code;
-use super::{Host, error_here, int_arg, lua_string_arg, type_name};
+use super::{Host, binding, error_here, int_arg, lua_string_arg, type_name};
 
 /// The address the agent listens on unless the controller says otherwise (HMPL 22.1).
 pub const DEFAULT_ADDRESS: &str = "127.0.0.1:4000";
@@ -63,7 +63,7 @@ thread_local! {
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
     match local {
-        Local::START_ASCII_AGENT => lua.create_function(move |lua, args: MultiValue| {
+        Local::START_ASCII_AGENT => binding(lua, spec, move |lua, args| {
             host.beat();
             let Some(Value::Function(parser)) = args.front() else {
                 let got = args.front().map_or("nil".to_string(), type_name);
@@ -100,7 +100,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             STARTED.set(true);
             Ok(0)
         }),
-        Local::ASCII_ServerBroadcast => lua.create_function(move |lua, args: MultiValue| {
+        Local::ASCII_ServerBroadcast => binding(lua, spec, move |lua, args| {
             host.beat();
             let message = lua_string_arg(lua, spec, &args, 0)?;
             let bytes = message.as_bytes();

@@ -23,7 +23,7 @@ use tokio_modbus::client::{Context, Reader, Writer};
 use tokio_modbus::prelude::Client;
 
 use super::clients_sim::{Outcome, Sim};
-use super::{Host, bytes_table, doubles_arg, error_here, int_arg, lua_string_arg};
+use super::{Host, binding, bytes_table, doubles_arg, error_here, int_arg, lua_string_arg};
 
 /// How long a connect may take (HMPL 22.2.3, 22.3.1: the manual gives no figure).
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
@@ -37,6 +37,10 @@ const MAX_SOCKETS: usize = 8;
 const MAX_ASCII_LENGTH: i64 = 512;
 /// Modbus/TCP's registered port, for an `ip` without `:port` (HMPL 22.3.1 has no port).
 const MODBUS_PORT: u16 = 502;
+/// The unit id of an `ip` without `/unit` (HMPL 22.3 gives none): 1, the station a
+/// server behind a gateway or with a station number of its own expects; a device that
+/// is only Modbus TCP ignores it (docs/decisions.md, "Modbus client unit id").
+const MODBUS_UNIT: u8 = 1;
 
 /// The task's client sockets; ids count up from 1 for each kind.
 struct Clients {
@@ -149,11 +153,21 @@ fn socket_addr(ip: &str, port: Option<&str>) -> Option<SocketAddr> {
     }
 }
 
+/// `Modbus_ClientConnect`'s `ip`: `"192.168.0.2"`, `"192.168.0.2:1502"`, either with
+/// `/unit` (`"192.168.0.2:1502/3"`): the server's address and the unit id its requests carry.
+fn modbus_server(ip: &str) -> Option<(SocketAddr, u8)> {
+    let (address, unit) = match ip.split_once('/') {
+        Some((address, unit)) => (address, unit.trim().parse().ok()?),
+        None => (ip, MODBUS_UNIT),
+    };
+    Some((socket_addr(address, None)?, unit))
+}
+
 /// The functions of `Local` that belong here.
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
     match local {
-        Local::ASCII_ClientConnect => lua.create_function(move |lua, args: MultiValue| {
+        Local::ASCII_ClientConnect => binding(lua, spec, move |lua, args| {
             host.beat();
             let (ip, port) = (text_arg(lua, spec, &args, 0)?, text_arg(lua, spec, &args, 1)?);
             let connected = |rc, socket| Outcome { function: local, rc, value: Vec::new(), socket };
@@ -176,7 +190,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             })?;
             Ok((o.rc, o.socket))
         }),
-        Local::ASCII_ClientRecv => lua.create_function(move |lua, args: MultiValue| {
+        Local::ASCII_ClientRecv => binding(lua, spec, move |lua, args| {
             host.beat();
             let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let o = outcome(lua, &host, local, |c| {
@@ -196,7 +210,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             })?;
             Ok((o.rc, lua.create_string(o.value)?))
         }),
-        Local::ASCII_ClientSend => lua.create_function(move |lua, args: MultiValue| {
+        Local::ASCII_ClientSend => binding(lua, spec, move |lua, args| {
             host.beat();
             let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let text = lua_string_arg(lua, spec, &args, 2)?;
@@ -218,7 +232,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             })?;
             Ok(o.rc)
         }),
-        Local::ASCII_ClientDisconnect => lua.create_function(move |lua, args: MultiValue| {
+        Local::ASCII_ClientDisconnect => binding(lua, spec, move |lua, args| {
             host.beat();
             let id = int_arg(lua, spec, &args, 0)?;
             let o = outcome(lua, &host, local, |c| {
@@ -236,18 +250,19 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             })?;
             Ok(o.rc)
         }),
-        Local::Modbus_ClientConnect => lua.create_function(move |lua, args: MultiValue| {
+        Local::Modbus_ClientConnect => binding(lua, spec, move |lua, args| {
             host.beat();
             let ip = text_arg(lua, spec, &args, 0)?;
             let connected = |rc, socket| Outcome { function: local, rc, value: Vec::new(), socket };
             let o = outcome(lua, &host, local, |c| {
-                let Some(addr) = socket_addr(&ip, None) else {
+                let Some((addr, unit)) = modbus_server(&ip) else {
                     return connected(code(SystemError::ModbusConnectFailed), 0);
                 };
                 if c.modbus.len() >= MAX_SOCKETS {
                     return connected(code(SystemError::ModbusConnectFailed), 0);
                 }
-                match wait(&host, &c.runtime, CONNECT_TIMEOUT, tokio_modbus::client::tcp::connect(addr)) {
+                let connect = tokio_modbus::client::tcp::connect_slave(addr, tokio_modbus::Slave(unit));
+                match wait(&host, &c.runtime, CONNECT_TIMEOUT, connect) {
                     None => connected(code(SystemError::ModbusConnectTimeout), 0),
                     Some(Err(_)) => connected(code(SystemError::ModbusConnectFailed), 0),
                     Some(Ok(context)) => {
@@ -259,7 +274,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             })?;
             Ok((o.rc, o.socket))
         }),
-        Local::Modbus_ClientDisconnect => lua.create_function(move |lua, args: MultiValue| {
+        Local::Modbus_ClientDisconnect => binding(lua, spec, move |lua, args| {
             host.beat();
             let id = int_arg(lua, spec, &args, 0)?;
             let o = outcome(lua, &host, local, |c| {
@@ -279,7 +294,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         Local::Modbus_ClientRead_HoldReg
         | Local::Modbus_ClientRead_InputReg
         | Local::Modbus_ClientRead_Coils
-        | Local::Modbus_ClientRead_Inputs => lua.create_function(move |lua, args: MultiValue| {
+        | Local::Modbus_ClientRead_Inputs => binding(lua, spec, move |lua, args| {
             host.beat();
             let id = int_arg(lua, spec, &args, 0)?;
             let (start, count) = (int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
@@ -308,7 +323,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             Ok((o.rc, bytes_table(lua, &o.value)?, o.value.len() as i64))
         }),
         Local::Modbus_ClientWrite_HoldReg | Local::Modbus_ClientWrite_Coils => {
-            lua.create_function(move |lua, args: MultiValue| {
+            binding(lua, spec, move |lua, args| {
                 host.beat();
                 let id = int_arg(lua, spec, &args, 0)?;
                 let (start, count) = (int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);

@@ -9,7 +9,7 @@ use std::rc::Rc;
 use api::{FunctionSpec, Local};
 use mlua::{Function, Lua, MultiValue, Value};
 
-use super::{Host, double_arg, lua_string_arg, write_output};
+use super::{Host, binding, double_arg, lua_string_arg, write_output};
 
 /// The expectations a program checked, and how many of them failed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -63,7 +63,7 @@ fn shown(v: &Value) -> String {
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
     match local {
-        Local::expect_eq => lua.create_function(move |lua, args: MultiValue| {
+        Local::expect_eq => binding(lua, spec, move |lua, args| {
             host.beat();
             let actual = args.front().cloned().unwrap_or(Value::Nil);
             let expected = args.get(1).cloned().unwrap_or(Value::Nil);
@@ -72,7 +72,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let why = || format!("got {}, expected {}", shown(&actual), shown(&expected));
             Ok(record(lua, &host.tally, spec, held, why, message))
         }),
-        Local::expect_near => lua.create_function(move |lua, args: MultiValue| {
+        Local::expect_near => binding(lua, spec, move |lua, args| {
             host.beat();
             let actual = double_arg(lua, spec, &args, 0)?;
             let expected = double_arg(lua, spec, &args, 1)?;
@@ -84,7 +84,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 || format!("got {actual:?}, expected {expected:?} ± {tolerance:?} (off by {:?})", actual - expected);
             Ok(record(lua, &host.tally, spec, held, why, message))
         }),
-        Local::expect_true => lua.create_function(move |lua, args: MultiValue| {
+        Local::expect_true => binding(lua, spec, move |lua, args| {
             host.beat();
             let value = args.front().cloned().unwrap_or(Value::Nil);
             let message = message_arg(lua, spec, &args, 1)?;

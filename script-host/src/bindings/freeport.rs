@@ -15,7 +15,7 @@ use mlua::{Function, Lua, MultiValue, Value};
 use serial::framing::{Deframer, Framing, Received};
 
 use super::freeport_sim::{Event, Sim};
-use super::{Host, int_arg, lua_string_arg};
+use super::{Host, binding, int_arg, lua_string_arg};
 
 /// DXMC 8.3 FreePort: "0 = success, other = error"; the manual numbers no errors, these
 /// are luamotion's (docs/decisions.md).
@@ -394,7 +394,7 @@ fn code(c: Code) -> i64 {
 
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
-    lua.create_function(move |lua, args: MultiValue| {
+    binding(lua, spec, move |lua, args| {
         // Every call beats, so a task polling Rx in a loop is alive for the watchdog.
         host.beat();
         let mut results = MultiValue::new();

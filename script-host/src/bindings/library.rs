@@ -15,7 +15,7 @@ use ipc::shared::{TestValue, TestVar};
 use ipc::task_table::RunState;
 use mlua::{Function, Lua, MultiValue, Table, Value};
 
-use super::{Host, bool_arg, double_arg, error_here, int_arg, lua_string_arg, round_trip, type_name};
+use super::{Host, binding, bool_arg, double_arg, error_here, int_arg, lua_string_arg, round_trip, type_name};
 
 /// HMPL 3.1: `HMPL_STR_MAX_LEN`.
 const STR_MAX_LEN: usize = 512;
@@ -26,33 +26,29 @@ fn system_code(e: SystemError) -> i64 {
 
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
-    // One argument, the C function's own semantics: Lua's math library is that function.
-    let libm = |name: &str| lua.globals().get::<Table>("math")?.get::<Function>(name);
-    let math1 = |f: fn(f64) -> f64| lua.create_function(move |lua, x: Value| Ok(f(number(lua, spec, x, 0)?)));
+    let math1 = |f: fn(f64) -> f64| binding(lua, spec, move |lua, args| Ok(f(number(lua, spec, &args, 0)?)));
     let math2 = |f: fn(f64, f64) -> f64| {
-        lua.create_function(move |lua, (x, y): (Value, Value)| {
-            Ok(f(number(lua, spec, x, 0)?, number(lua, spec, y, 1)?))
-        })
+        binding(lua, spec, move |lua, args| Ok(f(number(lua, spec, &args, 0)?, number(lua, spec, &args, 1)?)))
     };
     match local {
         // HMPL ch. 2.
-        Local::GetFirmwareVer => text_out(lua, host, || Some(env!("CARGO_PKG_VERSION").as_bytes().to_vec())),
-        Local::GetFirmwareDate => text_out(lua, host, || firmware_date().map(String::into_bytes)),
+        Local::GetFirmwareVer => text_out(lua, spec, host, || Some(env!("CARGO_PKG_VERSION").as_bytes().to_vec())),
+        Local::GetFirmwareDate => text_out(lua, spec, host, || firmware_date().map(String::into_bytes)),
         Local::GetModelNum | Local::GetSerialNum => {
             let shared = host.clone();
-            text_out(lua, host, move || {
+            text_out(lua, spec, host, move || {
                 let (model, serial) = shared.shared.identity();
                 Some(if local == Local::GetModelNum { model } else { serial }).filter(|t| !t.is_empty())
             })
         }
-        Local::GetFirmwareHash => lua.create_function(move |_, ()| {
+        Local::GetFirmwareHash => binding(lua, spec, move |_, _| {
             host.beat();
             Ok(match firmware_hash(&host) {
                 Some(hash) => (0, hash as i64),
                 None => (system_code(SystemError::HmplExecFailed), 0),
             })
         }),
-        Local::SetHMIScope => lua.create_function(move |lua, args: MultiValue| {
+        Local::SetHMIScope => binding(lua, spec, move |lua, args| {
             host.beat();
             let (code, open) = match int_arg(lua, spec, &args, 0)? {
                 1 => (0xB2C8, true),
@@ -68,7 +64,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             Ok(host.send_event(EventKind::Event, code, ""))
         }),
         // HMPL ch. 3: strings.
-        Local::StringPrint => lua.create_function(move |lua, args: MultiValue| {
+        Local::StringPrint => binding(lua, spec, move |lua, args| {
             let formatted = super::locals::format(lua, spec, &args)?;
             let text = match formatted {
                 Ok(f) if f.cut == 0 && f.text.len() <= STR_MAX_LEN => f.text,
@@ -80,49 +76,49 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             };
             Ok((text.len() as i64, lua.create_string(&text)?))
         }),
-        Local::StringLen => lua.create_function(move |lua, args: MultiValue| Ok(c_str(lua, spec, &args, 0)?.len())),
-        Local::IsStringEqual => lua.create_function(move |lua, args: MultiValue| {
-            Ok(c_str(lua, spec, &args, 0)? == c_str(lua, spec, &args, 1)?)
-        }),
-        Local::StrFindChar => lua.create_function(move |lua, args: MultiValue| {
+        Local::StringLen => binding(lua, spec, move |lua, args| Ok(c_str(lua, spec, &args, 0)?.len())),
+        Local::IsStringEqual => {
+            binding(lua, spec, move |lua, args| Ok(c_str(lua, spec, &args, 0)? == c_str(lua, spec, &args, 1)?))
+        }
+        Local::StrFindChar => binding(lua, spec, move |lua, args| {
             let s = c_str(lua, spec, &args, 0)?;
             let c = character(lua, &args)?;
             // As C's strchr: the terminator is found too.
             Ok(if c == 0 { s.len() as i64 } else { offset(s.iter().position(|&b| b == c)) })
         }),
-        Local::StrFindCharEx => lua.create_function(move |lua, args: MultiValue| {
+        Local::StrFindCharEx => binding(lua, spec, move |lua, args| {
             let s = c_str(lua, spec, &args, 0)?;
             let set = c_str(lua, spec, &args, 1)?;
             let complement = bool_arg(lua, spec, &args, 2)?;
             Ok(offset(s.iter().position(|b| set.contains(b) != complement)))
         }),
-        Local::StrFindStr => lua.create_function(move |lua, args: MultiValue| {
+        Local::StrFindStr => binding(lua, spec, move |lua, args| {
             let (s, sub) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
             Ok(offset(if sub.is_empty() { Some(0) } else { s.windows(sub.len()).position(|w| w == sub.as_slice()) }))
         }),
-        Local::StringCopy => lua.create_function(move |lua, args: MultiValue| {
+        Local::StringCopy => binding(lua, spec, move |lua, args| {
             let source = c_str(lua, spec, &args, 0)?;
             string_result(lua, Vec::new(), Ok(&source))
         }),
-        Local::StringCopyEx => lua.create_function(move |lua, args: MultiValue| {
+        Local::StringCopyEx => binding(lua, spec, move |lua, args| {
             let source = c_str(lua, spec, &args, 0)?;
             let part = substring(&source, int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
             string_result(lua, Vec::new(), part)
         }),
-        Local::StringCat => lua.create_function(move |lua, args: MultiValue| {
+        Local::StringCat => binding(lua, spec, move |lua, args| {
             let (destination, source) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
             string_result(lua, destination, Ok(&source))
         }),
-        Local::StringCatEx => lua.create_function(move |lua, args: MultiValue| {
+        Local::StringCatEx => binding(lua, spec, move |lua, args| {
             let (destination, source) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
             let part = substring(&source, int_arg(lua, spec, &args, 2)?, int_arg(lua, spec, &args, 3)?);
             string_result(lua, destination, part)
         }),
         Local::StringToDouble => {
-            lua.create_function(move |lua, args: MultiValue| Ok(string_to_double(&c_str(lua, spec, &args, 0)?)))
+            binding(lua, spec, move |lua, args| Ok(string_to_double(&c_str(lua, spec, &args, 0)?)))
         }
         // HMPL ch. 3: memory, on tables that stand for C arrays.
-        Local::MemoryCopy => lua.create_function(move |lua, args: MultiValue| {
+        Local::MemoryCopy => binding(lua, spec, move |lua, args| {
             let mut destination = memory(lua, spec.name, &args, 0)?;
             let source = memory(lua, spec.name, &args, 1)?;
             let n = int_arg(lua, spec, &args, 2)?;
@@ -135,7 +131,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             };
             Ok((rc, destination.to_lua(lua)?))
         }),
-        Local::MemorySet => lua.create_function(move |lua, args: MultiValue| {
+        Local::MemorySet => binding(lua, spec, move |lua, args| {
             let mut destination = memory(lua, spec.name, &args, 0)?;
             // As C's memset: the value is converted to an unsigned char.
             let value = int_arg(lua, spec, &args, 1)? as u8;
@@ -149,23 +145,29 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             };
             Ok((rc, destination.to_lua(lua)?))
         }),
-        Local::IsMemoryEqual => lua.create_function(move |lua, args: MultiValue| {
+        Local::IsMemoryEqual => binding(lua, spec, move |lua, args| {
             let (a, b) = (memory(lua, spec.name, &args, 0)?, memory(lua, spec.name, &args, 1)?);
             let n = int_arg(lua, spec, &args, 2)?;
             Ok(byte_count(n, [a.bytes.len(), b.bytes.len()]).is_ok_and(|n| a.bytes[..n] == b.bytes[..n]))
         }),
-        // HMPL ch. 4: Lua's math library where it is the C function, Rust's libm otherwise.
-        Local::sin | Local::cos | Local::tan | Local::asin | Local::acos | Local::sqrt => libm(spec.name),
+        // HMPL ch. 4: the C library's functions (Lua's math library calls the same ones, but
+        // takes strings and extra arguments).
+        Local::sin => math1(f64::sin),
+        Local::cos => math1(f64::cos),
+        Local::tan => math1(f64::tan),
+        Local::asin => math1(f64::asin),
+        Local::acos => math1(f64::acos),
+        Local::sqrt => math1(f64::sqrt),
         Local::atan => math1(f64::atan),
         Local::atan2 => math2(f64::atan2),
-        Local::abs => lua.create_function(move |lua, args: MultiValue| {
+        Local::abs => binding(lua, spec, move |lua, args| {
             let x = int_arg(lua, spec, &args, 0)?;
             x.checked_abs().ok_or_else(|| error_here(lua, format!("abs: |{x}| does not fit an integer")))
         }),
         Local::fabs => math1(f64::abs),
         Local::ceil => math1(f64::ceil),
         Local::floor => math1(f64::floor),
-        Local::ldexp => lua.create_function(move |lua, args: MultiValue| {
+        Local::ldexp => binding(lua, spec, move |lua, args| {
             let (x, y) = (double_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             Ok(api::libm::ldexp(x, y))
         }),
@@ -176,7 +178,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         Local::cbrt => math1(f64::cbrt),
         Local::hypot => math2(f64::hypot),
         // HMPL 17.3.
-        Local::GetConfigVar => lua.create_function(move |lua, args: MultiValue| {
+        Local::GetConfigVar => binding(lua, spec, move |lua, args| {
             host.beat();
             let id = int_arg(lua, spec, &args, 0)?;
             Ok(match get_config_var(&host, id) {
@@ -187,7 +189,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 }
             })
         }),
-        Local::SetConfigVar => lua.create_function(move |lua, args: MultiValue| {
+        Local::SetConfigVar => binding(lua, spec, move |lua, args| {
             host.beat();
             let (id, value) = (int_arg(lua, spec, &args, 0)?, double_arg(lua, spec, &args, 1)?);
             set_config_var(lua, &host, id, value)
@@ -198,22 +200,22 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
 
 /// Argument `i` of a math function: a number as it is (the fast path of a hot loop), else
 /// read as every other function's argument, for the same error.
-fn number(lua: &Lua, spec: &api::FunctionSpec, value: Value, i: usize) -> mlua::Result<f64> {
-    match value {
-        Value::Number(x) => Ok(x),
-        Value::Integer(n) => Ok(n as f64),
-        other => {
-            let mut args = MultiValue::new();
-            args.resize(i, Value::Nil);
-            args.push_back(other);
-            double_arg(lua, spec, &args, i)
-        }
+fn number(lua: &Lua, spec: &api::FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<f64> {
+    match args.get(i) {
+        Some(Value::Number(x)) => Ok(*x),
+        Some(Value::Integer(n)) => Ok(*n as f64),
+        _ => double_arg(lua, spec, args, i),
     }
 }
 
 /// A ch. 2 function that gives a string: `rc, text`, "N/A" when it cannot be had.
-fn text_out(lua: &Lua, host: Rc<Host>, text: impl Fn() -> Option<Vec<u8>> + 'static) -> mlua::Result<Function> {
-    lua.create_function(move |lua, ()| {
+fn text_out(
+    lua: &Lua,
+    spec: &'static api::FunctionSpec,
+    host: Rc<Host>,
+    text: impl Fn() -> Option<Vec<u8>> + 'static,
+) -> mlua::Result<Function> {
+    binding(lua, spec, move |lua, _| {
         host.beat();
         Ok(match text() {
             Some(text) => (0, lua.create_string(&text)?),

@@ -14,7 +14,8 @@ use mlua::{AnyUserData, BorrowedBytes, Function, Lua, MultiValue, Value};
 
 use super::timer::Timer;
 use super::{
-    Host, bool_arg, double_arg, doubles_arg, error_here, int_arg, lua_string_arg, round_trip, type_name, write_output,
+    Host, binding, bool_arg, double_arg, doubles_arg, error_here, int_arg, lua_string_arg, round_trip, type_name,
+    write_output,
 };
 use crate::printf::{self, Arg, Formatted};
 use crate::user_table;
@@ -195,7 +196,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         | Local::hypot
         | Local::GetConfigVar
         | Local::SetConfigVar => super::library::local(lua, host, local),
-        Local::Sleep => lua.create_function(move |lua, args: MultiValue| {
+        Local::Sleep => binding(lua, spec, move |lua, args| {
             host.beat();
             let ms = int_arg(lua, spec, &args, 0)?;
             if ms < 0 {
@@ -203,7 +204,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             host.sleep_ns(lua, ms as f64 * 1e6)
         }),
-        Local::DELAY => lua.create_function(move |lua, args: MultiValue| {
+        Local::DELAY => binding(lua, spec, move |lua, args| {
             host.beat();
             let seconds = double_arg(lua, spec, &args, 0)?;
             if !(seconds >= 0.0 && seconds.is_finite()) {
@@ -211,7 +212,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             host.sleep_ns(lua, seconds * 1e9)
         }),
-        Local::Till => lua.create_function(move |lua, args: MultiValue| {
+        Local::Till => binding(lua, spec, move |lua, args| {
             host.beat();
             let condition = match args.front() {
                 Some(Value::Function(f)) => f.clone(),
@@ -238,7 +239,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 super::agent::serve(lua, &host);
             }
         }),
-        Local::Print => lua.create_function(move |lua, args: MultiValue| {
+        Local::Print => binding(lua, spec, move |lua, args| {
             host.beat();
             match format(lua, spec, &args)? {
                 Ok(formatted) => {
@@ -250,12 +251,12 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 Err(()) => Ok(-1),
             }
         }),
-        Local::my_print => lua.create_function(move |lua, args: MultiValue| {
+        Local::my_print => binding(lua, spec, move |lua, args| {
             host.beat();
             write_output(&[&lua_string_arg(lua, spec, &args, 0)?.as_bytes()]);
             Ok(())
         }),
-        Local::SendEvent => lua.create_function(move |lua, args: MultiValue| {
+        Local::SendEvent => binding(lua, spec, move |lua, args| {
             host.beat();
             let Ok(id) = u16::try_from(int_arg(lua, spec, &args, 0)?) else {
                 return Ok(system_code(SystemError::HmplArgOutOfRange));
@@ -263,7 +264,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             host.throttle(lua)?;
             Ok(host.send_event(EventKind::Event, id as u32, ""))
         }),
-        Local::SendMsgEvent => lua.create_function(move |lua, args: MultiValue| {
+        Local::SendMsgEvent => binding(lua, spec, move |lua, args| {
             host.beat();
             let Ok(formatted) = format(lua, spec, &args)? else {
                 return Ok(system_code(SystemError::HmplInvalidStrFormat));
@@ -275,7 +276,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             host.throttle(lua)?;
             Ok(host.send_event(EventKind::Message, 0, &text))
         }),
-        Local::RunScheduler => lua.create_function(move |_, ()| {
+        Local::RunScheduler => binding(lua, spec, move |_, _| {
             host.beat();
             let mut endpoint = host.endpoint.borrow_mut();
             if endpoint.lockstep() {
@@ -286,9 +287,9 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 Ok(())
             }
         }),
-        Local::MutexLock => lua.create_function(move |lua, args: MultiValue| {
+        Local::MutexLock => binding(lua, spec, move |lua, args| {
             host.beat();
-            let id = mutex_id(lua, &args)?;
+            let id = mutex_id(lua, spec, &args)?;
             loop {
                 match host.shared.try_lock(id, host.task()) {
                     Some(Lock::Acquired) => return Ok(()),
@@ -312,23 +313,27 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 }
             }
         }),
-        Local::MutexUnlock => lua.create_function(move |lua, args: MultiValue| {
+        Local::MutexUnlock => binding(lua, spec, move |lua, args| {
             host.beat();
-            let id = mutex_id(lua, &args)?;
+            let id = mutex_id(lua, spec, &args)?;
             host.shared.unlock(id, host.task());
             Ok(())
         }),
-        Local::TimerInit => lua.create_function(move |_, ()| {
+        Local::TimerInit => binding(lua, spec, move |_, _| {
             host.beat();
             Ok(Timer::default())
         }),
-        Local::TON | Local::TOF => lua.create_function(move |lua, args: MultiValue| {
+        Local::TON | Local::TOF => binding(lua, spec, move |lua, args| {
             host.beat();
             let timer = match args.front() {
                 Some(Value::UserData(ud)) if ud.is::<Timer>() => ud.clone(),
                 other => {
                     let got = other.cloned().unwrap_or(Value::Nil);
-                    let what = format!("bad argument #1 to '{}' (Timer expected, got {}); make one with TimerInit()", spec.name, type_name(&got));
+                    let what = format!(
+                        "bad argument #1 to '{}' (Timer expected, got {}); make one with TimerInit()",
+                        spec.name,
+                        type_name(&got)
+                    );
                     return Err(error_here(lua, what));
                 }
             };
@@ -336,15 +341,20 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let preset = int_arg(lua, spec, &args, 2)?.max(0) as u64;
             let now = host.now_ms();
             let mut timer = AnyUserData::borrow_mut::<Timer>(&timer)?;
-            Ok(if local == Local::TON { timer.on_delay(input, preset, now) } else { timer.off_delay(input, preset, now) })
+            Ok(if local == Local::TON {
+                timer.on_delay(input, preset, now)
+            } else {
+                timer.off_delay(input, preset, now)
+            })
         }),
-        Local::SetupGroup => lua.create_function(move |lua, args: MultiValue| {
+        Local::SetupGroup => binding(lua, spec, move |lua, args| {
             // HMPL 8.3.3: AddAxisToGrp for each axis, then EnableGroup; what it added is
             // removed again when a step fails, so a failed setup leaves the group as it was.
+            // Every argument is read before the first command: a refused call changes nothing.
             let group_id = int_arg(lua, spec, &args, 0)?;
+            let axis_ids = (1..args.len()).map(|i| int_arg(lua, spec, &args, i)).collect::<mlua::Result<Vec<_>>>()?;
             let mut added = 0;
-            for i in 1..args.len() {
-                let axis_id = int_arg(lua, spec, &args, i)?;
+            for axis_id in axis_ids {
                 let rc = core_rc(lua, &host, &CommandCall::AddAxisToGrp { group_id, axis_id })?;
                 if rc != 0 {
                     return undo_setup(lua, &host, group_id, added, rc);
@@ -357,7 +367,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             Ok(0)
         }),
-        Local::SetUserTable => lua.create_function(move |lua, args: MultiValue| {
+        Local::SetUserTable => binding(lua, spec, move |lua, args| {
             host.beat();
             let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let values = doubles_arg(lua, spec, &args, 2)?;
@@ -369,7 +379,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             Ok(0)
         }),
-        Local::GetUserTable => lua.create_function(move |lua, args: MultiValue| {
+        Local::GetUserTable => binding(lua, spec, move |lua, args| {
             host.beat();
             let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let Some(range) = host.shared.user_table_range(start, num) else {
@@ -378,33 +388,37 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let values = lua.create_sequence_from(range.map(|i| host.shared.user_table(i).unwrap_or(0.0)))?;
             Ok((0, values))
         }),
-        Local::SetTableValue => lua.create_function(move |lua, args: MultiValue| {
+        Local::SetTableValue => binding(lua, spec, move |lua, args| {
             host.beat();
             let (index, value) = (int_arg(lua, spec, &args, 0)?, double_arg(lua, spec, &args, 1)?);
             let stored = usize::try_from(index).is_ok_and(|i| host.shared.set_user_table(i, value));
             Ok(if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) })
         }),
-        Local::GetTableValue => lua.create_function(move |lua, args: MultiValue| {
+        Local::GetTableValue => binding(lua, spec, move |lua, args| {
             host.beat();
             let index = int_arg(lua, spec, &args, 0)?;
-            usize::try_from(index).ok().and_then(|i| host.shared.user_table(i)).ok_or_else(|| {
-                error_here(lua, format!("GetTableValue: index {index} is outside 0..511999 (0x138F)"))
-            })
+            usize::try_from(index)
+                .ok()
+                .and_then(|i| host.shared.user_table(i))
+                .ok_or_else(|| error_here(lua, format!("GetTableValue: index {index} is outside 0..511999 (0x138F)")))
         }),
-        Local::ReadModbusWord => lua.create_function(move |lua, args: MultiValue| {
+        Local::ReadModbusWord => binding(lua, spec, move |lua, args| {
             host.beat();
             let address = int_arg(lua, spec, &args, 0)?;
             calls::user_area::read(&host.shared, address).ok_or_else(|| {
-                error_here(lua, format!("ReadModbusWord: 0x{address:X} is outside DV 0x0000..0x2FFF and DH 0x8000..0xAFFF"))
+                error_here(
+                    lua,
+                    format!("ReadModbusWord: 0x{address:X} is outside DV 0x0000..0x2FFF and DH 0x8000..0xAFFF"),
+                )
             })
         }),
-        Local::WriteModbusWord => lua.create_function(move |lua, args: MultiValue| {
+        Local::WriteModbusWord => binding(lua, spec, move |lua, args| {
             host.beat();
             let (address, value) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let stored = u16::try_from(value).is_ok_and(|v| calls::user_area::write(&host.shared, address, v));
             Ok(if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) })
         }),
-        Local::SaveUserTable | Local::LoadUserTable => lua.create_function(move |lua, args: MultiValue| {
+        Local::SaveUserTable | Local::LoadUserTable => binding(lua, spec, move |lua, args| {
             host.beat();
             let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let Some(range) = host.shared.user_table_range(start, num) else {
@@ -433,13 +447,13 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
 }
 
 /// HMPL 2.22: mutex ids 0..7; another id is an error in the program.
-fn mutex_id(lua: &Lua, args: &MultiValue) -> mlua::Result<usize> {
+fn mutex_id(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<usize> {
     match args.front() {
         Some(Value::Integer(id)) if (0..MUTEXES as i64).contains(id) => Ok(*id as usize),
         Some(Value::Number(id)) if id.fract() == 0.0 && (0.0..MUTEXES as f64).contains(id) => Ok(*id as usize),
         other => {
             let got = other.cloned().unwrap_or(Value::Nil);
-            Err(error_here(lua, format!("mutex ids are 0..7, not {} (0x138F)", type_name(&got))))
+            Err(error_here(lua, format!("{}: mutex ids are 0..7, not {} (0x138F)", spec.name, type_name(&got))))
         }
     }
 }

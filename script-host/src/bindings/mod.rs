@@ -5,6 +5,8 @@
 //! the system variables in `system_vars`.
 
 mod agent;
+#[cfg(test)]
+mod call_tests;
 mod clients;
 mod clients_sim;
 mod expect;
@@ -35,7 +37,7 @@ use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};
-use mlua::{BorrowedBytes, Function, Lua, MultiValue, Value};
+use mlua::{BorrowedBytes, Function, IntoLuaMulti, Lua, MultiValue, Value};
 
 pub use agent::{DEFAULT_ADDRESS as DEFAULT_USER_ASCII, serve as serve_agent, serve_forever as serve_agent_forever};
 pub use expect::verdict as expectations_verdict;
@@ -200,10 +202,7 @@ pub fn error_here(lua: &Lua, message: impl std::fmt::Display) -> mlua::Error {
 fn arg_error(lua: &Lua, spec: &FunctionSpec, error: ArgError) -> mlua::Error {
     let (index, expected, got) = match error {
         ArgError::Type { index, expected, got } => (index, expected, got),
-        // Lua drops extra arguments before they get here (`LuaArgs`).
-        ArgError::TooMany { takes, given } => {
-            return error_here(lua, format!("'{}' takes {takes} arguments, got {given}", spec.name));
-        }
+        ArgError::TooMany { given, .. } => return error_here(lua, spec.too_many_args(given)),
     };
     let expected = match expected {
         Expected::Integer => "integer",
@@ -261,8 +260,7 @@ fn neutral_element(value: &Value) -> call::Value {
 
 /// A call's Lua arguments as the encoder's source: each one becomes a neutral value when
 /// it is read and is taken by the neutral encoder's rules (`call::Values`), so numbers
-/// cost no more than their conversion. Lua drops what is passed beyond a function's
-/// arguments, as it does for its own functions.
+/// cost no more than their conversion. Their count was checked before (`binding`).
 struct LuaArgs<'a> {
     args: &'a MultiValue,
     next: usize,
@@ -316,6 +314,30 @@ impl<'a> Source<'a> for LuaArgs<'a> {
     fn doubles(&mut self) -> Result<Doubles<'a>, ArgError> {
         self.read(|v| v.doubles().map(|d| Doubles::Values(Cow::Owned(d.iter().collect()))))
     }
+}
+
+/// The Lua function of `spec`: a call that passes more values than the registry declares
+/// is an error at the caller's line, raised before `body` does anything (issue 36.4);
+/// every binding is made here.
+pub(super) fn binding<R: IntoLuaMulti>(
+    lua: &Lua,
+    spec: &'static FunctionSpec,
+    body: impl Fn(&Lua, MultiValue) -> mlua::Result<R> + 'static,
+) -> mlua::Result<Function> {
+    lua.create_function(move |lua, args: MultiValue| {
+        call::check_count(spec, args.len()).map_err(|e| arg_error(lua, spec, e))?;
+        body(lua, args)
+    })
+}
+
+/// The typed command `args` make, by the registry's rules (`binding` counted them).
+fn command_call<'a>(lua: &Lua, command: Command, args: &'a MultiValue) -> mlua::Result<CommandCall<'a>> {
+    CommandCall::read(command, &mut LuaArgs::new(args)).map_err(|e| arg_error(lua, command.spec(), e))
+}
+
+/// The typed status query `args` make, as `command_call`.
+fn query_call(lua: &Lua, query: Query, args: &MultiValue) -> mlua::Result<QueryCall> {
+    QueryCall::read(query, &mut LuaArgs::new(args)).map_err(|e| arg_error(lua, query.spec(), e))
 }
 
 /// Argument `i` read by the neutral encoder's rules (a local function's arguments).
@@ -374,9 +396,9 @@ fn round_trip(lua: &Lua, host: &Host, call: &CommandCall) -> mlua::Result<Reply>
 /// A command: one round trip to the core; returns what the registry says it returns.
 fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function> {
     let spec = command.spec();
-    lua.create_function(move |lua, args: MultiValue| {
+    binding(lua, spec, move |lua, args| {
         host.beat();
-        let call = CommandCall::read(command, &mut LuaArgs::new(&args)).map_err(|e| arg_error(lua, spec, e))?;
+        let call = command_call(lua, command, &args)?;
         let reply = round_trip(lua, &host, &call)?;
         let first = reply.values[0] as i64;
         if first == -1 && reply.rc != 0 {
@@ -412,9 +434,9 @@ fn explain(rc: u32) -> String {
 /// A status query: read the local snapshot, no round trip.
 fn status_query(lua: &Lua, host: Rc<Host>, query: Query) -> mlua::Result<Function> {
     let spec = query.spec();
-    lua.create_function(move |lua, args: MultiValue| {
+    binding(lua, spec, move |lua, args| {
         host.count_call();
-        let call = QueryCall::read(query, &mut LuaArgs::new(&args)).map_err(|e| arg_error(lua, spec, e))?;
+        let call = query_call(lua, query, &args)?;
         let answer = query::evaluate(&call, host.endpoint.borrow_mut().snapshot());
         host.watch_query(&call, &answer);
         let query::Answer(first, second) = answer.map_err(|code| error_here(lua, format!("{}: {code}", spec.name)))?;

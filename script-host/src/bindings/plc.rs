@@ -8,7 +8,7 @@ use calls::plc::SharedPlc;
 use fun147::{Plc, Program, Reg, Relay, assemble, disassemble};
 use mlua::{Function, Lua, MultiValue};
 
-use super::{Host, bool_arg, error_here, int_arg, lua_string_arg};
+use super::{Host, binding, bool_arg, error_here, int_arg, lua_string_arg};
 
 /// A register operand: "R1000", "D4062" (a word) or "DR1000", "DD100" (n and n+1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,7 +60,7 @@ fn plc(host: &Host) -> SharedPlc<'_> {
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
     match local {
-        Local::MHSPOLoad => lua.create_function(move |lua, args: MultiValue| {
+        Local::MHSPOLoad => binding(lua, spec, move |lua, args| {
             host.beat();
             let Address::Word(sr) = reg_arg(lua, spec, &args, 0)? else {
                 return Err(error_here(lua, "MHSPOLoad: SR is one register, not DR/DD"));
@@ -70,7 +70,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             program.write(&mut plc(&host), sr).map_err(|e| error_here(lua, format!("MHSPOLoad: {e}")))?;
             Ok(0)
         }),
-        Local::MHSPOText => lua.create_function(move |lua, args: MultiValue| {
+        Local::MHSPOText => binding(lua, spec, move |lua, args| {
             host.beat();
             let Address::Word(sr) = reg_arg(lua, spec, &args, 0)? else {
                 return Err(error_here(lua, "MHSPOText: SR is one register, not DR/DD"));
@@ -78,14 +78,14 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let program = Program::read(&plc(&host), sr).map_err(|e| error_here(lua, format!("MHSPOText: {e}")))?;
             Ok(disassemble(&program))
         }),
-        Local::GetPlcReg => lua.create_function(move |lua, args: MultiValue| {
+        Local::GetPlcReg => binding(lua, spec, move |lua, args| {
             host.beat();
             Ok(match reg_arg(lua, spec, &args, 0)? {
                 Address::Word(reg) => i64::from(plc(&host).word(reg)),
                 Address::Double(reg) => i64::from(plc(&host).dword(reg)),
             })
         }),
-        Local::SetPlcReg => lua.create_function(move |lua, args: MultiValue| {
+        Local::SetPlcReg => binding(lua, spec, move |lua, args| {
             host.beat();
             let (address, value) = (reg_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let out_of_range = || error_here(lua, format!("SetPlcReg: {value} does not fit (0x138F)"));
@@ -96,11 +96,11 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             }
             Ok(0)
         }),
-        Local::GetPlcRelay => lua.create_function(move |lua, args: MultiValue| {
+        Local::GetPlcRelay => binding(lua, spec, move |lua, args| {
             host.beat();
             Ok(plc(&host).relay(relay_arg(lua, spec, &args, 0)?))
         }),
-        Local::SetPlcRelay => lua.create_function(move |lua, args: MultiValue| {
+        Local::SetPlcRelay => binding(lua, spec, move |lua, args| {
             host.beat();
             let (relay, on) = (relay_arg(lua, spec, &args, 0)?, bool_arg(lua, spec, &args, 1)?);
             plc(&host).set_relay(relay, on);

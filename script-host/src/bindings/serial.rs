@@ -13,7 +13,7 @@ use serial::format::End;
 use serial::link::{Client, Code, MAX_DATA, Op};
 
 use super::freeport::{delimiter, message_bytes};
-use super::{Host, int_arg};
+use super::{Host, binding, int_arg};
 
 /// The heartbeat goes on at least this often while a call waits.
 const SLICE: Duration = Duration::from_millis(50);
@@ -54,7 +54,7 @@ fn init(args: &MultiValue) -> Option<Op> {
 
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
     let spec = local.spec();
-    lua.create_function(move |lua, args: MultiValue| {
+    binding(lua, spec, move |lua, args| {
         // Every call beats, so a task polling Rx in a loop is alive for the watchdog.
         host.beat();
         let port = int_arg(lua, spec, &args, 0)?;
