@@ -43,8 +43,13 @@ end
 ";
 
 fn client(port: u16, args: &[&str]) -> String {
+    python_client("drl_client.py", port, args)
+}
+
+/// Runs `tests/python/<script> PORT args...` with pymodbus; its stdout, or a failure.
+fn python_client(script: &str, port: u16, args: &[&str]) -> String {
     let output = Command::new(common::pymodbus_python())
-        .arg(common::repo_path("tests/python/drl_client.py"))
+        .arg(common::repo_path(&format!("tests/python/{script}")))
         .arg(port.to_string())
         .args(args)
         .output()
@@ -165,4 +170,47 @@ fn drl_status_names_the_codes_and_takes_at_before_or_after_the_subcommand() {
         Duration::from_secs(30),
     );
     assert!(out.status.success() && out.stdout.contains("id 5"), "drl --at ... status: {}{}", out.stdout, out.stderr);
+}
+
+/// What the project does after its wait: DV 0x40 = 1..20, one every 50 ms.
+const AFTER_THE_WAIT: &str = "for i = 1, 20 do WriteModbusWord(0x40, i) DELAY(0.05) end\n";
+
+/// A served controller with project 7 (waits in `DELAY(2)`) and project 8 (waits in a
+/// `Till` on DV 0x41 whose condition is a module's, so no line of `main.lua` runs in it).
+fn serve_waiting_projects(name: &str) -> (tempfile::TempDir, common::serve::Serving) {
+    let dir = tempfile::tempdir().unwrap();
+    let delay = dir.path().join("projects/7");
+    std::fs::create_dir_all(&delay).unwrap();
+    std::fs::write(delay.join("main.lua"), format!("DELAY(2)\n{AFTER_THE_WAIT}")).unwrap();
+    let till = dir.path().join("projects/8");
+    std::fs::create_dir_all(&till).unwrap();
+    std::fs::write(till.join("released.lua"), "return function() return ReadModbusWord(0x41) == 1 end\n").unwrap();
+    std::fs::write(till.join("main.lua"), format!("Till(require(\"released\"))\n{AFTER_THE_WAIT}")).unwrap();
+    let server = serve(&unique_ns(name), dir.path(), &[]);
+    (dir, server)
+}
+
+/// DXMC A.3: a Release Run sent while a Pause waits for the end of a `DELAY` is carried
+/// out; the program runs on to its end, never pausing.
+#[test]
+fn a_release_run_while_a_pause_is_pending_in_a_delay_runs_on() {
+    let (_dir, server) = serve_waiting_projects("pend-delay");
+    let out = python_client("drl_pending.py", server.port, &["delay-run"]);
+    assert!(out.contains("the program ran on to its end"), "{out}");
+}
+
+/// The same in a `Till`.
+#[test]
+fn a_release_run_while_a_pause_is_pending_in_a_till_runs_on() {
+    let (_dir, server) = serve_waiting_projects("pend-till");
+    let out = python_client("drl_pending.py", server.port, &["till-run"]);
+    assert!(out.contains("the program ran on to its end"), "{out}");
+}
+
+/// A Stop sent while a Pause is pending stops the program in its wait.
+#[test]
+fn a_stop_while_a_pause_is_pending_stops_the_program() {
+    let (_dir, server) = serve_waiting_projects("pend-stop");
+    let out = python_client("drl_pending.py", server.port, &["delay-stop"]);
+    assert!(out.contains("the program stopped in its wait"), "{out}");
 }

@@ -5,6 +5,12 @@
 //!
 //! The manual names the commands but not every transition; the choices (Stop closes the
 //! project, Block Run stops before the first line, ...) are in docs/decisions.md.
+//!
+//! A debugger command waits for the script's next line of `main.lua`, so a Pause sent
+//! during a `DELAY` or a `Till` stays on its way until the wait ends. A command that comes
+//! meanwhile is never dropped: a run or a step replaces the command on its way (the newest
+//! command rules, as in the script's debugger), and a command the state refuses keeps its
+//! CANNOT_x status: the earlier command, settling later, does not write over it.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -152,7 +158,7 @@ impl ProgramControl {
             Control::OpenAndDebugRun => self.open_and_run(RunMode::Debug, host),
             Control::OpenAndBlockRun => self.open_and_run(RunMode::Block, host),
             Control::Stop => self.stop(host),
-            Control::Pause => self.debug_command(DebugCommand::Pause, ExecState::Running, Status::Paused, host),
+            Control::Pause => self.pause(host),
             Control::StepInto => self.step(DebugCommand::StepInto, host),
             Control::StepOver => self.step(DebugCommand::StepOver, host),
             Control::StepOut => self.step(DebugCommand::StepOut, host),
@@ -190,11 +196,12 @@ impl ProgramControl {
         }
     }
 
-    /// Release Run, Debug Run, Block Run: from Pre-Run the program starts; from a stop
-    /// it runs on (in the new mode); while running, the mode changes.
+    /// Release Run, Debug Run, Block Run: from Pre-Run the program starts; from a stop,
+    /// or with a debugger command on its way (a Pause during a `DELAY`), it runs on in the
+    /// new mode; while running or starting, the mode changes.
     fn run(&mut self, mode: RunMode, host: &dyn Host) -> Status {
-        match self.state {
-            ExecState::PreRun if self.pending.is_none() => {
+        match (self.state, self.pending) {
+            (ExecState::PreRun, None) => {
                 let lines: Vec<u32> = if mode == RunMode::Release { Vec::new() } else { self.breakpoints.clone() };
                 host.debug().prepare(mode, &lines);
                 if !host.start() {
@@ -204,15 +211,30 @@ impl ProgramControl {
                 self.state = ExecState::Running;
                 Status::Busy
             }
-            ExecState::BreakPoint | ExecState::Pause => {
+            (ExecState::BreakPoint | ExecState::Pause, None) | (_, Some(Pending::Debug { .. })) => {
                 host.debug().set_mode(mode);
-                self.debug_command(DebugCommand::Continue, self.state, Status::Running, host)
+                self.debug_command(DebugCommand::Continue, Status::Running, host)
             }
-            ExecState::Running if self.pending.is_none() => {
+            (ExecState::Running, None) => {
                 host.debug().set_mode(mode);
                 Status::Running
             }
+            // The start under way settles to RUNNING, in the new mode.
+            (ExecState::Running, Some(Pending::Start { .. })) => {
+                host.debug().set_mode(mode);
+                Status::Busy
+            }
             _ => Status::CannotRun,
+        }
+    }
+
+    /// Pause: while the program runs, or replacing a debugger command on its way.
+    fn pause(&mut self, host: &dyn Host) -> Status {
+        match (self.state, self.pending) {
+            (ExecState::Running, None | Some(Pending::Debug { .. })) => {
+                self.debug_command(DebugCommand::Pause, Status::Paused, host)
+            }
+            _ => Status::CannotPause,
         }
     }
 
@@ -238,29 +260,20 @@ impl ProgramControl {
         }
     }
 
+    /// A step: from Break Point or Pause, or replacing a debugger command on its way (a
+    /// step during a pending Pause stops at the next line of `main.lua`, as the Pause would).
     fn step(&mut self, command: DebugCommand, host: &dyn Host) -> Status {
-        let from = self.state;
-        match from {
-            ExecState::BreakPoint | ExecState::Pause => {
-                match self.debug_command(command, from, Status::Stepped, host) {
-                    Status::Busy => Status::Busy,
-                    _ => Status::CannotStep,
-                }
+        match (self.state, self.pending) {
+            (ExecState::BreakPoint | ExecState::Pause, None) | (_, Some(Pending::Debug { .. })) => {
+                self.debug_command(command, Status::Stepped, host)
             }
             _ => Status::CannotStep,
         }
     }
 
-    /// Sends a debugger command when the state is `needed`; the status settles to `done`.
-    fn debug_command(&mut self, command: DebugCommand, needed: ExecState, done: Status, host: &dyn Host) -> Status {
-        let cannot = match done {
-            Status::Paused => Status::CannotPause,
-            Status::Stepped => Status::CannotStep,
-            _ => Status::CannotRun,
-        };
-        if self.state != needed || self.pending.is_some() {
-            return cannot;
-        }
+    /// Sends a debugger command, replacing one still on its way (the script carries out
+    /// the newest); the status reads BUSY and settles to `done` once it is carried out.
+    fn debug_command(&mut self, command: DebugCommand, done: Status, host: &dyn Host) -> Status {
         let seq = host.debug().send(command);
         host.wake();
         self.pending = Some(Pending::Debug { seq, done });
@@ -357,7 +370,7 @@ impl ProgramControl {
                 TaskState::Starting => self.pending = Some(Pending::Start { seen: true, since }),
                 TaskState::Running => {
                     self.pending = None;
-                    self.status = Status::Running;
+                    self.settle(Status::Running);
                 }
                 // Ended before a poll saw it run: a short program, or one that failed.
                 TaskState::Stopped | TaskState::Error if seen => {
@@ -368,18 +381,18 @@ impl ProgramControl {
                 }
                 _ if since.elapsed() > START_UNSEEN => {
                     self.close();
-                    self.status = Status::CannotRun;
+                    self.settle(Status::CannotRun);
                     return;
                 }
                 _ => {}
             },
             Some(Pending::Stop) if !alive => {
                 self.close();
-                self.status = Status::Stopped;
+                self.settle(Status::Stopped);
             }
             Some(Pending::Debug { seq, done }) if host.debug().done() == seq || !alive => {
                 self.pending = None;
-                self.status = done;
+                self.settle(done);
             }
             _ => {}
         }
@@ -397,6 +410,14 @@ impl ProgramControl {
                 Halt::Pause => ExecState::Pause,
                 Halt::None => ExecState::Running,
             };
+        }
+    }
+
+    /// The pending command is carried out: its status replaces BUSY or STOPPING, but not
+    /// the answer to a later command (a CANNOT_x of one refused meanwhile stays readable).
+    fn settle(&mut self, done: Status) {
+        if matches!(self.status, Status::Busy | Status::Stopping) {
+            self.status = done;
         }
     }
 
@@ -544,6 +565,78 @@ mod tests {
         host.state.set(TaskState::Stopped);
         p.poll(&host);
         assert_eq!((p.state(), p.status()), (ExecState::Close, Status::Stopped));
+    }
+
+    /// Opens project 5 and runs it (Release Run) until the core shows it running.
+    fn running(p: &mut ProgramControl, host: &FakeHost) {
+        p.select(5);
+        assert_eq!(p.control(6, host), Some(Status::Busy));
+        host.state.set(TaskState::Running);
+        p.poll(host);
+        assert_eq!((p.state(), p.status()), (ExecState::Running, Status::Running));
+    }
+
+    /// A Pause is on its way while the script waits (`DELAY`, `Till`): it reaches no line.
+    fn pause_pending(p: &mut ProgramControl, host: &FakeHost) -> u32 {
+        assert_eq!(p.control(4, host), Some(Status::Busy));
+        p.poll(host);
+        assert_eq!((p.state(), p.status()), (ExecState::Running, Status::Busy), "the Pause waits for a line");
+        let (seq, command) = host.block.pending().unwrap();
+        assert_eq!(command, DebugCommand::Pause);
+        seq
+    }
+
+    #[test]
+    fn a_release_run_while_a_pause_is_pending_runs_on() {
+        let (_dir, mut p, host) = setup();
+        running(&mut p, &host);
+        let pause = pause_pending(&mut p, &host);
+        assert_eq!(p.control(2, &host), Some(Status::Busy), "Release Run is carried out, not refused");
+        let (seq, command) = host.block.pending().unwrap();
+        assert_eq!(command, DebugCommand::Continue, "the newest command replaces the Pause");
+        assert_ne!(seq, pause);
+        host.block.mark_done(pause);
+        p.poll(&host);
+        assert_eq!(p.status(), Status::Busy, "the Pause's end does not settle the Release Run");
+        host.block.mark_done(seq);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Running, Status::Running));
+    }
+
+    #[test]
+    fn a_step_while_a_pause_is_pending_replaces_it() {
+        let (_dir, mut p, host) = setup();
+        running(&mut p, &host);
+        pause_pending(&mut p, &host);
+        assert_eq!(p.control(12, &host), Some(Status::Busy));
+        let (seq, command) = host.block.pending().unwrap();
+        assert_eq!(command, DebugCommand::StepOver);
+        host.block.set_halt(Halt::Pause);
+        host.block.mark_done(seq);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Pause, Status::Stepped));
+    }
+
+    #[test]
+    fn a_stop_while_a_pause_is_pending_stops() {
+        let (_dir, mut p, host) = setup();
+        running(&mut p, &host);
+        pause_pending(&mut p, &host);
+        assert_eq!(p.control(3, &host), Some(Status::Stopping));
+        host.state.set(TaskState::Stopped);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Close, Status::Stopped));
+    }
+
+    #[test]
+    fn a_refusal_is_not_overwritten_by_the_command_settling_before_it() {
+        let (_dir, mut p, host) = setup();
+        running(&mut p, &host);
+        assert_eq!(p.control(3, &host), Some(Status::Stopping));
+        assert_eq!(p.control(2, &host), Some(Status::CannotRun), "no run while stopping");
+        host.state.set(TaskState::Stopped);
+        p.poll(&host);
+        assert_eq!((p.state(), p.status()), (ExecState::Close, Status::CannotRun), "the refusal stays readable");
     }
 
     #[test]
