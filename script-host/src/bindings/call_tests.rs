@@ -397,8 +397,12 @@ fn random_lua_values_through_the_bindings() {
     let lua = core.vm();
     let functions: Vec<&'static FunctionSpec> =
         api::registry::all().filter(|f| !(NOT_ACCEPTED.contains(&f.name) && f.max_args().is_none())).collect();
-    let mut runner =
-        TestRunner::new(Config { cases: 10_000, failure_persistence: None, max_shrink_iters: 500, ..Config::default() });
+    let mut runner = TestRunner::new(Config {
+        cases: 10_000,
+        failure_persistence: None,
+        max_shrink_iters: 500,
+        ..Config::default()
+    });
     let result = runner.run(&calls_of(functions), |(spec, mut args)| {
         if let Some(max) = spec.max_args().filter(|_| NOT_ACCEPTED.contains(&spec.name)) {
             args.resize(args.len().max(max + 1), Arg::Int(0));
