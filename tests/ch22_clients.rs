@@ -255,6 +255,31 @@ Print("disconnect %d", Modbus_ClientDisconnect(s))
     assert_lines(&lines, &["connect 0", "silent 183f", "vanished 1840", "refused 1839", "bad ip 1839", "disconnect 0"]);
     let request = holder.join().unwrap();
     assert_eq!(request[7..], [0x03, 0x00, 0x07, 0x00, 0x02], "FC 03 at 7, 2 registers");
+    assert_eq!(request[6], 1, "unit id 1 without `/unit`");
+}
+
+/// HMPL 22.3 takes no unit id: the client sends 1, which the pymodbus server (unit 1 only,
+/// as a gateway with one device) answers, and `ip/unit` sends another; a unit the server
+/// does not have goes unanswered, and a unit id that is not 0..255 does not connect.
+#[test]
+fn the_modbus_client_sends_unit_1_unless_the_address_names_another() {
+    let (_server, port) = pymodbus_server();
+    let lines = run_program(
+        "mb-unit",
+        &format!(
+            r#"
+local rc, s = Modbus_ClientConnect("127.0.0.1:{port}")
+Print("default %x %x", rc, (Modbus_ClientRead_InputReg(s, 5, 1)))
+local rc1, s1 = Modbus_ClientConnect("127.0.0.1:{port}/1")
+Print("unit 1 %x %x", rc1, (Modbus_ClientRead_InputReg(s1, 5, 1)))
+local rc7, s7 = Modbus_ClientConnect("127.0.0.1:{port}/7")
+Print("unit 7 %x %x", rc7, (Modbus_ClientRead_InputReg(s7, 5, 1)))
+Print("bad units %x %x %x", (Modbus_ClientConnect("127.0.0.1:{port}/256")),
+  (Modbus_ClientConnect("127.0.0.1:{port}/x")), (Modbus_ClientConnect("127.0.0.1/")))
+"#
+        ),
+    );
+    assert_lines(&lines, &["default 0 0", "unit 1 0 0", "unit 7 0 183f", "bad units 1839 1839 1839"]);
 }
 
 #[test]

@@ -1,5 +1,6 @@
 """A Modbus TCP server luamotion did not write (pymodbus) for the HMPL 22.3 client tests:
-every table from address 0, with values the tests know.
+every table from address 0, with values the tests know, at unit id 1 only: requests for
+another unit get no answer, as from a gateway with one RTU device behind it.
 
 usage: modbus_server.py PORT
   holding registers: 0 (written by the tests)   input registers: 1000 + address
@@ -26,7 +27,11 @@ async def main(port):
         hr=block([0] * SIZE),
         ir=block([(1000 + a) & 0xFFFF for a in range(SIZE)]),
     )
-    await StartAsyncTcpServer(context=ModbusServerContext(slaves=store, single=True), address=("127.0.0.1", port))
+    await StartAsyncTcpServer(
+        context=ModbusServerContext(slaves={1: store}, single=False),
+        address=("127.0.0.1", port),
+        ignore_missing_slaves=True,
+    )
 
 
 if __name__ == "__main__":
