@@ -84,6 +84,8 @@ pub struct MachineConfig {
     pub serial: SerialConfig,
     /// The programs' `FreePort.Eth` servers (DXMC 8.3).
     pub freeport: FreePortConfig,
+    /// The web view of `--http`.
+    pub web: WebConfig,
 }
 
 /// `[identity]`: the controller's product model and serial number (HMPL 2.14, 2.15).
@@ -213,13 +215,59 @@ impl Default for AsciiConfig {
 pub struct FreePortConfig {
     /// The address programs' servers listen on. Default 127.0.0.1: serving other hosts
     /// is a choice made here, as for `[modbus]` and `[ascii]`.
+    #[serde(deserialize_with = "freeport_bind")]
     pub bind: std::net::IpAddr,
+}
+
+/// `[freeport] bind`, refused with the same words as the other bind addresses.
+fn freeport_bind<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<std::net::IpAddr, D::Error> {
+    let value = String::deserialize(deserializer)?;
+    bind_address("freeport.bind", &value).map_err(serde::de::Error::custom)
 }
 
 impl Default for FreePortConfig {
     fn default() -> Self {
         FreePortConfig { bind: std::net::IpAddr::from([127, 0, 0, 1]) }
     }
+}
+
+/// `[web]`: the web view of `--http PORT` (docs/decisions.md, "Web view security").
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct WebConfig {
+    /// The address it listens on. Default 127.0.0.1; `luamotion serve --bind` overrides it.
+    pub bind: String,
+    /// Host names, besides the bound address (and `localhost` on a loopback bind), that a
+    /// request's `Host` may name: the names the operator's browser reaches the controller
+    /// by. Any other name is refused, so that a rebinding DNS name cannot reach the view.
+    pub allowed_hosts: Vec<String>,
+    /// When set, the page asks for it before it takes commands. Without it, a bind other
+    /// than loopback serves read-only.
+    pub password: Option<String>,
+    /// Connections served at once (each open page holds one); more are closed.
+    pub max_connections: u32,
+    /// A connection that sends no whole request head for this long is closed, ms.
+    pub header_timeout_ms: u64,
+}
+
+impl Default for WebConfig {
+    fn default() -> Self {
+        WebConfig {
+            bind: "127.0.0.1".into(),
+            allowed_hosts: Vec::new(),
+            password: None,
+            max_connections: 32,
+            header_timeout_ms: 10_000,
+        }
+    }
+}
+
+/// A bind address of the machine file: an IP address, so that a typo is told at load
+/// time rather than when the server starts (or, for `0.0.0.0` meant as `127.0.0.1`, never).
+fn bind_address(key: &str, value: &str) -> Result<std::net::IpAddr, ConfigError> {
+    value
+        .parse()
+        .map_err(|_| invalid(key, format!("{value:?} is not an IP address (such as 127.0.0.1, 0.0.0.0 or ::1)")))
 }
 
 /// `[serial]`: serial port 1, a pseudo-terminal any serial program can open. Its Modbus
@@ -587,6 +635,7 @@ impl Default for MachineConfig {
             identity: IdentityConfig::default(),
             serial: SerialConfig::default(),
             freeport: FreePortConfig::default(),
+            web: WebConfig::default(),
         }
     }
 }
@@ -803,10 +852,38 @@ impl MachineConfig {
         if self.ascii.idle_timeout_ms == 0 {
             return Err(invalid("ascii.idle_timeout_ms", "must be at least 1 ms"));
         }
+        for (key, value) in
+            [("modbus.bind", &self.modbus.bind), ("ascii.bind", &self.ascii.bind), ("web.bind", &self.web.bind)]
+        {
+            bind_address(key, value)?;
+        }
+        self.web.validate()?;
         for (key, text) in [("identity.model", &self.identity.model), ("identity.serial", &self.identity.serial)] {
             if text.len() > 64 || text.contains('\0') {
                 return Err(invalid(key, "at most 64 bytes, no NUL"));
             }
+        }
+        Ok(())
+    }
+}
+
+impl WebConfig {
+    fn validate(&self) -> Result<(), ConfigError> {
+        for (i, name) in self.allowed_hosts.iter().enumerate() {
+            let host_name = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '.';
+            if name.is_empty() || !name.chars().all(host_name) {
+                let message = format!("{name:?} is not a host name (letters, digits, '-' and '.'; no port)");
+                return Err(invalid(format!("web.allowed_hosts[{i}]"), message));
+            }
+        }
+        if self.password.as_ref().is_some_and(|p| p.is_empty()) {
+            return Err(invalid("web.password", "must not be empty (leave it out for no password)"));
+        }
+        if !(1..=4096).contains(&self.max_connections) {
+            return Err(invalid("web.max_connections", "must be 1..4096"));
+        }
+        if self.header_timeout_ms == 0 {
+            return Err(invalid("web.header_timeout_ms", "must be at least 1 ms"));
         }
         Ok(())
     }
@@ -948,6 +1025,43 @@ mod tests {
         }
         let config = parse("[[axes]]\nname = \"x\"\nvel = 5000.0\n");
         assert!(matches!(config.validate(), Err(ConfigError::Invalid { key, .. }) if key == "axes[0].vel"));
+    }
+
+    /// Every bind address of the machine file is checked when the file is loaded, and the
+    /// error names the key and the value: a host name, an address with a port, a typo.
+    #[test]
+    fn every_bind_address_is_checked_at_load() {
+        let dir = tempfile::tempdir().unwrap();
+        let load = |text: &str| {
+            let path = dir.path().join("machine.toml");
+            std::fs::write(&path, format!("{text}\n[[axes]]\n")).unwrap();
+            MachineConfig::load(&path).map(|_| ()).map_err(|e| e.to_string())
+        };
+        for section in ["modbus", "ascii", "web", "freeport"] {
+            for value in ["localhost", "127.0.0.1:502", "127.0.0.256", "", "0.0.0.0 "] {
+                let error = load(&format!("[{section}]\nbind = {value:?}")).expect_err(value);
+                assert!(error.contains(&format!("{section}.bind: {value:?} is not an IP address")), "{error}");
+            }
+            for value in ["127.0.0.1", "0.0.0.0", "::1", "::"] {
+                assert_eq!(load(&format!("[{section}]\nbind = {value:?}")), Ok(()), "{section}.bind = {value}");
+            }
+        }
+    }
+
+    /// `[web]`: a host name without a port, a password that is not empty, limits in range.
+    #[test]
+    fn the_web_section_is_checked() {
+        let key = |text: &str| match parse(&format!("{text}\n[[axes]]\n")).validate() {
+            Err(ConfigError::Invalid { key, .. }) => key,
+            other => panic!("{text}: {other:?}"),
+        };
+        assert_eq!(key("[web]\nallowed_hosts = [\"cell-7.local\", \"cell-7:8080\"]"), "web.allowed_hosts[1]");
+        assert_eq!(key("[web]\nallowed_hosts = [\"\"]"), "web.allowed_hosts[0]");
+        assert_eq!(key("[web]\npassword = \"\""), "web.password");
+        assert_eq!(key("[web]\nmax_connections = 0"), "web.max_connections");
+        assert_eq!(key("[web]\nheader_timeout_ms = 0"), "web.header_timeout_ms");
+        let web = parse("[web]\nallowed_hosts = [\"cell-7.local\"]\npassword = \"s3cret\"\n[[axes]]\n");
+        assert!(web.validate().is_ok());
     }
 
     /// A probe input needs the CiA 402 touch probe (the CoE manual's drive latches the
