@@ -19,11 +19,11 @@ use ipc::Namespace;
 pub struct ServeArgs {
     #[command(flatten)]
     controller: crate::ControllerArgs,
-    /// Address the Modbus TCP and ASCII servers listen on [default: the machine file's
-    /// `[modbus] bind` and `[ascii] bind`, 127.0.0.1]; 0.0.0.0 serves every network the
-    /// host is on.
+    /// Address the Modbus TCP, ASCII and web servers listen on [default: the machine
+    /// file's `[modbus] bind`, `[ascii] bind` and `[web] bind`, 127.0.0.1]; 0.0.0.0 serves
+    /// every network the host is on.
     #[arg(long)]
-    bind: Option<String>,
+    bind: Option<std::net::IpAddr>,
     /// Modbus TCP port [default: the machine file's, 502]; 0 asks the OS for a free one.
     #[arg(long)]
     modbus_port: Option<u16>,
@@ -31,8 +31,8 @@ pub struct ServeArgs {
     /// the OS for a free one.
     #[arg(long)]
     ascii_port: Option<u16>,
-    /// Serve the live web view on this port (on `--bind`'s address); 0 asks the OS for a
-    /// free one. Without it, no web view.
+    /// Serve the live web view on this port (on `--bind`'s address, else the machine
+    /// file's `[web] bind`); 0 asks the OS for a free one. Without it, no web view.
     #[arg(long)]
     http: Option<u16>,
     /// DRL projects folder [default: the machine file's, else <data dir>/projects].
@@ -50,9 +50,11 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let ns = args.controller.namespace()?;
     let data_dir = args.controller.data_dir();
     let port = args.modbus_port.unwrap_or(config.modbus.port);
-    let bind = args.bind.clone().unwrap_or_else(|| config.modbus.bind.clone());
+    let chosen = |machine_file: &String| args.bind.map_or_else(|| machine_file.clone(), |ip| ip.to_string());
+    let bind = chosen(&config.modbus.bind);
     let limits = modbus_limits(&config);
-    let ascii_bind = args.bind.clone().unwrap_or_else(|| config.ascii.bind.clone());
+    let ascii_bind = chosen(&config.ascii.bind);
+    let web = config::WebConfig { bind: chosen(&config.web.bind), ..config.web.clone() };
     let ascii_port = args.ascii_port.unwrap_or(config.ascii.native_port);
     let ascii_limits = drl::listener::Limits {
         max_connections: config.ascii.max_connections as usize,
@@ -81,10 +83,9 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     };
     let web = match args.http {
         Some(http_port) => {
-            let web_bind = args.bind.as_deref().unwrap_or("127.0.0.1");
             match crate::web::WebView::start(
                 ns,
-                (web_bind, http_port),
+                (&web, http_port),
                 ascii.agent(),
                 Some(Box::new(server.pdu_handler())),
                 None,
@@ -106,7 +107,7 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     println!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
     println!("Native ASCII on {}; task {agent_task} carries out its commands", ascii.address);
     if let Some(web) = &web {
-        println!("Web view on http://{}/", web.address);
+        println!("Web view on http://{}/; {}", web.address, web.access_note);
     }
     // The controller ends on Ctrl-C or SIGTERM; the servers go with it, the serial port
     // before the Modbus server (its Modbus handler holds the console's channel).

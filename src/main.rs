@@ -69,8 +69,8 @@ enum Cmd {
         /// Write every cycle's reference, feedback and status of the first 8 axes to this CSV file.
         #[arg(long)]
         trace: Option<PathBuf>,
-        /// Serve the live web view on 127.0.0.1 at this port (0: a free one); its axis
-        /// commands go through task slot `[ascii] agent_task`.
+        /// Serve the live web view at this port (0: a free one) on the machine file's `[web]
+        /// bind`, 127.0.0.1; its axis commands go through task slot `[ascii] agent_task`.
         #[arg(long)]
         http: Option<u16>,
         /// Record the scope's variables (--scope-vars) every cycle of the run into this
@@ -239,12 +239,13 @@ impl ControllerArgs {
     /// and where FreePort servers do (`[freeport] bind`).
     fn launcher(&self, config: &MachineConfig, bind: &str) -> Result<ScriptLauncher> {
         let port = self.ascii_user_port.unwrap_or(config.ascii.user_port);
+        let ip: std::net::IpAddr = bind.parse().with_context(|| format!("the ASCII bind address {bind:?}"))?;
         Ok(ScriptLauncher {
             executable: std::env::current_exe().context("locate the luamotion binary")?,
             subcommand: vec![
                 "script".into(),
                 "--ascii-user".into(),
-                format!("{bind}:{port}"),
+                std::net::SocketAddr::new(ip, port).to_string(),
                 "--freeport-bind".into(),
                 config.freeport.bind.to_string(),
             ],
@@ -569,6 +570,7 @@ fn run_served(
         config = config.with_ascii_task()?;
     }
     let agent_task = config.ascii.agent_task;
+    let web_config = config.web.clone();
     let controller = rt_core::controller::Background::start(config, options)?;
     let servers = (|| -> Result<_> {
         let modbus = console.map(|(setup, bind, port, limits)| drl::Server::start(setup, &bind, port, limits));
@@ -576,7 +578,7 @@ fn run_served(
         let web = match http {
             Some(port) => {
                 let (agent, thread) = drl::ascii::start_agent(ns.clone(), agent_task)?;
-                Some((web::WebView::start(ns, ("127.0.0.1", port), agent, None, sim_inputs)?, thread))
+                Some((web::WebView::start(ns, (&web_config, port), agent, None, sim_inputs)?, thread))
             }
             None => None,
         };
@@ -598,7 +600,7 @@ fn run_served(
         }
     }
     if let Some((web, _)) = &web {
-        println!("Web view on http://{}/", web.address);
+        println!("Web view on http://{}/; {}", web.address, web.access_note);
     }
     let report = controller.join();
     // The web view holds the agent's last handle: the agent ends after it.

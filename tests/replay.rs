@@ -116,15 +116,22 @@ fn inputs_program(dir: &Path) -> PathBuf {
     )
 }
 
-/// An HTTP POST by nc to the web view at `port`; the answer's body.
+/// An HTTP POST by nc to the web view at `port`, as its page sends it (its Host, Origin
+/// and the token cookie the page sets); the answer's body.
 fn post(port: &str, path: &str) -> String {
+    let page = ureq::get(&format!("http://127.0.0.1:{port}/")).call().expect("the page");
+    let cookie = page.headers().get("set-cookie").and_then(|c| c.to_str().ok()).expect("the token's cookie");
+    let cookie = cookie.split(';').next().unwrap();
     let mut nc = Command::new(debian_tool("nc"))
         .args(["-w", "10", "127.0.0.1", port])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .spawn()
         .expect("nc");
-    let request = format!("POST {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
+    let host = format!("127.0.0.1:{port}");
+    let request = format!(
+        "POST {path} HTTP/1.1\r\nHost: {host}\r\nOrigin: http://{host}\r\nCookie: {cookie}\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"
+    );
     nc.stdin.take().unwrap().write_all(request.as_bytes()).unwrap();
     let out = nc.wait_with_output().expect("nc");
     String::from_utf8_lossy(&out.stdout).into_owned()
@@ -336,7 +343,8 @@ fn recording_with_web_view(
     let (child, lines) =
         start(&ns, &[&args[..], &["--record", record.to_str().unwrap(), program.to_str().unwrap()]].concat());
     let mut seen = Vec::new();
-    let address = until(&lines, "Web view on http://", &mut seen);
+    let said = until(&lines, "Web view on http://", &mut seen);
+    let address = said.split(';').next().unwrap();
     let port = address.trim_end_matches('/').rsplit(':').next().unwrap().to_string();
     if !seen.iter().any(|l| l.contains("waiting for inputs")) {
         until(&lines, "waiting for inputs", &mut seen);

@@ -56,7 +56,9 @@ pub fn listen(name: &str, bind: &str, port: u16) -> Result<(Runtime, TcpListener
         .build()
         .map_err(ServerError::Runtime)?;
     let listen = format!("{bind}:{port}");
-    let listener = runtime.block_on(TcpListener::bind(&listen)).map_err(|e| ServerError::Bind(listen.clone(), e))?;
+    // A pair, not the text: `::1:502` is no socket address, (`::1`, 502) is.
+    let listener =
+        runtime.block_on(TcpListener::bind((bind, port))).map_err(|e| ServerError::Bind(listen.clone(), e))?;
     let address = listener.local_addr().map_err(|e| ServerError::Bind(listen, e))?;
     Ok((runtime, listener, address))
 }
