@@ -44,6 +44,9 @@ pub struct Deframer {
     pending: Vec<u8>,
     /// Bytes of the frame under way beyond `max_data` are dropped until its end.
     overflowing: bool,
+    /// The frame under way has had its start byte: the same byte as an end byte then
+    /// ends it, before that it begins it.
+    begun: bool,
     frames: VecDeque<Received>,
     refused: u64,
 }
@@ -52,10 +55,12 @@ impl Deframer {
     pub fn new(framing: Framing, max_data: usize, max_frames: usize) -> Self {
         Deframer {
             framing,
-            max_data,
+            // A frame holds at least a byte: pieces of unframed data are never empty.
+            max_data: max_data.max(1),
             max_frames,
             pending: Vec::new(),
             overflowing: false,
+            begun: false,
             frames: VecDeque::new(),
             refused: 0,
         }
@@ -65,28 +70,34 @@ impl Deframer {
         &self.framing
     }
 
+    /// Bytes from the line: frames end at the end bytes. Without end bytes every read is
+    /// a frame (its data after the start byte, if one is set), in pieces of at most
+    /// `max_data` bytes, so nothing is lost and no frame is too long.
     pub fn receive(&mut self, bytes: &[u8]) {
+        if self.framing.end.is_empty() {
+            self.pending.extend_from_slice(bytes);
+            let data = self.take_data();
+            for piece in data.chunks(self.max_data) {
+                self.push(Received::Frame(piece.to_vec()));
+            }
+            return;
+        }
         for &b in bytes {
             self.pending.push(b);
-            let end = &self.framing.end;
-            if !end.is_empty() && self.pending.ends_with(end) {
-                self.pending.truncate(self.pending.len() - end.len());
+            let begins = !self.begun && Some(b) == self.framing.start;
+            self.begun |= begins;
+            let end = self.framing.end.len();
+            if !begins && self.pending.ends_with(&self.framing.end) {
+                self.pending.truncate(self.pending.len() - end);
                 let data = self.take_data();
-                let frame = if self.overflowing { Received::TooLong } else { Received::Frame(data) };
-                self.push(frame);
+                let too_long = self.overflowing || data.len() > self.max_data;
+                self.push(if too_long { Received::TooLong } else { Received::Frame(data) });
                 self.overflowing = false;
-            } else if self.pending.len() > self.max_data + 1 + end.len() {
-                // Keep the tail an end sequence may finish; count the rest as lost.
+                self.begun = false;
+            } else if self.pending.len() > self.max_data + 1 + end {
                 self.overflowing = true;
-                let keep = end.len().saturating_sub(1);
+                let keep = end.saturating_sub(1);
                 self.pending.drain(..self.pending.len() - keep);
-            }
-        }
-        if self.framing.end.is_empty() && !self.pending.is_empty() {
-            // No end bytes: whatever arrived is the frame (DXMC 8.3 with EByte nil).
-            let data = self.take_data();
-            if !data.is_empty() {
-                self.push(Received::Frame(data));
             }
         }
     }
@@ -111,6 +122,7 @@ impl Deframer {
     pub fn drop_unfinished(&mut self) {
         self.pending.clear();
         self.overflowing = false;
+        self.begun = false;
     }
 
     /// Drops everything received and not yet read.
@@ -127,9 +139,6 @@ impl Deframer {
             && let Some(at) = data.iter().position(|&b| b == start)
         {
             data.drain(..=at);
-        }
-        if data.len() > self.max_data {
-            self.overflowing = true;
         }
         data
     }
@@ -163,6 +172,31 @@ mod tests {
         d.receive(&[b'7'; 30]);
         d.receive(b"\r\nok\r\n");
         assert_eq!(frames(&mut d), [Received::TooLong, Received::Frame(b"ok".to_vec())]);
+    }
+
+    /// Found by `tests/fuzz.rs`: without end bytes a read over `max_data` was one frame of
+    /// `max_data + 1` bytes and the rest was lost; it comes in pieces now.
+    #[test]
+    fn without_end_bytes_a_long_read_comes_in_pieces() {
+        let mut d = Deframer::new(Framing::default(), 8, 8);
+        d.receive(b"0123456789abcdefghij");
+        let pieces = [&b"01234567"[..], b"89abcdef", b"ghij"].map(|p| Received::Frame(p.to_vec()));
+        assert_eq!(frames(&mut d), pieces);
+        let mut d = Deframer::new(Framing { start: Some(b':'), end: Vec::new() }, 1, 8);
+        d.receive(b"x:ab");
+        assert_eq!(frames(&mut d), [Received::Frame(b"a".to_vec()), Received::Frame(b"b".to_vec())]);
+    }
+
+    /// Found by `tests/fuzz.rs`: with the start byte also the end byte, `:ab:` was an empty
+    /// frame and `ab` never ended; the byte begins a frame when none is under way.
+    #[test]
+    fn a_start_byte_that_is_also_the_end_byte() {
+        let mut d = deframer(Some(b':'), b":");
+        d.receive(b":ab::cd:");
+        assert_eq!(frames(&mut d), [Received::Frame(b"ab".to_vec()), Received::Frame(b"cd".to_vec())]);
+        let mut d = deframer(Some(b'\n'), b"\r\n");
+        d.receive(b"\nab\r\n\n\r\n");
+        assert_eq!(frames(&mut d), [Received::Frame(b"ab".to_vec()), Received::Frame(Vec::new())]);
     }
 
     #[test]
