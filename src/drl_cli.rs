@@ -15,6 +15,8 @@ use drl::program::ProgramControl;
 use drl::projects::Projects;
 use ipc::Namespace;
 
+use crate::stdout::{outln, sayln};
+
 #[derive(clap::Args, Debug)]
 pub struct ServeArgs {
     #[command(flatten)]
@@ -104,10 +106,10 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
         // Modbus RTU on the serial port: the same register logic as Modbus TCP.
         port.serve_modbus(Box::new(server.pdu_handler()));
     }
-    println!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
-    println!("Native ASCII on {}; task {agent_task} carries out its commands", ascii.address);
+    sayln!("Modbus TCP on {}; DRL projects in {}", server.address, projects.dir.display());
+    sayln!("Native ASCII on {}; task {agent_task} carries out its commands", ascii.address);
     if let Some(web) = &web {
-        println!("Web view on http://{}/; {}", web.address, web.access_note);
+        sayln!("Web view on http://{}/; {}", web.address, web.access_note);
     }
     // The controller ends on Ctrl-C or SIGTERM; the servers go with it, the serial port
     // before the Modbus server (its Modbus handler holds the console's channel).
@@ -330,6 +332,6 @@ async fn print_status(client: &mut Client) -> Result<()> {
     let r = client.read(0x6B00, 7).await?;
     let state = ExecState::try_from(r[1]).ok().map_or("unknown", ExecState::name);
     let status = Status::try_from(r[6]).ok().map_or("unknown", Status::name);
-    println!("id {}  state {} ({state})  line {}  speed {} %  status {} ({status})", r[0], r[1], r[2], r[3], r[6]);
+    outln!("id {}  state {} ({state})  line {}  speed {} %  status {} ({status})", r[0], r[1], r[2], r[3], r[6])?;
     Ok(())
 }

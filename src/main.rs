@@ -17,6 +17,7 @@ mod drl_cli;
 mod replay_cli;
 mod scope;
 mod soak;
+mod stdout;
 mod test_runner;
 mod tools;
 mod web;
@@ -226,8 +227,13 @@ impl ControllerArgs {
         })
     }
 
+    /// The namespace of the controller to start. One a live controller holds is refused
+    /// here, with that controller's pid, before anything of the namespace is opened
+    /// (serial port 1's socket, the DRL console), whose own errors would come first.
     fn namespace(&self) -> Result<Namespace> {
-        Ok(Namespace::new(&self.ns)?)
+        let ns = Namespace::new(&self.ns)?;
+        ipc::claim_namespace(&ns)?;
+        Ok(ns)
     }
 
     fn data_dir(&self) -> PathBuf {
@@ -336,14 +342,11 @@ fn main() -> ExitCode {
         Cmd::SoakPong { ns, futex } => soak::floor::pong(&ns, futex).map(|()| ExitCode::SUCCESS),
         Cmd::Events { ns, count } => tools::events(&ns, count),
         Cmd::Api { format } => {
-            print!(
-                "{}",
-                match format {
-                    ApiFormat::Markdown => api::docs::markdown(),
-                    ApiFormat::Lua => api::docs::lua_meta(),
-                }
-            );
-            Ok(ExitCode::SUCCESS)
+            let text = match format {
+                ApiFormat::Markdown => api::docs::markdown(),
+                ApiFormat::Lua => api::docs::lua_meta(),
+            };
+            stdout::out!("{text}").map(|()| ExitCode::SUCCESS).map_err(Into::into)
         }
         Cmd::Script {
             ns,
@@ -401,6 +404,10 @@ fn main() -> ExitCode {
         }
     };
     result.unwrap_or_else(|e| {
+        // The reader of the output has what it wanted (`luamotion api lua | head`).
+        if stdout::closed(&e) {
+            return exit_code_of_signal(libc::SIGPIPE);
+        }
         eprintln!("error: {e:#}");
         ExitCode::FAILURE
     })
@@ -592,7 +599,7 @@ fn run_served(
         }
     };
     if let Some(modbus) = &modbus {
-        println!("Modbus TCP on {}", modbus.address);
+        crate::stdout::sayln!("Modbus TCP on {}", modbus.address);
         if let Some(port) = &serial {
             // Modbus RTU/ASCII on serial port 1: the same register logic, so on the
             // simulation clock its writes are queued and recorded as Modbus TCP's are.
@@ -600,7 +607,7 @@ fn run_served(
         }
     }
     if let Some((web, _)) = &web {
-        println!("Web view on http://{}/; {}", web.address, web.access_note);
+        crate::stdout::sayln!("Web view on http://{}/; {}", web.address, web.access_note);
     }
     let report = controller.join();
     // The web view holds the agent's last handle: the agent ends after it.

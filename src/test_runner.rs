@@ -65,7 +65,7 @@ pub fn test(args: TestArgs) -> Result<ExitCode> {
                     let index = next.fetch_add(1, Ordering::Relaxed);
                     let Some(file) = files.get(index) else { break };
                     let result = run_file(&exe, file, index, timeout);
-                    println!("{:<5} {} ({:.1} s)", result.verdict.word(), file.display(), result.seconds);
+                    crate::stdout::sayln!("{:<5} {} ({:.1} s)", result.verdict.word(), file.display(), result.seconds);
                     results.lock().unwrap_or_else(|e| e.into_inner())[index] = Some(result);
                 }
             });
@@ -75,7 +75,7 @@ pub fn test(args: TestArgs) -> Result<ExitCode> {
         results.into_inner().unwrap_or_else(|e| e.into_inner()).into_iter().flatten().collect();
     let seconds = started.elapsed().as_secs_f64();
 
-    print!("{}", summary(&results, seconds));
+    crate::stdout::say!("{}", summary(&results, seconds));
     if let Some(path) = &args.junit {
         std::fs::write(path, junit(&results, seconds)).with_context(|| format!("write {}", path.display()))?;
     }

@@ -9,6 +9,8 @@ use ipc::events::EventReader;
 use ipc::messages::{EventKind, EventRecord, TaskState};
 use ipc::{Monitor, Namespace};
 
+use crate::stdout::outln;
+
 fn open(ns: &str) -> Result<Namespace> {
     let ns = Namespace::new(ns)?;
     if ipc::controller_pid(&ns)?.is_none() {
@@ -22,11 +24,16 @@ pub fn tasks(ns: &str) -> Result<ExitCode> {
     let ns = open(ns)?;
     let mut monitor = Monitor::open(&ns).context("read the controller's state")?;
     let snapshot = *monitor.snapshot()?;
-    println!("cycle {} ({} ms), {} overruns", snapshot.cycle, snapshot.time_in_ms, snapshot.overruns);
-    println!(
+    outln!("cycle {} ({} ms), {} overruns", snapshot.cycle, snapshot.time_in_ms, snapshot.overruns)?;
+    outln!(
         "{:<4} {:<9} {:>7} {:>8} {:>9}  {:<10}  program",
-        "task", "state", "pid", "cpu ms", "watchdog", "last alarm"
-    );
+        "task",
+        "state",
+        "pid",
+        "cpu ms",
+        "watchdog",
+        "last alarm"
+    )?;
     for (id, task) in snapshot.tasks.iter().enumerate() {
         let state = TaskState::from(task.state);
         if state == TaskState::Empty {
@@ -35,13 +42,13 @@ pub fn tasks(ns: &str) -> Result<ExitCode> {
         let slot = &monitor.table().slots[id];
         let pid = if task.pid == 0 { "-".to_string() } else { task.pid.to_string() };
         let alarm = if task.alarm == 0 { "-".to_string() } else { Alarm(task.alarm).to_string() };
-        println!(
+        outln!(
             "{id:<4} {:<9} {pid:>7} {:>8} {:>7}ms  {alarm:<10}  {}",
             state.name(),
             slot.cpu_ms(),
             task.watchdog_ms,
             slot.program()
-        );
+        )?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -72,7 +79,7 @@ pub fn events(ns: &str, count: Option<usize>) -> Result<ExitCode> {
     let mut last_check = Instant::now();
     loop {
         while let Some(record) = reader.try_next()? {
-            println!("{}", describe(&record));
+            outln!("{}", describe(&record))?;
             seen += 1;
             if count.is_some_and(|n| seen >= n) {
                 return Ok(ExitCode::SUCCESS);

@@ -195,3 +195,34 @@ fn a_run_with_nothing_to_run_says_so() {
         assert!(shm_files(&ns).is_empty());
     }
 }
+
+/// A second `serve` or `run` in a namespace a served controller holds is refused: the
+/// first line it prints names that controller and its pid, nothing comes before it, and
+/// the first controller goes on serving.
+#[test]
+fn a_second_controller_in_a_namespace_in_use_names_the_first() {
+    let ns = unique_ns("in-use");
+    let dir = tempfile::tempdir().unwrap();
+    let first = common::serve::serve(&ns, dir.path(), &[]);
+    let expected = format!("error: a controller (pid {}) is already running in namespace {ns}", first.pid());
+    let second = tempfile::tempdir().unwrap();
+    let data_dir = second.path().to_str().unwrap();
+    let program = program(second.path(), "second.lua", "Print('the second ran')\n");
+    let serve_again = ["serve", "--ns", &ns, "--data-dir", data_dir, "--modbus-port", "0", "--ascii-port", "0"];
+    let run_again = ["run", "--ns", &ns, "--data-dir", data_dir, program.to_str().unwrap()];
+    for args in [&serve_again[..], &run_again[..]] {
+        let child = Command::new(BIN).args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+        let out = finish(child, Duration::from_secs(30));
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", out.stderr);
+        assert_eq!(out.stderr.lines().next(), Some(expected.as_str()), "{args:?}, stderr:\n{}", out.stderr);
+        assert_eq!(out.stderr.lines().count(), 1, "{args:?} says one thing only:\n{}", out.stderr);
+        assert!(out.stdout.is_empty(), "{args:?} printed {:?}", out.stdout);
+    }
+    let tasks = finish(
+        Command::new(BIN).args(["tasks", "--ns", &ns]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap(),
+        Duration::from_secs(30),
+    );
+    assert!(tasks.status.success() && tasks.stdout.contains("cycle"), "the first still runs: {}", tasks.stderr);
+    let logged = first.stderr();
+    assert!(!logged.contains("WARN") && !logged.contains("ERROR"), "the first controller was disturbed: {logged}");
+}

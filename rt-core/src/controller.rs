@@ -268,14 +268,19 @@ pub struct Background {
 const START_PATIENCE: Duration = Duration::from_secs(10);
 
 impl Background {
-    /// Starts a controller and returns once programs can attach to it.
+    /// Starts a controller and returns once programs can attach to it. A namespace that
+    /// another live controller holds is refused here, with its pid, before the thread
+    /// starts: that controller being ready must not pass for this one.
     pub fn start(config: MachineConfig, mut options: RunOptions) -> Result<Self, ControllerError> {
         let stop = options.stop.get_or_insert_with(Default::default).clone();
         let ns = options.ns.clone();
+        ipc::claim_namespace(&ns)?;
         let thread = std::thread::spawn(move || run(config, options));
         let since = std::time::Instant::now();
         loop {
-            if ipc::controller_ready(&ns)? {
+            // Ours, should another controller have claimed the namespace since.
+            let ours = ipc::controller_pid(&ns)? == Some(std::process::id());
+            if ours && ipc::controller_ready(&ns)? {
                 return Ok(Background { thread, stop });
             }
             if thread.is_finished() || since.elapsed() > START_PATIENCE {

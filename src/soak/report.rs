@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::memory::Memory;
 use super::metrics::CallCounts;
+use crate::stdout::sayln;
 
 /// Percentiles of one metric, µs.
 #[derive(Debug, Serialize)]
@@ -229,7 +230,7 @@ impl Report {
 
     pub fn print(&self) {
         let r = &self.run;
-        println!(
+        sayln!(
             "luamotion soak: {} scripts, {} axes, {} us cycle, {} s{}{}; {} CPUs, Linux {}",
             r.scripts,
             r.axes,
@@ -240,7 +241,7 @@ impl Report {
             r.cpus,
             r.kernel
         );
-        println!(
+        sayln!(
             "RT thread: SCHED_FIFO {}, CPU {}, memory {} and {}, idle CPUs {}; scripts on {}",
             r.fifo_priority.map_or("refused".to_string(), |p| p.to_string()),
             r.rt_cpu.map_or("not pinned".to_string(), |c| c.to_string()),
@@ -249,21 +250,37 @@ impl Report {
             if r.idle_poll { "poll" } else { "may halt" },
             r.script_cpus.as_ref().map_or("every CPU".to_string(), |cpus| format!("CPUs {cpus:?}"))
         );
-        println!();
-        println!(
+        sayln!();
+        sayln!(
             "{:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}  {:>12}",
-            "metric (us)", "count", "p50", "p90", "p99", "p99.9", "p99.99", "max", "x floor p50"
+            "metric (us)",
+            "count",
+            "p50",
+            "p90",
+            "p99",
+            "p99.9",
+            "p99.99",
+            "max",
+            "x floor p50"
         );
         for row in &self.metrics {
             let ratio = row.ratio_p50.map_or(String::new(), |x| format!("{x:.2}"));
-            println!(
+            sayln!(
                 "{:<28} {:>9} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1}  {:>12}",
-                row.name, row.count, row.p50, row.p90, row.p99, row.p99_9, row.p99_99, row.max, ratio
+                row.name,
+                row.count,
+                row.p50,
+                row.p90,
+                row.p99,
+                row.p99_9,
+                row.p99_99,
+                row.max,
+                ratio
             );
         }
         let c = &self.counters;
-        println!();
-        println!(
+        sayln!();
+        sayln!(
             "commands {}, queries {}, lost {}, duplicated {}, out of order {}, call errors {}",
             c.calls.commands,
             c.calls.queries,
@@ -272,7 +289,7 @@ impl Report {
             c.calls.out_of_order,
             c.calls.call_errors
         );
-        println!(
+        sayln!(
             "cycles {}, overruns {}, RT thread CPU {:.1} % of a core ({:.1} % simulating the drives), task wakers {:.1} %; \
              {} task wakes, {} of them of a task asleep",
             c.cycles,
@@ -285,14 +302,14 @@ impl Report {
         );
         self.print_cycle();
         self.print_scripts();
-        println!();
+        sayln!();
         for t in &self.targets {
             let verdict = match t.met {
                 Some(true) => "met",
                 Some(false) => "MISSED",
                 None => "n/a",
             };
-            println!("[{verdict:>6}] {}: {}", t.target, t.measured);
+            sayln!("[{verdict:>6}] {}: {}", t.target, t.measured);
         }
     }
 
@@ -304,15 +321,15 @@ impl Report {
                 x.p50, x.p99, x.p99_9, x.p99_99, x.max
             )
         };
-        println!("cycle execution / period {:.0} us: {}", y.period_us, f(&y.execution_of_period));
-        println!("cycle CPU time / period:  {}", f(&y.cpu_of_period));
-        println!(
+        sayln!("cycle execution / period {:.0} us: {}", y.period_us, f(&y.execution_of_period));
+        sayln!("cycle CPU time / period:  {}", f(&y.cpu_of_period));
+        sayln!(
             "cycles stalled (execution over its p50 + {STALL_US:.0} us): {} of {} ({:.2} %)",
             y.stalled,
             y.cycles,
             y.stalled as f64 * 100.0 / y.cycles.max(1) as f64
         );
-        println!(
+        sayln!(
             "overruns {}: {} late wake-up (woke > {:.0} us late), {} long execution (work > {:.0} us), {} both; \
              {} of the long ones the cycle's own work (its CPU time > {:.0} us)",
             y.overruns,
@@ -327,17 +344,24 @@ impl Report {
     }
 
     fn print_scripts(&self) {
-        println!();
-        println!("wake-up by script rank (rank = task index: each CPU's task waker wakes its tasks in index order)");
-        println!(
+        sayln!();
+        sayln!("wake-up by script rank (rank = task index: each CPU's task waker wakes its tasks in index order)");
+        sayln!(
             "{:>5} {:>9} {:>9} {:>9} {:>13} {:>12} {:>9} {:>9}",
-            "rank", "wake-ups", "p50 us", "p99 us", "CPU us/cycle", "CPU us/wake", "RSS MiB", "PSS MiB"
+            "rank",
+            "wake-ups",
+            "p50 us",
+            "p99 us",
+            "CPU us/cycle",
+            "CPU us/wake",
+            "RSS MiB",
+            "PSS MiB"
         );
         for s in &self.scripts {
             let (rss, pss) = s.memory.map_or((String::from("-"), String::from("-")), |m| {
                 (format!("{:.1}", mib(m.rss_kib)), format!("{:.1}", mib(m.pss_kib)))
             });
-            println!(
+            sayln!(
                 "{:>5} {:>9} {:>9.1} {:>9.1} {:>13.1} {:>12.1} {:>9} {:>9}",
                 s.rank,
                 s.wake_ups,
@@ -350,7 +374,7 @@ impl Report {
             );
         }
         let fair = &self.fairness;
-        println!(
+        sayln!(
             "scripts' CPU time per cycle {:.1} us; wake-up p50 spread (highest rank less rank 0) {:.1} us; \
              rank 0 p50 {} the iceoryx2 one-way floor, {} the futex wake-up floor",
             fair.scripts_cpu_us_per_cycle,
@@ -359,7 +383,7 @@ impl Report {
             ratio(fair.first_rank_vs_futex_floor_p50)
         );
         let m = &self.memory;
-        println!(
+        sayln!(
             "memory: controller RSS {:.1} MiB, PSS {:.1} MiB; {} scripts RSS {:.1} MiB, PSS {:.1} MiB; \
              total PSS {:.1} MiB (RSS {:.1} MiB)",
             mib(m.controller.rss_kib),
