@@ -14,8 +14,8 @@ use std::net::SocketAddr;
 use std::sync::mpsc::SyncSender;
 use std::time::Duration;
 
-use tokio::io::{AsyncReadExt, AsyncWriteExt};
-use tokio::net::{TcpListener, TcpStream};
+use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
+use tokio::net::TcpListener;
 use tokio::sync::oneshot;
 use tokio_modbus::prelude::*;
 
@@ -70,7 +70,7 @@ enum ConnectionError {
 /// One client: frame after frame until it closes, sends a header that cannot be
 /// answered, or is idle too long.
 async fn connection(
-    mut stream: TcpStream,
+    mut stream: impl AsyncRead + AsyncWrite + Unpin,
     console: &SyncSender<ConsoleRequest>,
     idle: Duration,
 ) -> Result<(), ConnectionError> {
@@ -96,7 +96,7 @@ async fn connection(
 
 /// Reads one frame into `frame`; its PDU length, or `None` when the client closed
 /// between frames.
-async fn read_frame(stream: &mut TcpStream, frame: &mut [u8]) -> Result<Option<usize>, ConnectionError> {
+async fn read_frame(stream: &mut (impl AsyncRead + Unpin), frame: &mut [u8]) -> Result<Option<usize>, ConnectionError> {
     match stream.read_exact(&mut frame[..HEADER]).await {
         Ok(_) => {}
         Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return Ok(None),
@@ -309,5 +309,163 @@ mod tests {
         }
         drop(console);
         server.join().unwrap();
+    }
+}
+
+/// Property tests of the Modbus TCP decoder: whatever a client sends, the server never
+/// panics, answers each frame it can frame with a well-formed response carrying the
+/// request's transaction and unit id, and hands the console only the requests it decoded.
+/// 10^4 cases each, a fixed budget.
+#[cfg(test)]
+mod fuzz {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    use proptest::prelude::*;
+
+    use super::*;
+
+    fn config() -> ProptestConfig {
+        ProptestConfig { cases: 10_000, failure_persistence: None, ..ProptestConfig::default() }
+    }
+
+    /// A console that answers every request (reads with zeros) and counts them.
+    fn console() -> (SyncSender<ConsoleRequest>, Arc<AtomicUsize>, std::thread::JoinHandle<()>) {
+        let (console, requests) = std::sync::mpsc::sync_channel::<ConsoleRequest>(16);
+        let served = Arc::new(AtomicUsize::new(0));
+        let count = served.clone();
+        let thread = std::thread::spawn(move || {
+            for (op, reply) in requests {
+                count.fetch_add(1, Ordering::Relaxed);
+                let words = match op {
+                    Op::Read { count, .. } => vec![0; count as usize],
+                    Op::Write { .. } => Vec::new(),
+                };
+                let _ = reply.send(Ok(words));
+            }
+        });
+        (console, served, thread)
+    }
+
+    /// The frames of `bytes` as MBAP (v1.1b3, 4.1) cuts them: header, then length - 1 PDU
+    /// bytes; framing stops at a header that cannot be answered or an unfinished frame.
+    fn frames(bytes: &[u8]) -> Vec<(&[u8], &[u8])> {
+        let mut out = Vec::new();
+        let mut rest = bytes;
+        while rest.len() >= HEADER {
+            let (header, tail) = rest.split_at(HEADER);
+            let length = u16::from_be_bytes([header[4], header[5]]) as usize;
+            if header[2..4] != [0, 0] || !(2..=MAX_PDU + 1).contains(&length) || tail.len() < length - 1 {
+                break;
+            }
+            out.push((header, &tail[..length - 1]));
+            rest = &tail[length - 1..];
+        }
+        out
+    }
+
+    /// A request frame of a function the server serves, right or nearly right.
+    fn request() -> impl Strategy<Value = Vec<u8>> {
+        let pdu = prop_oneof![
+            (any::<u16>(), 0u16..130).prop_map(|(a, n)| [&[0x03][..], &a.to_be_bytes(), &n.to_be_bytes()].concat()),
+            (any::<u16>(), any::<u16>()).prop_map(|(a, v)| [&[0x06][..], &a.to_be_bytes(), &v.to_be_bytes()].concat()),
+            (any::<u16>(), proptest::collection::vec(any::<u16>(), 0..126)).prop_map(|(a, values)| {
+                let mut pdu = vec![0x10];
+                pdu.extend(a.to_be_bytes());
+                pdu.extend((values.len() as u16).to_be_bytes());
+                pdu.push((values.len() * 2) as u8);
+                pdu.extend(values.iter().flat_map(|v| v.to_be_bytes()));
+                pdu
+            }),
+            proptest::collection::vec(any::<u8>(), 1..40),
+        ];
+        (any::<u16>(), any::<u8>(), pdu).prop_map(|(transaction, unit, pdu)| {
+            let mut frame = transaction.to_be_bytes().to_vec();
+            frame.extend([0, 0]);
+            frame.extend((pdu.len() as u16 + 1).to_be_bytes());
+            frame.push(unit);
+            frame.extend(pdu);
+            frame
+        })
+    }
+
+    /// A client's bytes: requests, bytes at random, or both.
+    fn stream() -> impl Strategy<Value = Vec<u8>> {
+        prop_oneof![
+            proptest::collection::vec(request(), 0..6).prop_map(|r| r.concat()),
+            proptest::collection::vec(any::<u8>(), 0..300),
+            (proptest::collection::vec(request(), 0..4), proptest::collection::vec(any::<u8>(), 0..40))
+                .prop_map(|(r, tail)| [r.concat(), tail].concat()),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(config())]
+
+        /// Any PDU: `answer_pdu` gives a response of the same function (bit 7 set for an
+        /// exception, two bytes) and asks the console only for a request it decoded.
+        #[test]
+        fn any_pdu_is_answered_or_refused(pdu in proptest::collection::vec(any::<u8>(), 0..300)) {
+            let (console, served, thread) = console();
+            let response = answer_pdu(&console, &pdu);
+            drop(console);
+            thread.join().unwrap();
+            let Some(&function) = pdu.first() else {
+                prop_assert!(response.is_empty());
+                return Ok(());
+            };
+            let decoded = decode(&pdu).is_ok();
+            prop_assert_eq!(served.load(Ordering::Relaxed), usize::from(decoded));
+            if decoded {
+                prop_assert_eq!(response[0], function);
+            } else {
+                prop_assert_eq!(response.len(), 2);
+                prop_assert_eq!(response[0], function | 0x80);
+            }
+        }
+
+        /// Any bytes on a connection: one response per frame, each with its request's
+        /// transaction id, protocol 0, a length that matches and its unit id; a read's
+        /// byte count is twice its quantity; the console sees only what was answered.
+        #[test]
+        fn any_stream_is_framed_and_answered(bytes in stream()) {
+            let (console, served, thread) = console();
+            let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+            let (mut client, server) = tokio::io::duplex(64 * 1024);
+            let responses = runtime.block_on(async {
+                let serving = connection(server, &console, Duration::from_secs(5));
+                let talking = async {
+                    client.write_all(&bytes).await.unwrap();
+                    client.shutdown().await.unwrap();
+                    let mut out = Vec::new();
+                    client.read_to_end(&mut out).await.unwrap();
+                    out
+                };
+                let (ended, out) = tokio::join!(serving, talking);
+                prop_assert!(!matches!(ended, Err(ConnectionError::Idle)), "{ended:?}");
+                Ok(out)
+            })?;
+            drop(console);
+            thread.join().unwrap();
+            let requests = frames(&bytes);
+            let answers = frames(&responses);
+            prop_assert_eq!(answers.iter().map(|(h, p)| h.len() + p.len()).sum::<usize>(), responses.len());
+            prop_assert_eq!(answers.len(), requests.len());
+            let mut answered = 0;
+            for ((request, asked), (response, pdu)) in requests.iter().zip(&answers) {
+                prop_assert_eq!(&request[..4], &response[..4]);
+                prop_assert_eq!(request[6], response[6]);
+                prop_assert_eq!(pdu[0] & 0x7F, asked[0] & 0x7F);
+                if pdu.len() == 2 {
+                    prop_assert_eq!(pdu[0], asked[0] | 0x80);
+                    continue;
+                }
+                answered += 1;
+                if asked[0] == 0x03 {
+                    prop_assert_eq!(pdu[1] as usize, 2 * u16::from_be_bytes([asked[3], asked[4]]) as usize);
+                }
+            }
+            prop_assert_eq!(served.load(Ordering::Relaxed), answered);
+        }
     }
 }

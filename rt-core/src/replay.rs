@@ -126,7 +126,8 @@ pub fn parse(mut reader: impl BufRead) -> Result<Vec<Stamped>, RecordError> {
             continue;
         }
         let text = text.map_err(|_| bad("not UTF-8 text".into()))?;
-        if text.is_empty() || text.starts_with('#') {
+        // Blank lines (spaces included) and comments are no inputs.
+        if text.trim().is_empty() || text.starts_with('#') {
             continue;
         }
         let stamped = parse_input(text).map_err(bad)?;
@@ -147,7 +148,8 @@ pub fn parse(mut reader: impl BufRead) -> Result<Vec<Stamped>, RecordError> {
 /// <0|1>` or `<cycle> ai <slave> <channel> <word>`.
 fn parse_input(text: &str) -> Result<Stamped, String> {
     let words: Vec<&str> = text.split_ascii_whitespace().collect();
-    let cycle = words[0].parse::<u64>().map_err(|_| format!("`{}` is not a cycle number", words[0]))?;
+    let first = words.first().ok_or("a line of white space only")?;
+    let cycle = first.parse::<u64>().map_err(|_| format!("`{first}` is not a cycle number"))?;
     if cycle == 0 {
         return Err("cycle 0: the first cycle is 1".into());
     }
@@ -389,6 +391,9 @@ mod tests {
         );
         assert_eq!(parsed(&text).unwrap(), inputs);
         assert_eq!(parsed("luamotion-inputs 1\n# a comment\n\n5 modbus 0x0001 2\r\n").unwrap().len(), 1);
+        // Found by tests/replay_fuzz.rs: a line of white space panicked (its first word was
+        // read without looking); it is blank, as an empty line.
+        assert_eq!(parsed("luamotion-inputs 1\n \n\t\r\n5 modbus 0x0001 2\n\x0c\n").unwrap().len(), 1);
     }
 
     /// Each bad record is told with its line and what is wrong with it.
