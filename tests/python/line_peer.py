@@ -12,6 +12,7 @@ import sys
 import termios
 
 import serial
+from pymodbus.framer.rtu import FramerRTU
 
 link, frame = sys.argv[1], sys.argv[2]
 data_bits, parity, stop_bits = int(frame[0]), frame[1], int(frame[2])
@@ -27,12 +28,8 @@ if inpck:
 
 
 def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return bytes([crc & 0xFF, crc >> 8])
+    """The frame's two CRC bytes in line order, as pymodbus computes them."""
+    return FramerRTU.compute_CRC(data).to_bytes(2, "big")
 
 
 read = bytes([1, 0x03, 0x6B, 0x03, 0x00, 0x01])
