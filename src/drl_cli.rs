@@ -69,11 +69,19 @@ pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     // Before the tasks start, so their first FreePort.Serial call finds it.
     let serial = args.controller.serial_port(&config, None);
     let launcher = args.controller.launcher(&config, &ascii_bind)?;
-    let options =
-        rt_core::RunOptions { console: Some(inbox), ..rt_core::RunOptions::serving(ns.clone(), launcher, data_dir) };
+    let options = rt_core::RunOptions {
+        console: Some(inbox),
+        ..rt_core::RunOptions::serving(ns.clone(), launcher, data_dir.clone())
+    };
     let controller = rt_core::controller::Background::start(config, options)?;
     let servers = drl::Server::start(setup, &bind, port, limits).and_then(|modbus| {
-        let ascii = drl::ascii::Server::start(ns.clone(), agent_task, &ascii_bind, ascii_port, ascii_limits)?;
+        let ascii = drl::ascii::Server::start(
+            (ns.clone(), data_dir.clone()),
+            agent_task,
+            &ascii_bind,
+            ascii_port,
+            ascii_limits,
+        )?;
         Ok((modbus, ascii))
     });
     let (server, ascii) = match servers {

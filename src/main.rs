@@ -576,7 +576,7 @@ fn run_served(
         // The web view's commands need a task slot of their own: the ASCII agent's.
         config = config.with_ascii_task()?;
     }
-    let agent_task = config.ascii.agent_task;
+    let (agent_task, data_dir) = (config.ascii.agent_task, options.data_dir.clone());
     let web_config = config.web.clone();
     let controller = rt_core::controller::Background::start(config, options)?;
     let servers = (|| -> Result<_> {
@@ -584,7 +584,7 @@ fn run_served(
         let modbus = modbus.transpose()?;
         let web = match http {
             Some(port) => {
-                let (agent, thread) = drl::ascii::start_agent(ns.clone(), agent_task)?;
+                let (agent, thread) = drl::ascii::start_agent(ns.clone(), agent_task, data_dir)?;
                 Some((web::WebView::start(ns, (&web_config, port), agent, None, sim_inputs)?, thread))
             }
             None => None,

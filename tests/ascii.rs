@@ -219,21 +219,24 @@ fn native_motion_follows_the_controller_state() {
     c.ask_until("GetPosFb(0)", |a| (position(a) - 1.0).abs() < 1e-3);
 }
 
-/// A client that sends no whole line within `[ascii] idle_timeout_ms` is closed; the
-/// others are served meanwhile.
+/// A client that sends no whole line within `[ascii] idle_timeout_ms` gets an error line
+/// and is closed (issue 36.11: it was closed without a word); the others are served
+/// meanwhile.
 #[test]
 fn native_closes_an_idle_client() {
     let ns = unique_ns("ascii-idle");
     let dir = tempfile::tempdir().unwrap();
     let config = machine(dir.path(), &[], "[ascii]\nidle_timeout_ms = 300\n");
     let serving = serve(&ns, dir.path(), &["--config", config.to_str().unwrap()]);
+    let timed_out = "ERROR no whole line within 300 ms, closing";
     let mut idle = Client::connect(serving.ascii_port);
     idle.send(b"GetAxis");
     let mut busy = Client::connect(serving.ascii_port);
     assert_eq!(busy.ask("GetAxisNum()"), "4");
+    assert_eq!(idle.read_line(), timed_out, "half a line, then nothing");
     let mut rest = String::new();
     let read = idle.reader.read_line(&mut rest);
-    assert!(matches!(read, Ok(0)), "closed without an answer: {read:?} {rest:?}");
+    assert!(matches!(read, Ok(0)), "then closed: {read:?} {rest:?}");
     // A byte every 100 ms is no whole line within 300 ms either.
     let mut trickling = Client::connect(serving.ascii_port);
     for &b in b"GetAxisNum()\n" {
@@ -242,9 +245,12 @@ fn native_closes_an_idle_client() {
         }
         std::thread::sleep(Duration::from_millis(100));
     }
+    assert_eq!(trickling.read_line(), timed_out, "a trickle");
     let mut answer = String::new();
     let read = trickling.reader.read_line(&mut answer);
-    assert!(!matches!(read, Ok(n) if n > 0), "closed without an answer: {answer:?}");
+    assert!(!matches!(read, Ok(n) if n > 0), "then closed, not answered: {answer:?}");
+    let mut silent = Client::connect(serving.ascii_port);
+    assert_eq!(silent.read_line(), timed_out, "nothing at all");
     // Nor is an endless line: bytes keep coming, no newline ever does.
     let mut endless = Client::connect(serving.ascii_port);
     let closed = eventually(Duration::from_secs(20), || {
@@ -255,6 +261,24 @@ fn native_closes_an_idle_client() {
     });
     assert!(closed, "an endless line is closed");
     assert_eq!(Client::connect(serving.ascii_port).ask("GetAxisNum()"), "4");
+}
+
+/// Issue 36.11: a 1 MB line with no newline is answered with the line-length error as
+/// soon as it is too long, well within the idle timeout (60 s), not closed without a word;
+/// once its newline comes the connection goes on.
+#[test]
+fn native_answers_a_megabyte_line_at_once() {
+    let ns = unique_ns("ascii-long");
+    let dir = tempfile::tempdir().unwrap();
+    let serving = serve(&ns, dir.path(), &[]);
+    let mut c = Client::connect(serving.ascii_port);
+    c.writer.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let start = std::time::Instant::now();
+    c.send(&vec![b'x'; 1 << 20]);
+    assert_eq!(c.read_line(), "ERROR line longer than 256 bytes");
+    assert!(start.elapsed() < Duration::from_secs(10), "{:?}", start.elapsed());
+    c.send(b"still the same line\nGetAxisNum()\n");
+    assert_eq!(c.read_line(), "4", "answered once, then the next line");
 }
 
 /// 200 clients at once: those past `max_connections` (32) get an error line and are
@@ -548,4 +572,244 @@ fn native_sets_and_reads_an_analog_terminal() {
     assert_eq!(c.ask("IsSlvAOBound(4, 2)"), "1");
     let not_ready = "ERROR 0x0000138C eERR_HMPL_MOTION_NOT_READY (controller not ready to run this HMPL)";
     assert_eq!(c.ask("SetSlvAO(4, 2, 1)"), not_ready, "a bound output has one writer");
+}
+
+/// The answer to a call naming the agent's own slot (HMPL 16.4: it is no HMPL task).
+const NOT_A_TASK: &str = "ERROR 0x00000107 eERR_NOT_VALID_TASKID (invalid task ID)";
+
+/// Issue 36.3: StopAllTask() and EStop() over the Native server stop the programs, not the
+/// agent's slot that carries them out: each is answered (an empty line, both are void), the
+/// program running at the time is stopped, the next line on this connection and on a new
+/// one is answered, and the controller still ends on SIGINT.
+#[test]
+fn native_stops_are_answered_and_stop_the_programs_only() {
+    let ns = unique_ns("ascii-stop");
+    let dir = tempfile::tempdir().unwrap();
+    let mut serving = serve_with(&ns, dir.path(), &["while true do Sleep(10) end"]);
+    let mut c = Client::connect(serving.ascii_port);
+    c.ask_until("IsTaskStop(0)", |a| a == "0");
+    assert_eq!(c.ask("StopTask(62)"), NOT_A_TASK, "the agent's slot is not stopped by name");
+    assert_eq!(c.ask("StopAllTask()"), "", "answered");
+    c.ask_until("IsTaskStop(0)", |a| a == "1");
+    assert_eq!(c.ask("GetAxisNum()"), "4", "the next line is answered");
+    assert_eq!(c.ask("StartTask(0)"), "0");
+    c.ask_until("IsTaskStop(0)", |a| a == "0");
+    assert_eq!(c.ask("Enable(0)"), "0");
+    c.ask_until("IsEnabled(0)", |a| a == "1");
+    assert_eq!(c.ask("EStop()"), "", "answered");
+    c.ask_until("IsTaskStop(0)", |a| a == "1");
+    c.ask_until("IsEnabled(0)", |a| a == "0");
+    assert_eq!(c.ask("IsTaskStop(62)"), "0", "the agent's slot runs on");
+    assert_eq!(Client::connect(serving.ascii_port).ask("GetAxisNum()"), "4", "a new client is served");
+    let ended = serving.interrupt(Duration::from_secs(15));
+    assert!(ended.is_some(), "serve ends on SIGINT within 15 s; stderr:\n{}", serving.stderr());
+}
+
+/// The same from Lua programs, with socat as the client: `StopTask(62)` is refused with
+/// 0x0107, a program's `StopAllTask()` stops every program (itself too) but not the agent,
+/// which goes on answering.
+#[test]
+fn program_stops_leave_the_native_agent_serving() {
+    let ns = unique_ns("ascii-lstop");
+    let dir = tempfile::tempdir().unwrap();
+    let refuser = r#"
+        Print("StopTask(62) = 0x%04X", StopTask(62))
+        SetTableValue(0, 1)
+        while true do Sleep(10) end
+    "#;
+    let stopper = r#"
+        Till(function() return GetTableValue(0) == 2 end)
+        StopAllTask()
+        Print("never printed: StopAllTask stopped this task")
+    "#;
+    let mut serving = serve_with(&ns, dir.path(), &[refuser, stopper]);
+    assert_eq!(serving.await_line(0, "StopTask(62) = ", Duration::from_secs(20)).as_deref(), Some("0x0107"));
+    let mut socat = Command::new(debian_tool("socat"))
+        .args(["-", &format!("TCP:127.0.0.1:{}", serving.ascii_port)])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("socat");
+    let mut to_socat = socat.stdin.take().unwrap();
+    let (answers, from_socat) = std::sync::mpsc::channel();
+    let mut reader = BufReader::new(socat.stdout.take().unwrap());
+    std::thread::spawn(move || {
+        let mut line = String::new();
+        while reader.read_line(&mut line).is_ok_and(|n| n > 0) {
+            let _ = answers.send(std::mem::take(&mut line).trim_end().to_string());
+        }
+    });
+    let mut ask = |line: &str| {
+        writeln!(to_socat, "{line}").unwrap();
+        from_socat.recv_timeout(Duration::from_secs(20)).unwrap_or_else(|e| panic!("{line}: no answer ({e})"))
+    };
+    assert_eq!(ask("GetTableValue(0)"), "1");
+    assert_eq!(ask("SetTableValue(0, 2)"), "0");
+    assert!(
+        eventually(Duration::from_secs(20), || ask("IsTaskStop(0)") == "1" && ask("IsTaskStop(1)") == "1"),
+        "both programs stopped"
+    );
+    assert_eq!(ask("IsTaskStop(62)"), "0");
+    assert_eq!(ask("StopTask(62)"), NOT_A_TASK);
+    assert_eq!(ask("GetAxisNum()"), "4");
+    assert!(!serving.stdout().contains("never printed"), "{}", serving.stdout());
+    let _ = socat.kill();
+    let _ = socat.wait();
+    assert!(serving.interrupt(Duration::from_secs(15)).is_some(), "serve ends on SIGINT; {}", serving.stderr());
+}
+
+/// Ctrl-C while the agent waits in a call the controller answers only when it is done (a
+/// homing at 0.01 mm/s, which holds the other clients' lines meanwhile): serve ends.
+#[test]
+fn serve_ends_on_sigint_while_the_agent_waits() {
+    let ns = unique_ns("ascii-sigint");
+    let dir = tempfile::tempdir().unwrap();
+    let mut serving = serve(&ns, dir.path(), &[]);
+    let mut c = Client::connect(serving.ascii_port);
+    assert_eq!(c.ask("Enable(0)"), "0");
+    c.ask_until("IsEnabled(0)", |a| a == "1");
+    assert_eq!(c.ask("SetHomeSwitchVel(0, 0.01)"), "0");
+    assert_eq!(c.ask("SetHomeZeroVel(0, 0.01)"), "0");
+    c.send(b"MoveHome(0)\n");
+    let mut other = Client::connect(serving.ascii_port);
+    other.writer.set_read_timeout(Some(Duration::from_millis(500))).unwrap();
+    other.send(b"GetAxisNum()\n");
+    let mut line = String::new();
+    if other.reader.read_line(&mut line).is_ok() {
+        panic!("the agent is not in the homing: {line:?}, MoveHome answered {:?}", c.read_line());
+    }
+    let ended = serving.interrupt(Duration::from_secs(15));
+    assert!(ended.is_some(), "serve ends on SIGINT within 15 s; stderr:\n{}", serving.stderr());
+}
+
+/// One well-formed line for `spec`, its arguments made from the registry's types and
+/// quantities: axis, group and other integers 0 (a valid axis), numbers 1.5 (0.5 for a
+/// quantity that is a time or a ratio makes no difference: a refusal is a code), strings
+/// "ab", flags 1.
+fn well_formed_line(spec: &api::FunctionSpec) -> String {
+    use api::ArgType;
+    let args: Vec<&str> = spec
+        .args
+        .iter()
+        .map(|arg| match arg.ty {
+            ArgType::Int | ArgType::Timer => "0",
+            ArgType::Double => "1.5",
+            ArgType::Bool => "1",
+            ArgType::Str | ArgType::Bytes | ArgType::Any => "\"ab\"",
+            other => panic!("{}: an ASCII function with a {other:?} argument has no line", spec.name),
+        })
+        .collect();
+    format!("{}({})", spec.name, args.join(", "))
+}
+
+/// Issue 36.5: every function the registry marks ASCII (the manual's icon) is carried out
+/// by the Native server: one well-formed call each, answered with its value(s) or an HMPL
+/// error code, never "runs in a script only", "not available" or a parse or argument
+/// error; the server answers after all of them.
+#[test]
+fn native_carries_out_every_ascii_function() {
+    let ns = unique_ns("ascii-every");
+    let dir = tempfile::tempdir().unwrap();
+    let serving = serve(&ns, dir.path(), &[]);
+    let mut c = Client::connect(serving.ascii_port);
+    let mut refused = Vec::new();
+    let mut count = 0;
+    for spec in api::registry::all().filter(|s| s.ascii) {
+        let line = well_formed_line(spec);
+        let answer = c.ask(&line);
+        count += 1;
+        let code_answer = answer.starts_with("ERROR 0x") || answer.starts_with("ERROR SDO abort 0x");
+        if answer.starts_with("ERROR") && !code_answer {
+            refused.push(format!("{line} -> {answer}"));
+        }
+    }
+    assert!(refused.is_empty(), "{} of {count} refused:\n{}", refused.len(), refused.join("\n"));
+    assert!(count >= 270, "{count} functions marked ASCII");
+    assert_eq!(c.ask("GetAxisNum()"), "4", "and the server goes on");
+}
+
+/// The string functions over ASCII give what the manual's examples of HMPL 3.4-3.13 say
+/// (the same code as a script's), `SendEvent` reaches the event stream as task 62's, and
+/// the scope gate answers as a script's `SetHMIScope`.
+#[test]
+fn native_string_functions_answer_as_the_manual_says() {
+    let ns = unique_ns("ascii-str");
+    let dir = tempfile::tempdir().unwrap();
+    let serving = serve(&ns, dir.path(), &[]);
+    let mut c = Client::connect(serving.ascii_port);
+    let rows = [
+        (r#"StringToDouble("1.5")"#, "1.5"),
+        (r#"StringToDouble("  -12.5e2xyz")"#, "-1250"),
+        (r#"StringLen("hello world")"#, "11"),
+        (r#"IsStringEqual("abc", "abc")"#, "1"),
+        (r#"IsStringEqual("abc", "abd")"#, "0"),
+        (r#"StrFindCharEx("hello world", "ol", FALSE)"#, "2"),
+        (r#"StrFindCharEx("hello world", "helo", TRUE)"#, "5"),
+        (r#"StrFindStr("hello world", "world")"#, "6"),
+        (r#"StrFindStr("hello", "xyz")"#, "-1"),
+        ("RunScheduler()", ""),
+        ("SetHMIScope(1)", "0"),
+        ("SetHMIScope(0)", "0"),
+        ("SetHMIScope(2)", "ERROR 0x0000138F eERR_HMPL_ARG_OUT_OF_RANGE (argument out of range)"),
+        ("SendEvent(70000)", "ERROR 0x0000138F eERR_HMPL_ARG_OUT_OF_RANGE (argument out of range)"),
+        ("StringLen(\"a\", \"b\")", "ERROR StringLen takes 1 argument(s), got 2"),
+    ];
+    // SendEvent until the reader, once subscribed, has seen one (events sent before are
+    // not handed to it).
+    let mut events = start_events(&ns, 1);
+    let seen = eventually(Duration::from_secs(20), || {
+        assert_eq!(c.ask("SendEvent(4660)"), "0");
+        std::thread::sleep(Duration::from_millis(50));
+        events.try_wait().unwrap().is_some()
+    });
+    assert!(seen, "luamotion events saw no SendEvent");
+    let out = finish(events, Duration::from_secs(5));
+    let said = out.stdout.lines().next().and_then(|l| l.splitn(3, ' ').nth(2));
+    assert_eq!(said, Some("task 62 event 4660"), "{}", out.stdout);
+    for (line, want) in rows {
+        assert_eq!(c.ask(line), want, "{line}");
+    }
+}
+
+/// `luamotion events --ns NS --count N`.
+fn start_events(ns: &str, count: usize) -> std::process::Child {
+    Command::new(BIN)
+        .args(["events", "--ns", ns, "--count", &count.to_string()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("luamotion events")
+}
+
+/// Issue 36.11, the User agent: a parser's error is one short line (no Lua traceback), a
+/// 1 MB answer is cut to 512 bytes with the marker, a 1 MB line with no newline is answered
+/// as soon as it is too long; the agent goes on.
+#[test]
+fn user_agent_bounds_its_answers_and_errors() {
+    let ns = unique_ns("ascii-ubound");
+    let dir = tempfile::tempdir().unwrap();
+    let agent = r#"
+        local function parser(cmd)
+          if cmd == "big" then return string.rep("y", 1 << 20) end
+          if cmd == "deep" then
+            local function down(n) if n == 0 then error("bottom reached") end return down(n - 1) + 1 end
+            return down(50)
+          end
+          return "ok " .. cmd
+        end
+        Till(IsSystemOper)
+        START_ASCII_AGENT(parser)
+    "#;
+    let serving = serve_with(&ns, dir.path(), &[agent]);
+    let mut c = Client::connect(user_port(&serving, 0));
+    let big = c.ask("big");
+    assert_eq!(big, format!("{} … [cut: {} bytes]", "y".repeat(512), (1 << 20) - 512));
+    let deep = c.ask("deep");
+    assert!(deep.starts_with("ERROR ") && deep.ends_with("bottom reached"), "{deep}");
+    assert!(!deep.contains("traceback") && deep.len() < 200, "{deep}");
+    c.writer.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    c.send(&vec![b'z'; 1 << 20]);
+    assert_eq!(c.read_line(), "ERROR line longer than 512 bytes");
+    c.send(b"\n");
+    assert_eq!(c.ask("x"), "ok x", "the agent goes on");
 }

@@ -11,10 +11,12 @@ pub mod catalogue;
 pub mod constants;
 pub mod docs;
 pub mod errors;
+pub mod event_rate;
 mod functions;
 pub mod hcv;
 pub mod libm;
 pub mod registry;
+pub mod strings;
 pub mod system_vars;
 
 pub use errors::{AxisError, ErrorCode, GroupError, SdoAbort, SystemError};

@@ -146,6 +146,7 @@ impl DrlConfig {
             memory_limit_mib: self.memory_limit_mib,
             fault_reaction: self.fault_reaction,
             external: false,
+            front_end: false,
         }
     }
 }
@@ -573,6 +574,11 @@ pub struct TaskConfig {
     /// (a benchmark, a tool) attaches to it and runs without a watchdog.
     #[serde(default)]
     pub external: bool,
+    /// An external slot that carries a front end's calls (the Native ASCII agent, which
+    /// the web view shares), not a program: no stop command stops it (HMPL 16.4, 16.5).
+    /// Set by `with_ascii_task`, never by a machine file.
+    #[serde(skip)]
+    pub front_end: bool,
 }
 
 /// What happens to the active motion a task commanded when the task fails (watchdog,
@@ -610,6 +616,7 @@ impl TaskConfig {
             memory_limit_mib: Self::default_memory_limit_mib(),
             fault_reaction: FaultReaction::default(),
             external: false,
+            front_end: false,
         }
     }
 }
@@ -751,6 +758,7 @@ impl MachineConfig {
             // A client that vanishes leaves its motion as a script's stop would.
             fault_reaction: FaultReaction::default(),
             external: true,
+            front_end: true,
         });
         Ok(self)
     }
@@ -1093,7 +1101,7 @@ mod tests {
         );
         let config = MachineConfig::default().with_drl_task().unwrap().with_ascii_task().unwrap();
         let slot = config.tasks.iter().find(|t| t.id == 62).expect("the agent slot");
-        assert!(slot.external && !slot.autorun);
+        assert!(slot.external && slot.front_end && !slot.autorun);
         let taken = parse("[drl]\ntask = 5\n[ascii]\nagent_task = 5\n").with_drl_task().unwrap().with_ascii_task();
         assert!(matches!(taken, Err(ConfigError::Invalid { key, .. }) if key == "ascii.agent_task"));
         let outside = parse("[ascii]\nagent_task = 64\n").with_ascii_task();

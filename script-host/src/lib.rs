@@ -11,7 +11,6 @@ pub mod debugger;
 pub mod printf;
 pub mod require;
 pub mod sandbox;
-pub mod user_table;
 
 use std::path::PathBuf;
 use std::rc::Rc;

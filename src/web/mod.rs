@@ -535,7 +535,7 @@ mod tests {
     struct Bench {
         ns: Namespace,
         controller: Option<rt_core::controller::Background>,
-        agent: Option<(Agent, std::thread::JoinHandle<()>)>,
+        agent: Option<(Agent, drl::ascii::AgentThread)>,
         drl_writes: Arc<std::sync::atomic::AtomicUsize>,
         monitor: Monitor,
         _dir: tempfile::TempDir,
@@ -555,7 +555,7 @@ mod tests {
                 rt_core::supervisor::ScriptLauncher { executable: "/bin/false".into(), subcommand: Vec::new() };
             let options = rt_core::RunOptions::serving(ns.clone(), launcher, dir.path().to_path_buf());
             let controller = rt_core::controller::Background::start(config, options).unwrap();
-            let agent = drl::ascii::start_agent(ns.clone(), agent_task).unwrap();
+            let agent = drl::ascii::start_agent(ns.clone(), agent_task, dir.path().to_path_buf()).unwrap();
             let monitor = Monitor::open(&ns).unwrap();
             let drl_writes = Arc::default();
             Bench { ns, controller: Some(controller), agent: Some(agent), drl_writes, monitor, _dir: dir }

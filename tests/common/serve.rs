@@ -95,6 +95,18 @@ impl Serving {
         self.stderr.lock().unwrap().clone()
     }
 
+    /// SIGINT, as Ctrl-C: how it ended, once it has within `timeout`; `None` while it runs.
+    pub fn interrupt(&mut self, timeout: Duration) -> Option<std::process::ExitStatus> {
+        // SAFETY: plain kill(2) of our own child.
+        unsafe { libc::kill(self.child.id() as i32, libc::SIGINT) };
+        let mut status = None;
+        eventually(timeout, || {
+            status = self.child.try_wait().ok().flatten();
+            status.is_some()
+        });
+        status
+    }
+
     /// SIGKILL, as a crash or the OOM killer would end it.
     pub fn kill9(mut self) {
         let _ = self.child.kill();

@@ -185,6 +185,10 @@ fn number(text: &str) -> Option<Value> {
     };
     let hex = digits.strip_prefix("0x").or_else(|| digits.strip_prefix("0X"));
     if let Some(hex) = hex {
+        // Digits only: `from_str_radix` would take a second sign ("-0x-8000000000000000").
+        if !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return None;
+        }
         let n = i64::from_str_radix(hex, 16).ok()?;
         return Some(Value::Int(if negative { -n } else { n }));
     }
@@ -242,5 +246,120 @@ mod tests {
         assert_eq!(parse(br#"StartTaskFunc(1, "main)"#), Err(ParseError::Unterminated(18)));
         assert_eq!(parse(b"Enable(0) Enable(1)"), Err(ParseError::Trailing(11)));
         assert_eq!(parse(b"Enable(0);;"), Err(ParseError::Trailing(11)));
+    }
+
+    /// Found while writing the property tests below, kept as rows.
+    #[test]
+    fn regressions() {
+        // A second sign after 0x: from_str_radix took it, and -i64::MIN overflowed.
+        let bad = |column, text: &str| Err(ParseError::BadArgument(column, format!("{text:?} is not a number")));
+        assert_eq!(parse(b"Enable(-0x-8000000000000000)"), bad(8, "-0x-8000000000000000"));
+        assert_eq!(parse(b"Enable(0x-5)"), bad(8, "0x-5"));
+        assert_eq!(parse(b"Enable(0x+5)"), bad(8, "0x+5"));
+        assert_eq!(parse(b"Enable(-0x7FFFFFFFFFFFFFFF)"), call("Enable", vec![Value::Int(-i64::MAX)]));
+    }
+
+    mod properties {
+        use super::*;
+        use proptest::prelude::*;
+
+        /// A line as a client might type it, with the call it stands for.
+        #[derive(Clone, Debug)]
+        struct Typed {
+            text: String,
+            call: Call,
+        }
+
+        fn name() -> impl Strategy<Value = String> {
+            let registry: Vec<String> = api::registry::all().map(|s| s.name.to_string()).collect();
+            prop_oneof![proptest::sample::select(registry), "[A-Za-z_][A-Za-z0-9_.]{0,12}"]
+        }
+
+        /// One argument as text and as the value it stands for.
+        fn argument() -> impl Strategy<Value = (String, Value)> {
+            let constants: Vec<(String, Value)> = NAMES.iter().map(|(n, v)| (n.clone(), v.clone())).collect();
+            prop_oneof![
+                any::<i64>().prop_map(|n| (n.to_string(), Value::Int(n))),
+                (0..=i64::MAX).prop_map(|n| (format!("0x{n:X}"), Value::Int(n))),
+                (1..=i64::MAX).prop_map(|n| (format!("-0x{n:x}"), Value::Int(-n))),
+                any::<f64>()
+                    .prop_filter("finite", |d| d.is_finite())
+                    .prop_map(|d| (format!("{d:?}"), Value::Double(d))),
+                "[ -~]{0,20}".prop_map(|s| {
+                    let quoted = s.replace('\\', "\\\\").replace('"', "\\\"");
+                    (format!("\"{quoted}\""), Value::Str(s.into_bytes()))
+                }),
+                proptest::sample::select(constants),
+            ]
+        }
+
+        fn space() -> impl Strategy<Value = String> {
+            "[ \t]{0,2}"
+        }
+
+        fn typed() -> impl Strategy<Value = Typed> {
+            (name(), proptest::collection::vec((argument(), space(), space()), 0..6), space(), any::<bool>()).prop_map(
+                |(name, args, pad, semicolon)| {
+                    let texts: Vec<String> = args.iter().map(|((t, _), a, b)| format!("{a}{t}{b}")).collect();
+                    let text =
+                        format!("{pad}{name}{pad}({}){}{pad}\r", texts.join(","), if semicolon { ";" } else { "" });
+                    Typed { text, call: Call { name, args: args.into_iter().map(|((_, v), _, _)| v).collect() } }
+                },
+            )
+        }
+
+        /// An error is one line that says where, within the line.
+        fn says_why(line: &[u8], error: &ParseError) {
+            let text = error.to_string();
+            assert!(!text.is_empty() && !text.contains(['\n', '\r']), "{text:?}");
+            let column = match error {
+                ParseError::NotText(_, c)
+                | ParseError::NoName(c)
+                | ParseError::NoSeparator(c)
+                | ParseError::BadArgument(c, _)
+                | ParseError::Unterminated(c)
+                | ParseError::Trailing(c) => *c,
+                ParseError::Empty | ParseError::NoOpen(_) => 1,
+            };
+            assert!((1..=line.len() + 1).contains(&column), "column {column} of {} bytes: {text}", line.len());
+        }
+
+        proptest! {
+            #![proptest_config(ProptestConfig::with_cases(10_000))]
+
+            /// Random bytes: a call or a clear error, never a panic.
+            #[test]
+            fn random_bytes_are_a_call_or_a_clear_error(line in proptest::collection::vec(any::<u8>(), 0..300)) {
+                if let Err(e) = parse(&line) {
+                    says_why(&line, &e);
+                }
+            }
+
+            /// Well-formed lines give the call they were made from.
+            #[test]
+            fn typed_lines_give_their_call(typed in typed()) {
+                prop_assert_eq!(parse(typed.text.as_bytes()), Ok(typed.call));
+            }
+
+            /// Near-valid lines, one byte changed, cut or added: a call or a clear error.
+            #[test]
+            fn near_valid_lines_are_a_call_or_a_clear_error(
+                typed in typed(),
+                at in any::<prop::sample::Index>(),
+                byte in any::<u8>(),
+                edit in 0..3u8,
+            ) {
+                let mut line = typed.text.into_bytes();
+                let i = at.index(line.len() + 1);
+                match edit {
+                    0 if i < line.len() => line[i] = byte,
+                    1 => line.truncate(i),
+                    _ => line.insert(i, byte),
+                }
+                if let Err(e) = parse(&line) {
+                    says_why(&line, &e);
+                }
+            }
+        }
     }
 }

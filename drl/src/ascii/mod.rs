@@ -9,15 +9,19 @@
 pub mod line;
 
 use std::net::SocketAddr;
+use std::path::PathBuf;
 use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
 use api::alarms::{Alarm, Event};
 use api::call::{ArgError, Expected, Got, Value};
+use api::event_rate::Throttle;
+use api::strings;
 use api::{ArgType, CommandCall, ErrorCode, Func, FunctionSpec, Local, QueryCall, SdoAbort, SystemError, ValueType};
-use calls::{query, wire};
-use ipc::messages::Request as WireRequest;
+use calls::{query, user_table, wire};
+use ipc::events::EventSender;
+use ipc::messages::{EventKind, EventRecord, Request as WireRequest};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};
@@ -33,6 +37,10 @@ use line::{Call, MAX_LINE};
 const QUEUE: usize = 64;
 /// How long a refused client gets to take its error line.
 const REFUSAL_WRITE: Duration = Duration::from_millis(500);
+/// How long the server's end waits for the agent's call in progress; a call the stopped
+/// controller will never answer (a `MoveHome` under way at Ctrl-C) leaves the agent
+/// thread behind, to end with the process.
+const AGENT_END: Duration = Duration::from_secs(1);
 
 type Job = (Call, oneshot::Sender<String>);
 
@@ -42,14 +50,21 @@ pub struct Server {
     /// For other front ends (`agent`); dropped before the runtime so the agent can end.
     jobs: Option<Agent>,
     runtime: Option<tokio::runtime::Runtime>,
-    agent: Option<JoinHandle<()>>,
+    agent: Option<AgentThread>,
 }
 
 impl Server {
-    /// Attaches to task slot `agent_task` of the controller in this process (`ns`), then
-    /// listens on `bind:port` (port 0: a free port, see `address`) within `limits`.
-    pub fn start(ns: Namespace, agent_task: u8, bind: &str, port: u16, limits: Limits) -> Result<Self, ServerError> {
-        let (own, agent) = start_agent(ns, agent_task)?;
+    /// Attaches to task slot `agent_task` of the controller in this process (`ns`, its
+    /// data folder `data_dir`), then listens on `bind:port` (port 0: a free port, see
+    /// `address`) within `limits`.
+    pub fn start(
+        (ns, data_dir): (Namespace, PathBuf),
+        agent_task: u8,
+        bind: &str,
+        port: u16,
+        limits: Limits,
+    ) -> Result<Self, ServerError> {
+        let (own, agent) = start_agent(ns, agent_task, data_dir)?;
         let jobs = own.0.clone();
         let (runtime, listener, address) = listen("ascii", bind, port)?;
         let serve = move |stream, peer: SocketAddr| {
@@ -79,12 +94,42 @@ impl Server {
 }
 
 /// The agent thread alone, attached to task slot `agent_task` of the controller in this
-/// process (`run --http` has no ASCII listener): its handle, and the thread, which ends
-/// once the last handle is gone.
-pub fn start_agent(ns: Namespace, agent_task: u8) -> Result<(Agent, JoinHandle<()>), ServerError> {
+/// process (`run --http` has no ASCII listener), which saves the user table in `data_dir`:
+/// its handle, and the thread, which ends once the last handle is gone.
+pub fn start_agent(ns: Namespace, agent_task: u8, data_dir: PathBuf) -> Result<(Agent, AgentThread), ServerError> {
     let (jobs, inbox) = mpsc::sync_channel(QUEUE);
-    let thread = start_owner("ascii-agent", move |ready| agent(ns, agent_task, inbox, ready))?;
-    Ok((Agent(jobs), thread))
+    let thread = start_owner("ascii-agent", move |ready| agent(ns, agent_task, data_dir, inbox, ready))?;
+    Ok((Agent(jobs), AgentThread(Some(thread))))
+}
+
+/// The agent thread, joined when dropped (after its last handle is gone) for at most
+/// `AGENT_END`.
+pub struct AgentThread(Option<JoinHandle<()>>);
+
+impl AgentThread {
+    /// Waits for the agent to end, at most `AGENT_END`.
+    pub fn join(mut self) {
+        self.end();
+    }
+
+    fn end(&mut self) {
+        let Some(thread) = self.0.take() else { return };
+        let deadline = std::time::Instant::now() + AGENT_END;
+        while !thread.is_finished() {
+            if std::time::Instant::now() > deadline {
+                tracing::warn!("the ASCII agent is still in a call the controller will not answer; left behind");
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let _ = thread.join();
+    }
+}
+
+impl Drop for AgentThread {
+    fn drop(&mut self) {
+        self.end();
+    }
 }
 
 /// A handle on the agent thread: a call given as an ASCII line is carried out as a
@@ -111,7 +156,7 @@ impl Drop for Server {
             runtime.shutdown_timeout(Duration::from_millis(200));
         }
         if let Some(agent) = self.agent.take() {
-            let _ = agent.join();
+            agent.join();
         }
     }
 }
@@ -122,10 +167,15 @@ enum ConnectionError {
     Io(#[from] std::io::Error),
     #[error("no whole line within the idle timeout")]
     Idle,
+    #[error("the client takes no answers")]
+    NotReading,
 }
 
 /// One client: line after line until it closes or is idle too long. A line longer than
-/// `MAX_LINE` is answered with an error and skipped up to its newline; the connection stays.
+/// `MAX_LINE` is answered with an error as soon as it is too long (a client that never
+/// sends its newline learns why nothing else comes) and skipped up to its newline; the
+/// connection stays. A client that sends no whole line within `idle` gets an error line
+/// and is closed.
 async fn connection(mut stream: TcpStream, jobs: &SyncSender<Job>, idle: Duration) -> Result<(), ConnectionError> {
     let mut line = Vec::with_capacity(MAX_LINE);
     let mut overlong = false;
@@ -134,8 +184,12 @@ async fn connection(mut stream: TcpStream, jobs: &SyncSender<Job>, idle: Duratio
     let mut deadline = tokio::time::Instant::now() + idle;
     loop {
         let mut answers = Vec::new();
-        let n =
-            tokio::time::timeout_at(deadline, stream.read(&mut chunk)).await.map_err(|_| ConnectionError::Idle)??;
+        let Ok(read) = tokio::time::timeout_at(deadline, stream.read(&mut chunk)).await else {
+            let line = format!("ERROR no whole line within {} ms, closing\r\n", idle.as_millis());
+            let _ = tokio::time::timeout(REFUSAL_WRITE, stream.write_all(line.as_bytes())).await;
+            return Err(ConnectionError::Idle);
+        };
+        let n = read?;
         if n == 0 {
             // A peer that vanishes mid-line leaves nothing to answer.
             return Ok(());
@@ -144,30 +198,25 @@ async fn connection(mut stream: TcpStream, jobs: &SyncSender<Job>, idle: Duratio
             if b != b'\n' {
                 if line.len() < MAX_LINE {
                     line.push(b);
-                } else {
-                    overlong = true;
+                } else if !std::mem::replace(&mut overlong, true) {
+                    answers.extend_from_slice(format!("ERROR line longer than {MAX_LINE} bytes\r\n").as_bytes());
                 }
                 continue;
             }
             deadline = tokio::time::Instant::now() + idle;
-            let answer = if std::mem::take(&mut overlong) {
-                format!("ERROR line longer than {MAX_LINE} bytes")
-            } else {
-                match line::parse(&line) {
-                    Ok(call) => ask(jobs, call).await,
-                    Err(line::ParseError::Empty) => {
-                        line.clear();
-                        continue;
-                    }
-                    Err(e) => format!("ERROR {e}"),
-                }
-            };
+            // An overlong line was answered when it grew too long.
+            let parsed = (!std::mem::take(&mut overlong)).then(|| line::parse(&line));
             line.clear();
+            let answer = match parsed {
+                Some(Ok(call)) => ask(jobs, call).await,
+                None | Some(Err(line::ParseError::Empty)) => continue,
+                Some(Err(e)) => format!("ERROR {e}"),
+            };
             answers.extend_from_slice(answer.as_bytes());
             answers.extend_from_slice(b"\r\n");
         }
         if !answers.is_empty() {
-            tokio::time::timeout(idle, stream.write_all(&answers)).await.map_err(|_| ConnectionError::Idle)??;
+            tokio::time::timeout(idle, stream.write_all(&answers)).await.map_err(|_| ConnectionError::NotReading)??;
         }
     }
 }
@@ -182,25 +231,41 @@ async fn ask(jobs: &SyncSender<Job>, call: Call) -> String {
     rx.await.unwrap_or_else(|_| "ERROR the controller is gone".into())
 }
 
+/// What the agent thread holds: its slot's endpoint, the shared data, its own writer of
+/// the event stream and `SendEvent`'s rate (HMPL 2.19) as a script's.
+struct AgentSlot {
+    ns: Namespace,
+    /// The controller's data folder, where the user table is saved.
+    data_dir: PathBuf,
+    endpoint: TaskEndpoint,
+    shared: Region<SharedData>,
+    events: EventSender,
+    throttle: Throttle,
+}
+
 /// The agent thread: attached to the agent slot, it answers the calls one at a time.
-fn agent(ns: Namespace, task: u8, inbox: Receiver<Job>, ready: mpsc::Sender<Result<(), IpcError>>) {
-    let opened = TaskEndpoint::open(&ns, task, std::process::id())
-        .and_then(|endpoint| Ok((endpoint, Region::<SharedData>::open(&ns, "shared")?)));
-    let Some((mut endpoint, shared)) = crate::listener::opened(&ready, opened) else { return };
+fn agent(ns: Namespace, task: u8, data_dir: PathBuf, inbox: Receiver<Job>, ready: mpsc::Sender<Result<(), IpcError>>) {
+    let opened = TaskEndpoint::open(&ns, task, std::process::id()).and_then(|endpoint| {
+        let shared = Region::<SharedData>::open(&ns, "shared")?;
+        let events = endpoint.event_sender(&ns)?;
+        Ok(AgentSlot { ns: ns.clone(), data_dir, endpoint, shared, events, throttle: Throttle::default() })
+    });
+    let Some(mut slot) = crate::listener::opened(&ready, opened) else { return };
     while let Ok((call, answer)) = inbox.recv() {
-        let _ = answer.send(carry_out(&mut endpoint, &shared, &call));
+        let _ = answer.send(carry_out(&mut slot, &call));
     }
 }
 
 /// One call: looked up, checked against the ASCII flag and its arguments, carried out.
-fn carry_out(endpoint: &mut TaskEndpoint, shared: &SharedData, call: &Call) -> String {
+fn carry_out(slot: &mut AgentSlot, call: &Call) -> String {
     let Some(spec) = api::registry::find(&call.name) else {
         return format!("ERROR unknown function {}", call.name);
     };
     if !spec.ascii {
         return format!("ERROR {} is not available over ASCII", spec.name);
     }
-    endpoint.slot().beat();
+    slot.endpoint.slot().beat();
+    let endpoint = &mut slot.endpoint;
     let result = match spec.func {
         Func::Command(command) => api::call::from_values::<CommandCall>(command, &call.args)
             .map_err(|e| argument_error(spec, e))
@@ -212,7 +277,7 @@ fn carry_out(endpoint: &mut TaskEndpoint, shared: &SharedData, call: &Call) -> S
                 Ok(std::iter::once(first).chain(second).map(query_text).collect::<Vec<_>>().join(" "))
             })
         }
-        Func::Local(local) => table_value(shared, spec, local, &call.args),
+        Func::Local(local) => local_value(slot, spec, local, &call.args),
     };
     result.unwrap_or_else(|e| e)
 }
@@ -255,26 +320,45 @@ fn query_text(value: query::Value) -> String {
     }
 }
 
-/// The ASCII-flagged functions that run in a script process: the user table's values are
-/// in shared memory, so the server reads and writes them itself; its file is a script's.
-fn table_value(shared: &SharedData, spec: &FunctionSpec, local: Local, args: &[Value]) -> Result<String, String> {
+/// The ASCII-flagged functions a script carries out in its own process, carried out here
+/// with the same code: the user table's values (in shared memory), ch. 3's pure string
+/// functions and ch. 4's math, the events and the scope gate; the user table's file is a
+/// task's.
+fn local_value(slot: &mut AgentSlot, spec: &FunctionSpec, local: Local, args: &[Value]) -> Result<String, String> {
     use api::call::Source;
     let mut source = api::call::Values::new(args);
-    let out_of_range = || format!("ERROR {}", ErrorCode::System(SystemError::HmplArgOutOfRange));
+    let code = |e: SystemError| format!("ERROR {}", ErrorCode::System(e));
     let bad = |e| argument_error(spec, e);
+    // Before anything is changed.
+    check_count(spec, args)?;
     let result = match local {
         Local::GetTableValue => {
             let index = source.int().map_err(bad)?;
-            let value = usize::try_from(index).ok().and_then(|i| shared.user_table(i)).ok_or_else(out_of_range)?;
-            value.to_string()
+            let value = usize::try_from(index).ok().and_then(|i| slot.shared.user_table(i));
+            value.ok_or_else(|| code(SystemError::HmplArgOutOfRange))?.to_string()
         }
         Local::SetTableValue => {
             let (index, value) = (source.int().map_err(bad)?, source.double().map_err(bad)?);
-            if !usize::try_from(index).is_ok_and(|i| shared.set_user_table(i, value)) {
-                return Err(out_of_range());
+            if !usize::try_from(index).is_ok_and(|i| slot.shared.set_user_table(i, value)) {
+                return Err(code(SystemError::HmplArgOutOfRange));
             }
             "0".into()
         }
+        // HMPL ch. 3.
+        Local::StringLen => strings::len(&source.str().map_err(bad)?).to_string(),
+        Local::IsStringEqual => {
+            let (a, b) = (source.str().map_err(bad)?, source.str().map_err(bad)?);
+            i32::from(strings::equal(&a, &b)).to_string()
+        }
+        Local::StrFindCharEx => {
+            let (s, set) = (source.str().map_err(bad)?, source.str().map_err(bad)?);
+            strings::find_char_ex(&s, &set, source.bool().map_err(bad)?).to_string()
+        }
+        Local::StrFindStr => {
+            let (s, sub) = (source.str().map_err(bad)?, source.str().map_err(bad)?);
+            strings::find_str(&s, &sub).to_string()
+        }
+        Local::StringToDouble => strings::to_double(&source.str().map_err(bad)?).to_string(),
         // HMPL ch. 4: pure functions of numbers, the same as a script's.
         _ if api::libm::is_math(local) => {
             let numbers = spec
@@ -293,15 +377,75 @@ fn table_value(shared: &SharedData, spec: &FunctionSpec, local: Local, args: &[V
                 _ => value.to_string(),
             }
         }
-        _ if matches!(local, Local::SaveUserTable | Local::LoadUserTable) => {
-            return Err(format!("ERROR {} runs in a script only (the user table's file is a task's)", spec.name));
+        // HMPL 2.19: as from a task, at a script's rate.
+        Local::SendEvent => {
+            let Ok(id) = u16::try_from(source.int().map_err(bad)?) else {
+                return Err(code(SystemError::HmplArgOutOfRange));
+            };
+            slot.wait_for_event_token();
+            slot.send_event(id.into())?
+        }
+        // HMPL 2.21: the agent thread gives the processor away for a moment.
+        Local::RunScheduler => {
+            std::thread::yield_now();
+            String::new()
+        }
+        // HMPL 2.17: the scope ring's gate and the event that says so (docs/decisions.md
+        // "SetHMIScope").
+        Local::SetHMIScope => {
+            let (event, open) = match source.int().map_err(bad)? {
+                1 => (0xB2C8, true),
+                0 => (0xB2C9, false),
+                _ => return Err(code(SystemError::HmplArgOutOfRange)),
+            };
+            ipc::scope::ScopeRing::open(&slot.ns).map_err(|_| code(SystemError::HmplExecFailed))?.set_gate(open);
+            slot.send_event(event)?
+        }
+        // HMPL 11.6/11.7: the controller's one file, as a script saves and loads it.
+        Local::SaveUserTable | Local::LoadUserTable => {
+            let (start, num) = (source.int().map_err(bad)?, source.int().map_err(bad)?);
+            let range = slot.shared.user_table_range(start, num).ok_or_else(|| code(SystemError::HmplArgOutOfRange))?;
+            let result = user_table::save_or_load(local == Local::SaveUserTable, &slot.data_dir, &slot.shared, range);
+            if let Err((error, why)) = result {
+                tracing::warn!("{} over ASCII: {why}", spec.name);
+                return Err(code(error));
+            }
+            "0".into()
         }
         _ => return Err(format!("ERROR {} runs in a script only", spec.name)),
     };
-    if args.len() > spec.args.len() {
-        return Err(bad(ArgError::TooMany { takes: spec.args.len(), given: args.len() }));
-    }
     Ok(result)
+}
+
+/// A call with more arguments than its function takes is refused.
+fn check_count(spec: &FunctionSpec, args: &[Value]) -> Result<(), String> {
+    if args.len() > spec.args.len() {
+        return Err(argument_error(spec, ArgError::TooMany { takes: spec.args.len(), given: args.len() }));
+    }
+    Ok(())
+}
+
+impl AgentSlot {
+    /// Waits until `SendEvent`'s rate lets another event go (HMPL 2.19, on controller time).
+    fn wait_for_event_token(&mut self) {
+        loop {
+            let now_ms = self.endpoint.snapshot().time_in_ms;
+            match self.throttle.take(now_ms) {
+                Ok(()) => return,
+                Err(ms) => std::thread::sleep(Duration::from_millis(ms)),
+            }
+        }
+    }
+
+    /// Puts event `code` on the event stream as this slot's task: "0", or the HMPL error.
+    fn send_event(&mut self, code: u32) -> Result<String, String> {
+        let cycle = self.endpoint.snapshot().cycle;
+        let record = EventRecord::new(EventKind::Event, self.endpoint.task().into(), cycle, code, "");
+        match self.events.send(&record) {
+            Ok(()) => Ok("0".into()),
+            Err(_) => Err(format!("ERROR {}", ErrorCode::System(SystemError::HmplExecFailed))),
+        }
+    }
 }
 
 /// A neutral argument error in words.
@@ -330,4 +474,24 @@ fn argument_error(spec: &FunctionSpec, error: ArgError) -> String {
     };
     let name = spec.args.get(index).map_or("?", |a| a.name);
     format!("ERROR {}: argument {} ({name}) must be {expected}, not {got}", spec.name, index + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A call the stopped controller never answers leaves the agent thread behind: the
+    /// server's end waits `AGENT_END` for it, no longer.
+    #[test]
+    fn the_end_leaves_a_stuck_agent_behind() {
+        let stuck = std::thread::spawn(|| std::thread::sleep(Duration::from_secs(3600)));
+        let start = std::time::Instant::now();
+        AgentThread(Some(stuck)).join();
+        let waited = start.elapsed();
+        assert!(waited >= AGENT_END && waited < AGENT_END + Duration::from_millis(500), "{waited:?}");
+        let done = std::thread::spawn(|| {});
+        let start = std::time::Instant::now();
+        AgentThread(Some(done)).join();
+        assert!(start.elapsed() < Duration::from_millis(200), "an agent that ends is joined at once");
+    }
 }

@@ -634,16 +634,13 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
             m.kernel.stop_all();
             Ok(Done::Now)
         }),
-        C::EStop {} => {
-            m.emergency_stop();
-            Ok(Done::Later)
-        }
+        C::EStop {} => tasks::emergency_stop(m, caller),
         C::ScanNetwork {} => now(m.scan_network()),
         // HMPL ch. 16: tasks.
         C::StartTask { task_id } => tasks::start(m, task_id, Entry::TOP_LEVEL),
         C::StartTaskFunc { task_id, ref func_name } => tasks::start_func(m, task_id, func_name),
         C::StopTask { task_id } => tasks::stop(m, caller, task_id),
-        C::StopAllTask {} => tasks::stop_all(m),
+        C::StopAllTask {} => tasks::stop_all(m, caller),
         // Fatek FUN147.
         C::MHSPO { gp, ref sr, ref wr, ref en, ref pau, ref abt, ref act, ref err, ref dn } => {
             fun147::declare(m, gp, sr, wr, [en, pau, abt, act, err, dn])

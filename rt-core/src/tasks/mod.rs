@@ -31,6 +31,9 @@ struct Spec {
     reaction: FaultReaction,
     /// Attached to by a process the user starts: running from the start, no watchdog.
     external: bool,
+    /// Carries a front end's calls (the Native ASCII agent): no stop command stops it, so
+    /// a stop it carries out is answered and the front end goes on serving.
+    front_end: bool,
     memory_limit_mib: u32,
     /// The pool's waiting processes can run it: they read its program from the task
     /// table, which holds a path of fewer than `PROGRAM_BYTES` bytes of UTF-8 whole.
@@ -109,6 +112,7 @@ impl Tasks {
                 watchdog_ms: config.watchdog_ms,
                 reaction: config.fault_reaction,
                 external: config.external,
+                front_end: config.front_end,
                 memory_limit_mib: config.memory_limit_mib,
                 poolable: config.program.to_str().is_some_and(|p| p.len() < PROGRAM_BYTES),
             });
@@ -179,9 +183,19 @@ impl Tasks {
         self.tasks[t as usize].start_result.take()
     }
 
-    /// HMPL 16.4: stops task `id`; its commanded motion reacts as configured.
+    /// Whether slot `t` carries a front end's calls rather than a program.
+    fn is_front_end(&self, t: u8) -> bool {
+        self.tasks[t as usize].spec.is_some_and(|s| s.front_end)
+    }
+
+    /// HMPL 16.4: stops task `id`; its commanded motion reacts as configured. A front
+    /// end's slot is no HMPL task: 0x0107, whoever asks (docs/decisions.md, "Stops and
+    /// the front ends' slot").
     pub fn stop(&mut self, id: i64, cycle: u64, react: &mut dyn FnMut(u8, FaultReaction)) -> Result<u8, SystemError> {
         let t = Self::task_id(id)?;
+        if self.is_front_end(t) {
+            return Err(SystemError::NotValidTaskid);
+        }
         if !self.accepts_commands(t) {
             return Err(SystemError::TaskNotRunning);
         }
@@ -189,10 +203,11 @@ impl Tasks {
         Ok(t)
     }
 
-    /// HMPL 16.5, 2.9: stops every task that runs.
+    /// HMPL 16.5, 2.9: stops every task that runs, the front ends' slots excepted (they
+    /// carry out the stop and answer it).
     pub fn stop_all(&mut self, cycle: u64, react: &mut dyn FnMut(u8, FaultReaction)) {
         for t in 0..MAX_TASKS as u8 {
-            if self.accepts_commands(t) {
+            if self.accepts_commands(t) && !self.is_front_end(t) {
                 self.leave(t, cycle, StopCause::Stopped, react);
             }
         }
@@ -458,7 +473,9 @@ mod tests {
                 ..TaskConfig::autorun(id, "p.lua".into())
             };
             let (link, supervisor) = link().expect("the bell");
-            let configs = [config(0, FaultReaction::Decelerate), config(1, FaultReaction::Disable)];
+            // Slot 62 as `with_ascii_task` adds it: the Native ASCII agent's.
+            let agent = TaskConfig { external: true, front_end: true, ..config(62, FaultReaction::Decelerate) };
+            let configs = [config(0, FaultReaction::Decelerate), config(1, FaultReaction::Disable), agent];
             let tasks = Tasks::new(&configs, 1_000_000, link);
             Rig { tasks, supervisor, table: zeroed(), shared: zeroed(), cycle: 0, reactions: Vec::new() }
         }
@@ -653,5 +670,35 @@ mod tests {
         assert_eq!(stopped, Err(SystemError::TaskNotRunning));
         assert_eq!(rig.tasks.start(2, Entry::TOP_LEVEL, 0), Err(SystemError::TaskEmpty));
         assert_eq!(rig.tasks.start(64, Entry::TOP_LEVEL, 0), Err(SystemError::NotValidTaskid));
+    }
+
+    /// HMPL 16.4, 16.5, 2.9: stops end the programs, never a front end's slot, which
+    /// carries the stop out and must answer it; naming that slot is 0x0107 (issue 36.3).
+    #[test]
+    fn no_stop_stops_a_front_ends_slot() {
+        let mut rig = Rig::new();
+        assert_eq!(rig.tasks.state(62), TaskState::Running, "attached from the start");
+        for (t, pid) in [(0, 11), (1, 12)] {
+            rig.tasks.start(t as i64, Entry::TOP_LEVEL, 0).unwrap();
+            rig.step();
+            rig.supervisor.report(Report::Spawned { task: t, pid });
+            rig.script_runs(t, pid);
+        }
+        rig.step();
+        rig.orders();
+        let cycle = rig.cycle;
+        assert_eq!(rig.tasks.stop(62, cycle, &mut |_, _| {}), Err(SystemError::NotValidTaskid), "StopTask(62)");
+        assert_eq!(rig.tasks.state(62), TaskState::Running);
+        let reactions = &mut rig.reactions;
+        rig.tasks.stop_all(cycle, &mut |t, r| reactions.push((t, r)));
+        assert_eq!(rig.tasks.state(62), TaskState::Running, "StopAllTask leaves the agent serving");
+        assert!(rig.tasks.accepts_commands(62));
+        assert_eq!((rig.tasks.state(0), rig.tasks.state(1)), (TaskState::Stopping, TaskState::Stopping));
+        assert_eq!(
+            rig.reactions,
+            vec![(0, FaultReaction::Decelerate), (1, FaultReaction::Disable)],
+            "no reaction for 62"
+        );
+        assert_eq!(rig.orders(), vec![Order::Kill { task: 0, pid: 11 }, Order::Kill { task: 1, pid: 12 }]);
     }
 }

@@ -27,8 +27,11 @@ pub const DEFAULT_ADDRESS: &str = "127.0.0.1:4000";
 const MAX_LINE: usize = 512;
 /// Clients served at once; the next one gets an error line and is closed.
 const MAX_CLIENTS: usize = 32;
-/// A client that sends no whole line for this long is closed.
+/// A client that sends no whole line for this long gets an error line and is closed.
 const IDLE: Duration = Duration::from_secs(60);
+/// The longest answer sent, without its line end: HMPL 3.1's string length, as the
+/// manual's `char *response`; a longer one is cut there and ends with the cut marker.
+const MAX_ANSWER: usize = 512;
 /// A client that does not take its answers keeps at most this much; then it is closed.
 const MAX_BACKLOG: usize = 64 * 1024;
 /// How often a waiting program looks at its clients.
@@ -42,6 +45,8 @@ struct Client {
     overlong: bool,
     out: Vec<u8>,
     last_line: Instant,
+    /// The peer has closed or its socket failed: nothing more is sent.
+    gone: bool,
 }
 
 struct Agent {
@@ -208,7 +213,7 @@ impl Agent {
                 client.out.extend_from_slice(b"\r\n");
             }
         });
-        self.clients.retain_mut(Client::flush);
+        self.clients.retain_mut(|client| client.flush(IDLE));
     }
 
     fn accept(&mut self) {
@@ -220,14 +225,7 @@ impl Agent {
                 }
                 Ok((stream, _)) => {
                     if stream.set_nonblocking(true).is_ok() {
-                        let now = Instant::now();
-                        self.clients.push(Client {
-                            stream,
-                            line: Vec::new(),
-                            overlong: false,
-                            out: Vec::new(),
-                            last_line: now,
-                        });
+                        self.clients.push(Client::new(stream));
                     }
                 }
                 // WouldBlock: nobody waits; other errors (out of descriptors): next time.
@@ -238,6 +236,10 @@ impl Agent {
 }
 
 impl Client {
+    fn new(stream: TcpStream) -> Self {
+        Client { stream, line: Vec::new(), overlong: false, out: Vec::new(), last_line: Instant::now(), gone: false }
+    }
+
     /// Reads what has come and hands over each whole line (or the error that answers it).
     fn receive(&mut self, mut line: impl FnMut(Result<Vec<u8>, String>)) {
         let mut chunk = [0u8; 1024];
@@ -246,7 +248,7 @@ impl Client {
                 Ok(0) => {
                     // A peer that vanished mid-line leaves nothing to answer.
                     self.out.clear();
-                    self.last_line = Instant::now() - IDLE;
+                    self.gone = true;
                     return;
                 }
                 Ok(n) => {
@@ -254,16 +256,16 @@ impl Client {
                         if b != b'\n' {
                             if self.line.len() < MAX_LINE {
                                 self.line.push(b);
-                            } else {
-                                self.overlong = true;
+                            } else if !std::mem::replace(&mut self.overlong, true) {
+                                // Answered at once: a client that never sends its newline
+                                // learns why nothing else comes.
+                                line(Err(format!("ERROR line longer than {MAX_LINE} bytes")));
                             }
                             continue;
                         }
                         self.last_line = Instant::now();
                         let text = std::mem::take(&mut self.line);
-                        if std::mem::take(&mut self.overlong) {
-                            line(Err(format!("ERROR line longer than {MAX_LINE} bytes")));
-                        } else {
+                        if !std::mem::take(&mut self.overlong) {
                             line(checked(text));
                         }
                     }
@@ -271,7 +273,7 @@ impl Client {
                 Err(e) if e.kind() == ErrorKind::WouldBlock => return,
                 Err(e) if e.kind() == ErrorKind::Interrupted => {}
                 Err(_) => {
-                    self.last_line = Instant::now() - IDLE;
+                    self.gone = true;
                     return;
                 }
             }
@@ -279,8 +281,16 @@ impl Client {
     }
 
     /// Writes what it can; false when the client is to be closed (gone, idle, or not
-    /// taking its answers).
-    fn flush(&mut self) -> bool {
+    /// taking its answers). A client with no whole line for `idle` is told so first.
+    fn flush(&mut self, idle: Duration) -> bool {
+        if self.gone {
+            return false;
+        }
+        let timed_out = self.last_line.elapsed() >= idle;
+        if timed_out {
+            let line = format!("ERROR no whole line within {} s, closing\r\n", idle.as_secs_f64());
+            self.out.extend_from_slice(line.as_bytes());
+        }
         while !self.out.is_empty() {
             match self.stream.write(&self.out) {
                 Ok(0) => return false,
@@ -290,7 +300,7 @@ impl Client {
                 Err(_) => return false,
             }
         }
-        self.out.len() <= MAX_BACKLOG && self.last_line.elapsed() < IDLE
+        self.out.len() <= MAX_BACKLOG && !timed_out
     }
 }
 
@@ -318,16 +328,82 @@ fn answer(lua: &Lua, line: &Result<Vec<u8>, String>) -> String {
         parser.call::<Value>(command)
     });
     match result {
-        Ok(Value::String(s)) => one_line(&s.to_string_lossy()),
+        Ok(Value::String(s)) => one_line(&s.as_bytes()),
         Ok(Value::Nil) => String::new(),
         Ok(Value::Integer(n)) => n.to_string(),
         Ok(Value::Number(n)) => n.to_string(),
         Ok(other) => format!("ERROR the parser returned a {}, not a string", other.type_name()),
-        Err(e) => one_line(&format!("ERROR {}", crate::sandbox::root_cause(&e))),
+        Err(e) => error_line(&e),
     }
 }
 
-/// A response as one line: its line breaks become spaces.
-fn one_line(text: &str) -> String {
-    text.trim_end_matches(['\r', '\n']).replace(['\r', '\n'], " ")
+/// A parser's error as one short line: its message without the traceback.
+fn error_line(error: &mlua::Error) -> String {
+    let message = crate::sandbox::root_cause(error).to_string();
+    one_line(format!("ERROR {}", message.lines().next().unwrap_or_default()).as_bytes())
+}
+
+/// A response as one line of at most `MAX_ANSWER` bytes: its line breaks become spaces, a
+/// longer one is cut with the marker that says how much.
+fn one_line(text: &[u8]) -> String {
+    let text = text.strip_suffix(b"\n").unwrap_or(text);
+    let text = text.strip_suffix(b"\r").unwrap_or(text);
+    let kept = ipc::output::char_boundary(text, MAX_ANSWER);
+    let mut line = String::from_utf8_lossy(&text[..kept]).replace(['\r', '\n'], " ");
+    if kept < text.len() {
+        line.push_str(&ipc::output::cut_marker((text.len() - kept) as u64));
+    }
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 36.11: an answer is one line of at most `MAX_ANSWER` bytes, cut with a marker.
+    #[test]
+    fn answers_are_one_bounded_line() {
+        assert_eq!(one_line(b"two\r\nlines\n"), "two  lines");
+        let long = one_line(&vec![b'x'; 1 << 20]);
+        assert_eq!(long, format!("{}{}", "x".repeat(MAX_ANSWER), ipc::output::cut_marker((1 << 20) - 512)));
+        assert_eq!(one_line("é".repeat(300).as_bytes()).split(' ').next().unwrap().len(), 512, "whole characters");
+    }
+
+    /// A parser's failure is one short line, not its traceback.
+    #[test]
+    fn a_parser_error_is_one_short_line() {
+        let lua = Lua::new();
+        let parser: Function = lua.load("return function(cmd) error('no such command: ' .. cmd) end").eval().unwrap();
+        lua.set_named_registry_value(PARSER, parser).unwrap();
+        let answer = answer(&lua, &Ok(b"FOO".to_vec()));
+        assert!(answer.starts_with("ERROR ") && answer.ends_with("no such command: FOO"), "{answer}");
+        assert!(!answer.contains("traceback"), "{answer}");
+    }
+
+    /// A client that sends half a line and stalls gets an error line when its time is up,
+    /// and is closed; one that sends whole lines is not.
+    #[test]
+    fn a_stalled_client_is_told_and_closed() {
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        let mut peer = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
+        let (stream, _) = listener.accept().unwrap();
+        stream.set_nonblocking(true).unwrap();
+        let mut client = Client::new(stream);
+        peer.write_all(b"half a li").unwrap();
+        let idle = Duration::from_millis(200);
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let mut lines = Vec::new();
+        while client.flush(idle) {
+            assert!(Instant::now() < deadline, "never closed");
+            client.receive(|line| lines.push(line));
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        assert!(lines.is_empty(), "half a line is no line");
+        assert!(client.last_line.elapsed() >= idle);
+        drop(client);
+        let mut told = String::new();
+        peer.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        peer.read_to_string(&mut told).unwrap();
+        assert_eq!(told, "ERROR no whole line within 0.2 s, closing\r\n");
+    }
 }

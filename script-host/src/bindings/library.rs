@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use api::call::{self, Value as Neutral};
 use api::hcv::{self, Hcv, SystemHcv};
-use api::{CommandCall, ErrorCode, Local, QueryCall, SystemError};
+use api::{CommandCall, ErrorCode, Local, QueryCall, SystemError, strings};
 use calls::query;
 use ipc::messages::EventKind;
 use ipc::shared::{TestValue, TestVar};
@@ -76,25 +76,25 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             };
             Ok((text.len() as i64, lua.create_string(&text)?))
         }),
-        Local::StringLen => binding(lua, spec, move |lua, args| Ok(c_str(lua, spec, &args, 0)?.len())),
-        Local::IsStringEqual => {
-            binding(lua, spec, move |lua, args| Ok(c_str(lua, spec, &args, 0)? == c_str(lua, spec, &args, 1)?))
-        }
+        Local::StringLen => binding(lua, spec, move |lua, args| Ok(strings::len(&c_str(lua, spec, &args, 0)?))),
+        Local::IsStringEqual => binding(lua, spec, move |lua, args| {
+            Ok(strings::equal(&c_str(lua, spec, &args, 0)?, &c_str(lua, spec, &args, 1)?))
+        }),
         Local::StrFindChar => binding(lua, spec, move |lua, args| {
             let s = c_str(lua, spec, &args, 0)?;
             let c = character(lua, &args)?;
             // As C's strchr: the terminator is found too.
-            Ok(if c == 0 { s.len() as i64 } else { offset(s.iter().position(|&b| b == c)) })
+            Ok(if c == 0 { s.len() as i64 } else { strings::offset(s.iter().position(|&b| b == c)) })
         }),
         Local::StrFindCharEx => binding(lua, spec, move |lua, args| {
             let s = c_str(lua, spec, &args, 0)?;
             let set = c_str(lua, spec, &args, 1)?;
             let complement = bool_arg(lua, spec, &args, 2)?;
-            Ok(offset(s.iter().position(|b| set.contains(b) != complement)))
+            Ok(strings::find_char_ex(&s, &set, complement))
         }),
         Local::StrFindStr => binding(lua, spec, move |lua, args| {
             let (s, sub) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
-            Ok(offset(if sub.is_empty() { Some(0) } else { s.windows(sub.len()).position(|w| w == sub.as_slice()) }))
+            Ok(strings::find_str(&s, &sub))
         }),
         Local::StringCopy => binding(lua, spec, move |lua, args| {
             let source = c_str(lua, spec, &args, 0)?;
@@ -115,7 +115,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             string_result(lua, destination, part)
         }),
         Local::StringToDouble => {
-            binding(lua, spec, move |lua, args| Ok(string_to_double(&c_str(lua, spec, &args, 0)?)))
+            binding(lua, spec, move |lua, args| Ok(strings::to_double(&c_str(lua, spec, &args, 0)?)))
         }
         // HMPL ch. 3: memory, on tables that stand for C arrays.
         Local::MemoryCopy => binding(lua, spec, move |lua, args| {
@@ -277,9 +277,7 @@ fn utc_date(secs: u64) -> String {
 /// A `char*` argument as C reads it: up to its first NUL.
 fn c_str(lua: &Lua, spec: &api::FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<u8>> {
     let s = lua_string_arg(lua, spec, args, i)?;
-    let bytes = s.as_bytes();
-    let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
-    Ok(bytes[..end].to_vec())
+    Ok(strings::c_str(&s.as_bytes()).to_vec())
 }
 
 /// `StrFindChar`'s character: a one-character string or a byte code 0..255.
@@ -300,10 +298,6 @@ fn character(lua: &Lua, args: &MultiValue) -> mlua::Result<u8> {
             ))
         }
     }
-}
-
-fn offset(found: Option<usize>) -> i64 {
-    found.map_or(-1, |i| i as i64)
 }
 
 /// `copy_len` bytes of `s` from `start` (-1: to the end; past the end: to the end, as
@@ -336,44 +330,6 @@ fn string_result(
         Err(code) => code,
     };
     Ok((rc, lua.create_string(&destination)?))
-}
-
-/// C's `atof`: leading white space, then the longest prefix that is a decimal number
-/// (sign, digits, point, exponent) or `inf`, `infinity`, `nan`; 0 when there is none.
-fn string_to_double(s: &[u8]) -> f64 {
-    let s = &s[s.iter().position(|b| !b" \t\n\x0B\x0C\r".contains(b)).unwrap_or(s.len())..];
-    let (sign, body) = match s.first() {
-        Some(b'-') => (-1.0, &s[1..]),
-        Some(b'+') => (1.0, &s[1..]),
-        _ => (1.0, s),
-    };
-    let lower: Vec<u8> = body.iter().take(8).map(u8::to_ascii_lowercase).collect();
-    if lower.starts_with(b"inf") {
-        return sign * f64::INFINITY;
-    }
-    if lower.starts_with(b"nan") {
-        return f64::NAN;
-    }
-    let digits = |from: usize| body[from..].iter().take_while(|b| b.is_ascii_digit()).count();
-    let mut end = digits(0);
-    let mut mantissa = end;
-    if body.get(end) == Some(&b'.') {
-        let fraction = digits(end + 1);
-        mantissa += fraction;
-        end += 1 + fraction;
-    }
-    if mantissa == 0 {
-        return 0.0;
-    }
-    if matches!(body.get(end), Some(b'e' | b'E')) {
-        let sign_len = usize::from(matches!(body.get(end + 1), Some(b'+' | b'-')));
-        let exponent = digits(end + 1 + sign_len);
-        if exponent > 0 {
-            end += 1 + sign_len + exponent;
-        }
-    }
-    // Only ASCII digits, point, sign and e: valid UTF-8 and a valid Rust float.
-    std::str::from_utf8(&body[..end]).ok().and_then(|t| t.parse::<f64>().ok()).map_or(0.0, |v| sign * v)
 }
 
 /// A table standing for a C array: integers are a C `int[]` (4 bytes each), a table with
@@ -496,28 +452,6 @@ fn set_config_var(lua: &Lua, host: &Host, id: i64, value: f64) -> mlua::Result<i
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// HMPL 3.13 and C's `atof` on what follows the number.
-    #[test]
-    fn string_to_double_reads_as_atof() {
-        for (text, want) in [
-            ("1.234", 1.234),
-            ("  -12.5e2xyz", -1250.0),
-            ("0.05", 0.05),
-            (".5", 0.5),
-            ("5.", 5.0),
-            ("1e", 1.0),
-            ("abc", 0.0),
-            ("", 0.0),
-            ("-", 0.0),
-            ("+3", 3.0),
-            ("1e400", f64::INFINITY),
-        ] {
-            assert_eq!(string_to_double(text.as_bytes()), want, "{text:?}");
-        }
-        assert_eq!(string_to_double(b"-Infinity"), f64::NEG_INFINITY);
-        assert!(string_to_double(b"nan").is_nan());
-    }
 
     /// HMPL 3.10, 3.12: -1 to the end; a length past the end stops there.
     #[test]

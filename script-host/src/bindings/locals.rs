@@ -6,6 +6,7 @@ use std::time::Duration;
 
 use api::FunctionSpec;
 use api::{CommandCall, ErrorCode, Local, SystemError};
+use calls::user_table;
 use ipc::messages::{EventKind, EventRecord};
 use ipc::output::{char_boundary, cut_marker, escape};
 use ipc::shared::{Lock, MUTEXES};
@@ -18,41 +19,11 @@ use super::{
     write_output,
 };
 use crate::printf::{self, Arg, Formatted};
-use crate::user_table;
 
 /// HMPL 2.20: the longest message `SendMsgEvent` sends.
 const MAX_MESSAGE_CHARS: usize = 128;
 /// How long a blocked `MutexLock` sleeps before it checks that the controller lives.
 const LIVENESS: Duration = Duration::from_millis(100);
-
-/// HMPL 2.19/2.20: events at 1000 per second on average, in bursts of up to 100, on
-/// controller time.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Throttle {
-    tokens: f64,
-    last_ms: Option<u64>,
-}
-
-const EVENTS_PER_MS: f64 = 1.0;
-const BURST: f64 = 100.0;
-
-impl Throttle {
-    /// Takes one event's token at controller time `now_ms`; otherwise the ms until one is there.
-    pub fn take(&mut self, now_ms: u64) -> Result<(), u64> {
-        let last = *self.last_ms.get_or_insert_with(|| {
-            self.tokens = BURST;
-            now_ms
-        });
-        self.tokens = (self.tokens + now_ms.saturating_sub(last) as f64 * EVENTS_PER_MS).min(BURST);
-        self.last_ms = Some(now_ms);
-        if self.tokens >= 1.0 {
-            self.tokens -= 1.0;
-            Ok(())
-        } else {
-            Err(((1.0 - self.tokens) / EVENTS_PER_MS).ceil() as u64)
-        }
-    }
-}
 
 impl Host {
     /// Blocks for `ns` nanoseconds of controller time (at least one cycle if `ns` > 0).
@@ -427,13 +398,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             // Waiting on the disk is not a hang.
             let slot_state = |state| host.endpoint.borrow().slot().set_state(state);
             slot_state(RunState::Blocked);
-            let result = if local == Local::SaveUserTable {
-                user_table::save(&host.data_dir, &host.shared, range)
-                    .map_err(|e| (SystemError::HimcSaveConfigFail, e.to_string()))
-            } else {
-                user_table::load(&host.data_dir, &host.shared, range)
-                    .map_err(|e| (SystemError::HimcLoadConfigFail, e.to_string()))
-            };
+            let result = user_table::save_or_load(local == Local::SaveUserTable, &host.data_dir, &host.shared, range);
             slot_state(RunState::Running);
             Ok(match result {
                 Ok(()) => 0,
@@ -504,28 +469,4 @@ fn undo_setup(lua: &Lua, host: &Host, group_id: i64, added: usize, rc: i64) -> m
         core_rc(lua, host, &CommandCall::RemoveAxisFromGrp { group_id })?;
     }
     Ok(rc)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// HMPL 2.19: a burst of 100, then one event per ms of controller time.
-    #[test]
-    fn the_throttle_lets_1000_events_per_second_through() {
-        let mut t = Throttle::default();
-        let mut sent = 0;
-        let mut now = 0;
-        while now <= 2000 {
-            match t.take(now) {
-                Ok(()) => sent += 1,
-                Err(wait) => {
-                    assert!(wait >= 1);
-                    now += wait;
-                }
-            }
-        }
-        assert!((2090..=2101).contains(&sent), "{sent} events in 2 s");
-        assert_eq!(Throttle::default().take(5), Ok(()), "the first event goes at once");
-    }
 }

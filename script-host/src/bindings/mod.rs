@@ -29,6 +29,7 @@ use std::borrow::Cow;
 
 use api::call::{self, ArgError, Doubles, Expected, Got, Source, TypedCall};
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
+use api::event_rate::Throttle;
 use api::{Command, CommandCall, Func, FunctionSpec, Query, QueryCall, SdoAbort, ValueType};
 use calls::{query, wire};
 use ipc::events::EventSender;
@@ -41,7 +42,6 @@ use mlua::{BorrowedBytes, Function, IntoLuaMulti, Lua, MultiValue, Value};
 
 pub use agent::{DEFAULT_ADDRESS as DEFAULT_USER_ASCII, serve as serve_agent, serve_forever as serve_agent_forever};
 pub use expect::verdict as expectations_verdict;
-use locals::Throttle;
 pub use system_vars::{install_system_variables, set_task_id};
 
 /// What the bindings share: the link to the controller, the shared data, the event stream.

@@ -9,15 +9,19 @@ use std::ops::Range;
 use std::os::fd::AsRawFd;
 use std::path::{Path, PathBuf};
 
+use api::SystemError;
 use ipc::shared::{SharedData, USER_TABLE_LEN};
 
 const FILE: &str = "user_table.bin";
 const BYTES: usize = USER_TABLE_LEN * 8;
 
+/// Why `load` found no table.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
+    /// No save was made in that folder.
     #[error("no user table has been saved in {0}")]
     NothingSaved(PathBuf),
+    /// The file could not be read.
     #[error(transparent)]
     Io(#[from] std::io::Error),
 }
@@ -53,6 +57,22 @@ fn read_saved(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
         Err(e) => return Err(e),
     };
     Ok((bytes.len() == BYTES).then_some(bytes))
+}
+
+/// HMPL 11.6 `SaveUserTable` (`save` true) or 11.7 `LoadUserTable` of `range`: the
+/// system error the call answers when it fails (0x... `HimcSaveConfigFail` or
+/// `HimcLoadConfigFail`, as in HMPL 18.2), and why.
+pub fn save_or_load(
+    save: bool,
+    dir: &Path,
+    shared: &SharedData,
+    range: Range<usize>,
+) -> Result<(), (SystemError, String)> {
+    if save {
+        self::save(dir, shared, range).map_err(|e| (SystemError::HimcSaveConfigFail, e.to_string()))
+    } else {
+        load(dir, shared, range).map_err(|e| (SystemError::HimcLoadConfigFail, e.to_string()))
+    }
 }
 
 /// Writes `range` of the shared table into the saved one.
