@@ -4,13 +4,14 @@
 //! turns) and 3-D circles and helices (CircleAbs with any normal, turns and a target off
 //! the plane), corner transitions (HMPL 8.1.5) inserted as the group does, every buffer
 //! mode, random profiles and machine limits, velocity scale changes, halts and late pushes
-//! (BM_ABORT among them) while the path runs. Each cycle's raw pose is smoothed with the
-//! group's moving average over Ts (HMPL 5.1's S-curve, ceil(Ts / cycle) + 1 samples), and
-//! the checker asserts:
+//! (BM_ABORT among them) while the path runs. Each cycle's raw pose is smoothed as the
+//! group smooths it, a moving average over Ts along the path (HMPL 5.1's S-curve,
+//! ceil(Ts / cycle) + 1 samples, `path::smoothing`), and the checker asserts:
 //! - the raw translation and rotation speeds within the feeds (HMPL 8.1) times the scale,
 //!   and the path acceleration within the profiles';
-//! - every coordinate's smoothed velocity and acceleration (finite differences) within the
-//!   machine's max_vel and max_acc (on curves the centripetal part counts);
+//! - every coordinate's smoothed velocity and acceleration (finite differences of the
+//!   smoothed poses) within the machine's max_vel and max_acc (on curves the centripetal
+//!   part counts);
 //! - velocity 0 at every BM_BUFF junction and the raw pose still for Ts there, so the
 //!   smoothed path stops too (HMPL table 8.1.4.1);
 //! - every raw pose on the segment it runs on: on a line, on an arc's or helix's curve
@@ -18,15 +19,18 @@
 //! - the end pose exact.
 //!
 //! Tolerances are for rounding only (relative 1e-9 plus 1e-6 absolute for rates, 1e-9 mm
-//! for positions): the smoothed acceleration is (v[k] - v[k-N]) / (N T) with v the mean raw
-//! velocity over a cycle, which the planner bounds exactly (its trapezoids are sampled, not
-//! integrated).
+//! for positions).
+//!
+//! A second checker runs 10 000 random polygons with TM_MAX_CORNER_DEV and the group's
+//! default smooth time (50 ms): the smoothed path passes every corner within trans_dev and
+//! never leaves the band of trans_dev around the polygon (HMPL 8.1.5, table 8.1.5.1).
 
 use std::f64::consts::TAU;
 
 use path::blend::{TransitionMode, TransitionParams};
 use path::commands;
 use path::segment::{Line, cross3, diff3, dot3, norm3, unit3, xyz};
+use path::smoothing::PathSmoother;
 use path::{BufferMode, Limits, Motion, Planner, Pose, Profile, Segment};
 
 const PERIOD: f64 = 0.004;
@@ -418,8 +422,10 @@ fn check(seed: u64) -> Result<(usize, Coverage), String> {
     // The planner holds a full stop for ceil(Ts / cycle) cycles; the group averages one
     // sample more (rt-core `Group::samples`).
     let hold = (smooth_ms / 1000.0 / PERIOD - 1e-9).ceil().max(0.0) as usize;
-    let n = hold + 1;
-    let mut poses: Vec<Pose> = vec![[0.0; 6]; n + 2];
+    let mut smoother = PathSmoother::new(hold + 1);
+    smoother.reset([0.0; 6], 0.0, hold + 1);
+    let mut last = [0.0; 6];
+    let mut smoothed = [0.0; 6];
     let mut smoothed_vel = [0.0f64; 6];
     let mut finished = 0usize;
     let mut scale = 1.0f64;
@@ -491,7 +497,6 @@ fn check(seed: u64) -> Result<(usize, Coverage), String> {
         }
         // Raw speeds within the feeds of the running segment and its neighbours.
         let recent_scale = if cycle < scale_high.1 + 2000 { scale_high.0.max(scale) } else { scale };
-        let last = *poses.last().unwrap();
         let trans = (0..3).map(|i| (s.pose[i] - last[i]).powi(2)).sum::<f64>().sqrt() / PERIOD;
         let rot = (3..6).map(|i| (s.pose[i] - last[i]).powi(2)).sum::<f64>().sqrt() / PERIOD;
         // Every segment this cycle ran on, and the neighbours whose junction rule may have
@@ -515,22 +520,26 @@ fn check(seed: u64) -> Result<(usize, Coverage), String> {
         if s.path_acc.abs() > tol(ba) {
             return Err(format!("cycle {cycle}: path acceleration {} above {ba}", s.path_acc));
         }
-        // The group's moving average over n samples, and its finite differences.
-        poses.push(s.pose);
-        let k = poses.len() - 1;
+        last = s.pose;
+        // The group's smoothing, and its finite differences.
+        let previous = std::mem::replace(&mut smoothed, smoother.push(&s));
         for i in 0..6 {
-            let v = (poses[k][i] - poses[k - n][i]) / (n as f64 * PERIOD);
+            let v = (smoothed[i] - previous[i]) / PERIOD;
             let a = (v - smoothed_vel[i]) / PERIOD;
             smoothed_vel[i] = v;
             if v.abs() > tol(seq.limits.max_vel[i]) {
                 return Err(format!(
-                    "cycle {cycle}: coordinate {i} smoothed velocity {v} above {}",
-                    seq.limits.max_vel[i]
+                    "cycle {cycle}: coordinate {i} smoothed velocity {v} above {} (hold {hold}, halt {halt_at:?}, scale {scale_at:?}, push {late_push:?}, finished {finished}, segments {:?})",
+                    seq.limits.max_vel[i],
+                    seq.pushed
+                        .iter()
+                        .map(|p| (p.motion.buffer, kind(&p.segment), p.segment.length(), p.motion.lin.vel))
+                        .collect::<Vec<_>>()
                 ));
             }
             if cycle > 0 && a.abs() > tol(seq.limits.max_acc[i]) {
                 return Err(format!(
-                    "cycle {cycle}: coordinate {i} smoothed acceleration {a} above {} (n {n}, halt {halt_at:?}, scale {scale_at:?}, push {late_push:?}, finished {finished}, segments {:?})",
+                    "cycle {cycle}: coordinate {i} smoothed acceleration {a} above {} (hold {hold}, halt {halt_at:?}, scale {scale_at:?}, push {late_push:?}, finished {finished}, segments {:?})",
                     seq.limits.max_acc[i],
                     seq.pushed.iter().map(|p| (p.motion.buffer, kind(&p.segment))).collect::<Vec<_>>()
                 ));
@@ -548,7 +557,14 @@ fn check(seed: u64) -> Result<(usize, Coverage), String> {
             };
         }
     }
-    Err("did not finish in 200 000 cycles".into())
+    Err(format!(
+        "did not finish in 200 000 cycles: {} commands, halt {halt_at:?} {resume_after} finished {finished} segments {:?}",
+        seq.planner.commands(),
+        seq.pushed
+            .iter()
+            .map(|p| (p.motion.buffer, kind(&p.segment), p.segment.length(), p.motion.lin.vel))
+            .collect::<Vec<_>>()
+    ))
 }
 
 fn kind(segment: &Segment) -> &'static str {
@@ -595,4 +611,144 @@ fn ten_thousand_random_sequences_keep_every_constraint() {
     assert!(cycles > 1_000_000, "the sequences ran ({cycles} cycles)");
     assert!(total.arcs > 5000 && total.helices > 1000, "arcs and helices were checked");
     assert!(total.blends[1..].iter().all(|&b| b > 500), "every transition mode blended corners: {:?}", total.blends);
+}
+
+/// The group's cycle and default smooth time (HMPL 8.3.6: 50 ms).
+const POLYGON_PERIOD: f64 = 0.001;
+const POLYGON_SMOOTH_MS: f64 = 50.0;
+const POLYGONS: u64 = 10_000;
+
+/// The distance from `p` to the segment from `a` to `b` (X, Y).
+fn to_edge(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (d, w) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+    let dd = d[0] * d[0] + d[1] * d[1];
+    let u = if dd > 0.0 { ((w[0] * d[0] + w[1] * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+    ((w[0] - u * d[0]).powi(2) + (w[1] - u * d[1]).powi(2)).sqrt()
+}
+
+/// One random open polygon in X, Y with TM_MAX_CORNER_DEV at a blending buffer mode, run
+/// through the planner and the group's smoothing at 50 ms. The path the drives follow (the
+/// segments between the cycles' smoothed poses) passes each corner within trans_dev and
+/// never leaves the band of trans_dev around the polygon. Beyond trans_dev only the chords
+/// count: a cycle's chord of a blend of radius r at step h lies h²/(8 r) inside it, for the
+/// planner's cycle and then the smoothed one. Returns the largest corner deviation as a
+/// fraction of trans_dev.
+fn check_polygon(seed: u64) -> Result<f64, String> {
+    let mut rng = Rng(seed ^ 0x5EED_0FC0_FFEE);
+    let pick = |rng: &mut Rng, lo: f64, hi: f64| if rng.chance(0.3) { f64::INFINITY } else { rng.uniform(lo, hi) };
+    let limits = Limits {
+        max_vel: std::array::from_fn(|_| pick(&mut rng, 50.0, 500.0)),
+        max_acc: std::array::from_fn(|_| pick(&mut rng, 2000.0, 30_000.0)),
+    };
+    let trans = TransitionParams {
+        trans_vel: 50.0,
+        trans_dis: rng.uniform(0.5, 4.0),
+        trans_dev: rng.uniform(0.01, 2.0),
+        trans_curv: 0.0,
+    };
+    let motion = Motion {
+        lin: Profile {
+            vel: rng.uniform(20.0, 300.0),
+            acc: rng.uniform(1000.0, 20_000.0),
+            dec: rng.uniform(1000.0, 20_000.0),
+            smooth_ms: POLYGON_SMOOTH_MS,
+        },
+        ang: Profile { vel: 360.0, acc: 1800.0, dec: 1800.0, smooth_ms: POLYGON_SMOOTH_MS },
+        buffer: MODES[1 + rng.below(MODES.len() as u64 - 1) as usize],
+    };
+    let mut planner = Planner::new(POLYGON_PERIOD);
+    // Edges longer than twice the trim, turns within what a blend takes (HMPL 8.1.5 note 1).
+    let mut vertices = vec![[0.0f64; 2]];
+    let mut heading = rng.uniform(0.0, TAU);
+    let mut blends = Vec::new();
+    for k in 0..2 + rng.below(6) {
+        if k > 0 {
+            heading += rng.uniform(10f64, 160.0).to_radians() * rng.sign();
+        }
+        let len = rng.uniform(2.5 * trans.trans_dis, 40.0);
+        let [x, y] = *vertices.last().unwrap();
+        let next = [x + len * heading.cos(), y + len * heading.sin()];
+        let (start, end) = ([x, y, 0.0, 0.0, 0.0, 0.0], [next[0], next[1], 0.0, 0.0, 0.0, 0.0]);
+        let q = planner
+            .push_with_transition(
+                Segment::Line(Line { start, end }),
+                motion,
+                TransitionMode::MaxCornerDev,
+                &trans,
+                &limits,
+            )
+            .expect("room in the queue");
+        if k > 0 {
+            blends.push(q.blend.ok_or_else(|| format!("corner {k} not blended"))?.0);
+        }
+        vertices.push(next);
+    }
+    let samples = (POLYGON_SMOOTH_MS / 1000.0 / POLYGON_PERIOD).ceil() as usize + 1;
+    let mut smoother = PathSmoother::new(samples);
+    smoother.reset([0.0; 6], 0.0, samples);
+    let mut poses = vec![[0.0f64; 2]];
+    let mut raw_step = 0.0f64;
+    let mut last_raw = [0.0f64; 2];
+    for cycle in 0.. {
+        if cycle > 1_000_000 {
+            return Err("did not finish".into());
+        }
+        let s = planner.step();
+        raw_step = raw_step.max(((s.pose[0] - last_raw[0]).powi(2) + (s.pose[1] - last_raw[1]).powi(2)).sqrt());
+        last_raw = [s.pose[0], s.pose[1]];
+        let p = smoother.push(&s);
+        poses.push([p[0], p[1]]);
+        if !s.moving && smoother.settled() {
+            break;
+        }
+    }
+    let radius = blends
+        .iter()
+        .flat_map(|b| (0..=64).filter_map(move |i| b.radius_at(i as f64 / 64.0)))
+        .fold(f64::INFINITY, f64::min);
+    let smoothed_step = poses
+        .windows(2)
+        .map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt())
+        .fold(0.0, f64::max);
+    let chords = (raw_step.powi(2) + smoothed_step.powi(2)) / (8.0 * radius) + 1e-9;
+    let dev = trans.trans_dev;
+    let mut worst = 0.0f64;
+    for (k, corner) in vertices[1..vertices.len() - 1].iter().enumerate() {
+        let nearest = poses.windows(2).map(|w| to_edge(*corner, w[0], w[1])).fold(f64::INFINITY, f64::min);
+        if nearest > dev + chords {
+            return Err(format!("corner {k} passed {nearest} mm away, trans_dev {dev} (+ chords {chords})"));
+        }
+        worst = worst.max(nearest / dev);
+    }
+    for (cycle, p) in poses.iter().enumerate() {
+        let off = vertices.windows(2).map(|e| to_edge(*p, e[0], e[1])).fold(f64::INFINITY, f64::min);
+        if off > dev + chords {
+            return Err(format!("cycle {cycle}: {p:?} is {off} mm off the polygon, trans_dev {dev}"));
+        }
+    }
+    let end = *vertices.last().unwrap();
+    if poses.last() != Some(&end) {
+        return Err(format!("ended at {:?}, not {end:?}", poses.last()));
+    }
+    Ok(worst)
+}
+
+#[test]
+fn ten_thousand_random_polygons_keep_the_corner_deviation_with_smoothing_on() {
+    let mut failures = Vec::new();
+    let mut worst = 0.0f64;
+    for seed in 0..POLYGONS {
+        match check_polygon(seed) {
+            Ok(w) => worst = worst.max(w),
+            Err(e) => failures.push(format!("seed {seed}: {e}")),
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {POLYGONS} polygons violate:\n{}",
+        failures.len(),
+        failures[..failures.len().min(20)].join("\n")
+    );
+    println!("{POLYGONS} polygons: the nearest pass of a corner is at most {worst} of trans_dev");
+    assert!(worst > 0.99, "the blends use their tolerance ({worst})");
 }

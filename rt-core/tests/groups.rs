@@ -443,3 +443,112 @@ fn one_task_per_group_and_cycle() {
     assert_eq!(rig.call_values(1, Command::LineAbs2D, &[int(G), num(20.0), num(0.0)]).0, 0, "the next cycle");
     assert_eq!(rig.machine.kernel.groups()[0].commander(), Some(1), "the last commander owns the group's motion");
 }
+
+/// Axes 0, 1 and 2 enabled and grouped as X, Y and Z, the group enabled.
+fn xyz() -> Rig {
+    let mut rig = Rig::new(FaultReaction::Decelerate);
+    for a in 0..3 {
+        rig.enable(a);
+        assert_eq!(rig.group(Command::AddAxisToGrp, &[int(a)]), 0);
+    }
+    assert_eq!(rig.group(Command::EnableGroup, &[]), 0);
+    rig
+}
+
+/// The distance from `p` to the segment from `a` to `b` (X, Y).
+fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (d, w) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+    let dd = d[0] * d[0] + d[1] * d[1];
+    let u = if dd > 0.0 { ((w[0] * d[0] + w[1] * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+    ((w[0] - u * d[0]).powi(2) + (w[1] - u * d[1]).powi(2)).sqrt()
+}
+
+/// Runs the queued path to the end: the commanded poses (X, Y) of every cycle.
+fn run_path(rig: &mut Rig) -> Vec<[f64; 2]> {
+    let mut poses = vec![[rig.pose()[0], rig.pose()[1]]];
+    for _ in 0..20_000 {
+        rig.cycle();
+        let p = rig.pose();
+        poses.push([p[0], p[1]]);
+        if rig.snapshot().motion_status & group_motion_status::MOVING == 0 {
+            return poses;
+        }
+    }
+    panic!("the path did not end: {:?}", rig.snapshot());
+}
+
+/// (0,0) -> (100,0) -> (100,100) with TM_MAX_CORNER_DEV 1 mm at BM_LOW: the commanded path
+/// (the segments between the cycles' poses, as the drives follow them) passes the corner
+/// at most trans_dev away, whatever the smooth time (HMPL 8.1.5, table 8.1.5.1: "maximum
+/// deviation"; HMPL 8.3.19). Beyond trans_dev only the chords of the cycles count: the blend
+/// trims d = 2·1/sin 45° = 2√2 mm, its smallest radius is d/√2 = 2 mm, and a chord of one
+/// cycle at 100 mm/s (0.1 mm) lies (0.1)²/(8·2) mm inside it, twice over (the planner's
+/// cycle, then the smoothed one).
+#[test]
+fn the_corner_deviation_stays_within_trans_dev_with_smoothing_on() {
+    let chords = 2.0 * 0.1f64.powi(2) / (8.0 * 2.0);
+    for smooth_ms in [50.0, 0.0, 200.0] {
+        let mut rig = xy();
+        assert_eq!(rig.group(Command::SetGrpSMTime, &[num(smooth_ms)]), 0, "HMPL 8.3.19");
+        assert_eq!(rig.group(Command::SetGrpBufferMode, &[int(2)]), 0, "BM_LOW");
+        assert_eq!(rig.group(Command::SetGrpTransMode, &[int(3)]), 0, "TM_MAX_CORNER_DEV");
+        assert_eq!(rig.group(Command::SetGrpTransPrm, &[num(50.0), num(20.0), num(1.0), num(0.0)]), 0);
+        assert_eq!(rig.group(Command::LineAbs2D, &[num(100.0), num(0.0)]), 0);
+        assert_eq!(rig.group(Command::LineAbs2D, &[num(100.0), num(100.0)]), 0);
+        let poses = run_path(&mut rig);
+        let nearest = poses.windows(2).map(|w| to_segment([100.0, 0.0], w[0], w[1])).fold(f64::INFINITY, f64::min);
+        println!("smooth {smooth_ms} ms: the path passes the corner at {nearest:.6} mm");
+        assert!(nearest <= 1.0 + chords, "smooth {smooth_ms} ms: {nearest} mm from the corner, above trans_dev 1 mm");
+        assert!(nearest > 0.99, "smooth {smooth_ms} ms: the blend uses its tolerance ({nearest} mm)");
+        assert_eq!(rig.pose()[..2], [100.0, 100.0]);
+    }
+}
+
+/// The smoothing keeps a circle's radius (HMPL 8.2.17, 8.3.19): a moving average of each
+/// coordinate would pull a 10 mm circle at 100 mm/s in by v²Ts²/(24 r) ≈ 0.1 mm.
+#[test]
+fn the_smoothing_keeps_a_circle_on_its_radius() {
+    let mut rig = xy();
+    assert_eq!(rig.group(Command::Circle2D, &[num(10.0), num(0.0), num(0.0), num(0.0), int(1)]), 0);
+    let poses = run_path(&mut rig);
+    let off = poses.iter().map(|p| (((p[0] - 10.0).powi(2) + p[1].powi(2)).sqrt() - 10.0).abs()).fold(0.0, f64::max);
+    println!("a 10 mm circle: off its radius by {off:.2e} mm at most");
+    assert!(off < 1e-3, "off the circle by {off} mm");
+}
+
+/// HMPL 8.3.4: an axis the group leaves at rest stays where the group left it: UngrpAllAxes
+/// (or DisableGroup) in the cycle the move ends, and 1000 cycles later.
+#[test]
+fn axes_released_at_rest_stay_at_the_end_point() {
+    for release in [Command::UngrpAllAxes, Command::DisableGroup] {
+        let mut rig = xyz();
+        assert_eq!(rig.group(Command::LineAbs3D, &[num(3.0), num(5.0), num(0.0)]), 0);
+        rig.till_in_pos(5000);
+        assert_eq!(rig.group(Command::LineAbs3D, &[num(0.0), num(0.0), num(2.0)]), 0);
+        run_path(&mut rig);
+        assert_eq!(rig.group(release, &[]), 0, "{release:?} once the group is at rest");
+        for n in 0..1000 {
+            rig.cycle();
+            let refs: Vec<f64> = (0..3).map(|a| rig.machine.kernel.axes()[a].reference().pos).collect();
+            assert!(close(&refs, &[0.0, 0.0, 2.0], 1e-9), "{release:?}: cycle {n} after, the references are {refs:?}");
+        }
+    }
+}
+
+/// An immediate stop (FUN147's pause or abort with M1991 OFF, docs/decisions.md "FUN147")
+/// followed by the ungrouping in the same cycle: the axes stand where the stop left them.
+#[test]
+fn axes_released_after_an_immediate_stop_stand_where_it_stopped() {
+    let mut rig = xyz();
+    assert_eq!(rig.group(Command::LineAbs3D, &[num(30.0), num(50.0), num(20.0)]), 0);
+    rig.cycles(300);
+    let kernel = &mut rig.machine.kernel;
+    kernel.rest_group(G).unwrap();
+    let stopped: Vec<f64> = kernel.groups()[0].snapshot(kernel.axes()).carte_pose_cmd[..3].to_vec();
+    kernel.ungrp_all_axes(G).unwrap();
+    for n in 0..1000 {
+        rig.cycle();
+        let refs: Vec<f64> = (0..3).map(|a| rig.machine.kernel.axes()[a].reference().pos).collect();
+        assert!(close(&refs, &stopped, 1e-9), "cycle {n} after: {refs:?}, stopped at {stopped:?}");
+    }
+}

@@ -10,7 +10,7 @@ use super::{BufferMode, Limits, LookAhead, Motion, Profile};
 use crate::segment::Segment;
 
 /// Below this a length or a rate of change counts as zero.
-const EPS: f64 = 1e-12;
+pub(crate) const EPS: f64 = 1e-12;
 
 /// A queued segment with what the planner derived from it once, at push.
 #[derive(Clone, Copy, Debug)]
@@ -33,6 +33,12 @@ pub(crate) struct Entry {
     pub g_end: [f64; 6],
     /// Per coordinate, the most acceleration the profile alone can cause on this segment.
     pub cont_acc: [f64; 6],
+    /// Per coordinate, the largest |g| over the segment.
+    g_max: [f64; 6],
+    /// The radius of curvature where smallest, on an arc or a blend.
+    radius: Option<f64>,
+    /// The speed cap from the segment's own geometry and the machine's limits.
+    own_vcap: f64,
     /// The highest velocity that may enter this segment (its entry junction's bound).
     pub v_in: f64,
     /// The junction to the next segment: its bound from the rules (unscaled), and the
@@ -135,14 +141,7 @@ impl Entry {
             vel = vel.min(arc_speed(look_ahead, r, period));
         }
         vel = vel.min(vcap);
-        let cont_acc = std::array::from_fn(|i| {
-            let centripetal = match radius {
-                Some(r) if i < 3 && g_max[i] > EPS => vcap * vcap / r,
-                _ => 0.0,
-            };
-            acc.max(dec) * g_max[i] + centripetal
-        });
-        Entry {
+        let mut entry = Entry {
             segment,
             motion,
             limits: *limits,
@@ -154,13 +153,67 @@ impl Entry {
             vcap,
             g_start,
             g_end,
-            cont_acc,
+            cont_acc: [0.0; 6],
+            g_max,
+            radius,
+            own_vcap: vcap,
             v_in: 0.0,
             exit_cap: 0.0,
             exit_plan: 0.0,
             stop_after: matches!(motion.buffer, BufferMode::Buff | BufferMode::Abort),
             smooth: motion.lin.smooth_ms.max(motion.ang.smooth_ms) / 1000.0,
+        };
+        entry.count_acc();
+        entry
+    }
+
+    fn count_acc(&mut self) {
+        self.cont_acc = std::array::from_fn(|i| {
+            let centripetal = match self.radius {
+                Some(r) if i < 3 && self.g_max[i] > EPS => self.vcap * self.vcap / r,
+                _ => 0.0,
+            };
+            self.acc.max(self.dec) * self.g_max[i] + centripetal
+        });
+    }
+
+    /// An arc or a corner blend: its speed limit comes from its curvature.
+    pub(crate) fn is_curved(&self) -> bool {
+        self.radius.is_some()
+    }
+
+    /// Whether `next` joins this segment with a step in the pose's rate (a corner).
+    pub(crate) fn turns_into(&self, next: &Entry) -> bool {
+        (0..6).any(|i| (next.g_start[i] - self.g_end[i]).abs() > EPS)
+    }
+
+    /// This curve with its speed cap lowered for a corner within `reach` of it along the
+    /// path: the smoothing averages a corner per coordinate with the tangents the legs have
+    /// at the corner (`crate::smoothing`), which on a curve turn by up to reach / radius
+    /// within the window (and a unit tangent changes by 2 at most), so the speed leaves that
+    /// much room.
+    pub(crate) fn near_corner(&self, reach: f64) -> Entry {
+        let mut curve = *self;
+        if let Some(r) = self.radius {
+            curve.vcap = curve.vcap.min(self.own_vcap / (1.0 + (reach / r).min(2.0)));
+            curve.vel = curve.vel.min(curve.vcap);
         }
+        curve
+    }
+
+    /// The group's smoothing averages the path speed over its window along the path
+    /// (`crate::smoothing`), so a segment within one window of a curve moves within the
+    /// curve's limits: its speed cap and its acceleration, which leave room for the
+    /// centripetal part. Segments that only rotate have no curve to keep.
+    pub(crate) fn keep_within(&mut self, curve: &Entry) {
+        if self.segment.length() <= EPS {
+            return;
+        }
+        self.vcap = self.vcap.min(curve.vcap);
+        self.vel = self.vel.min(self.vcap);
+        self.acc = self.acc.min(curve.acc);
+        self.dec = self.dec.min(curve.dec);
+        self.count_acc();
     }
 
     /// How fast the translation (mm) and the rotation (deg) run per unit of `s`.

@@ -117,6 +117,10 @@ impl Limits {
 /// One cycle's output: the raw pose (before the group's smoothing) and the path generator's
 /// position, velocity and acceleration along the path (grp_pg_pos/vel/acc, HMPL table
 /// 8.1.1.1). `moving`: the generator still emits (IsGrpMoving, HMPL 8.4.2).
+///
+/// For the group's smoothing (`crate::smoothing`): `corners`, the junctions the path
+/// passed in this cycle without stopping where the segments do not join tangentially, and
+/// `jog`, a jog (off any path) moved the pose.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Sample {
     pub pose: Pose,
@@ -124,6 +128,30 @@ pub struct Sample {
     pub path_vel: f64,
     pub path_acc: f64,
     pub moving: bool,
+    pub corners: Corners,
+    pub jog: bool,
+}
+
+/// The corners passed in one cycle: the sum of their steps in the pose's rate along the
+/// path (dPose/ds after minus before) and of each step times the path position (`path_pos`)
+/// where it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Corners {
+    pub step: Pose,
+    pub moment: Pose,
+}
+
+impl Corners {
+    pub fn is_none(&self) -> bool {
+        self.step == [0.0; 6] && self.moment == [0.0; 6]
+    }
+
+    fn add(&mut self, step: &[f64; 6], at: f64) {
+        for ((sum, moment), &d) in self.step.iter_mut().zip(&mut self.moment).zip(step) {
+            *sum += d;
+            *moment += d * at;
+        }
+    }
 }
 
 /// What one command queued with its corner transition (`push_with_transition`).
@@ -164,6 +192,8 @@ pub struct Planner {
     halted: bool,
     scale: f64,
     jog: Jog,
+    /// The corners passed in the present cycle.
+    corners: Corners,
 }
 
 impl Planner {
@@ -183,6 +213,7 @@ impl Planner {
             halted: false,
             scale: 1.0,
             jog: Jog::default(),
+            corners: Corners::default(),
         }
     }
 
@@ -274,14 +305,63 @@ impl Planner {
             self.cut_at_stop();
         }
         let mut entry = Entry::new(segment, motion, limits, &self.look_ahead, self.period);
+        let n = self.queue.len();
+        let changed = self.guard_curves(&mut entry, n);
         if let Some(prev) = self.queue.last_mut() {
             let cap = if prev.stop_after { 0.0 } else { junction_cap(prev, &entry, &self.look_ahead, self.period) };
             prev.exit_cap = cap;
             entry.v_in = cap;
         }
         self.queue.push(entry);
-        self.plan_backward();
+        self.plan_backward(changed);
         Ok(())
+    }
+
+    /// The limits of the curves within one smoothing window of `entry` (the path it covers
+    /// in the group's window at the fastest feed around, `crate::smoothing`) hold on both:
+    /// `entry` keeps those of the curves among the `before` entries before it, and if it is
+    /// a curve, they keep its. A stop in between (its hold lasts the window) ends the
+    /// search. The junctions of the entries changed are planned again; returns the first.
+    fn guard_curves(&mut self, entry: &mut Entry, before: usize) -> usize {
+        if entry.smooth <= 0.0 {
+            return before;
+        }
+        let window = ((entry.smooth / self.period - 1e-9).ceil() + 1.0) * self.period;
+        let (mut fastest, mut between, mut first) = (entry.vel, 0.0, before);
+        // A corner between `entry` and the entry looked at (or at either's far end).
+        let mut corner = before > 0 && self.queue.get(before - 1).is_some_and(|e| e.turns_into(entry));
+        for k in (0..before).rev() {
+            let e = *self.queue.get(k).expect("k < before");
+            fastest = fastest.max(e.vel);
+            let reach = window * fastest;
+            if e.stop_after || between >= reach {
+                break;
+            }
+            corner |= k > 0 && self.queue.get(k - 1).is_some_and(|p| p.turns_into(&e));
+            let (mut e_curve, mut entry_curve) = (e, *entry);
+            if corner {
+                (e_curve, entry_curve) = (e.near_corner(reach), entry.near_corner(reach));
+                entry.keep_within(&entry_curve);
+                self.queue.get_mut(k).expect("k < before").keep_within(&e_curve);
+                first = first.min(k);
+            }
+            if e.is_curved() {
+                entry.keep_within(&e_curve);
+            }
+            if entry.is_curved() {
+                self.queue.get_mut(k).expect("k < before").keep_within(&entry_curve);
+                first = first.min(k);
+            }
+            between += e.end;
+        }
+        for k in first.max(1)..before {
+            let next = *self.queue.get(k).expect("k < before");
+            let prev = self.queue.get_mut(k - 1).expect("k >= 1");
+            let cap = if prev.stop_after { 0.0 } else { junction_cap(prev, &next, &self.look_ahead, self.period) };
+            prev.exit_cap = cap;
+            self.queue.get_mut(k).expect("k < before").v_in = cap;
+        }
+        first
     }
 
     /// The last queued segment and the fraction of it the path passes whatever comes next:
@@ -303,6 +383,8 @@ impl Planner {
         let Some(old) = self.queue.last().copied() else { return };
         let mut entry = Entry::new(segment, old.motion, &old.limits, &self.look_ahead, self.period);
         entry.stop_after = old.stop_after;
+        let n = self.queue.len();
+        let changed = self.guard_curves(&mut entry, n - 1);
         if old.end < old.full {
             entry.end = entry.full.min(old.end);
         }
@@ -314,7 +396,7 @@ impl Planner {
             entry.v_in = cap;
         }
         *self.queue.last_mut().expect("tail exists") = entry;
-        self.plan_backward();
+        self.plan_backward(changed);
     }
 
     /// SetGrpLookAheadPrm (HMPL 8.3.34), for the segments pushed from now on.
@@ -400,6 +482,7 @@ impl Planner {
 
     /// One cycle.
     pub fn step(&mut self) -> Sample {
+        self.corners = Corners::default();
         if self.jog.active {
             return self.step_jog();
         }
@@ -434,13 +517,27 @@ impl Planner {
                 break;
             }
             self.v = trap.exit().min(cap);
+            if let Some(next) = self.queue.get(0) {
+                let step: [f64; 6] = std::array::from_fn(|i| next.g_start[i] - head.g_end[i]);
+                if step.iter().any(|d| d.abs() > junction::EPS) {
+                    self.corners.add(&step, self.path_pos);
+                }
+            }
         }
         self.sample()
     }
 
     fn sample(&self) -> Sample {
         let pose = self.queue.get(0).map_or(self.rest_pose, |e| pose_on(e, self.s));
-        Sample { pose, path_pos: self.path_pos, path_vel: self.v, path_acc: self.a, moving: self.is_moving() }
+        Sample {
+            pose,
+            path_pos: self.path_pos,
+            path_vel: self.v,
+            path_acc: self.a,
+            moving: self.is_moving(),
+            corners: self.corners,
+            jog: false,
+        }
     }
 
     fn step_jog(&mut self) -> Sample {
@@ -477,6 +574,8 @@ impl Planner {
             path_vel: after,
             path_acc: self.a,
             moving: self.jog.active,
+            corners: Corners::default(),
+            jog: true,
         }
     }
 
@@ -509,9 +608,10 @@ impl Planner {
     }
 
     /// The backward pass from the tail: each junction's velocity such that everything after
-    /// it can still stop by the end of the queue. It stops at the first junction it leaves
-    /// unchanged, since nothing before that depends on what follows.
-    fn plan_backward(&mut self) {
+    /// it can still stop by the end of the queue. It stops at the first junction before
+    /// entry `changed` that it leaves unchanged, since nothing before that depends on what
+    /// follows.
+    fn plan_backward(&mut self, changed: usize) {
         let n = self.queue.len();
         let Some(tail) = self.queue.last_mut() else { return };
         tail.exit_plan = 0.0;
@@ -520,7 +620,7 @@ impl Planner {
             let reach = (next.exit_plan * next.exit_plan + 2.0 * next.dec * next.end).sqrt();
             let e = self.queue.get_mut(i).expect("i < n");
             let planned = e.exit_cap.min(reach);
-            if planned == e.exit_plan && i + 2 < n {
+            if planned == e.exit_plan && i + 2 < n && i < changed {
                 break;
             }
             e.exit_plan = planned;

@@ -863,10 +863,15 @@ impl Axis {
     }
 
     /// `DisableGroup`, Group Error Stop: the generator takes over the motion the group left
-    /// and brings it to rest with `dec` (HMPL table 8.1.1.4: "group leaves sync").
-    pub(in crate::motion) fn leave_group_sync(&mut self, dec: f64) {
+    /// and brings it to rest with `dec` (HMPL table 8.1.1.4: "group leaves sync"). A group
+    /// that stands (`group_at_rest`: its move over, or stopped at once) leaves the axis
+    /// standing where it is, not braking from the last cycle's step.
+    pub(in crate::motion) fn leave_group_sync(&mut self, dec: f64, group_at_rest: bool) {
         if self.source.is_group_synced() {
             self.source.set_group_sync(false);
+            if group_at_rest {
+                self.reference = Kinematics { pos: self.reference.pos, vel: 0.0, acc: 0.0 };
+            }
             self.come_to_rest(dec);
         }
     }
@@ -879,7 +884,7 @@ impl Axis {
             return;
         }
         if let Some((bit, error)) = self.passes_limit(next) {
-            self.leave_group_sync(self.settings.kill_dec);
+            self.leave_group_sync(self.settings.kill_dec, false);
             self.error_stop = true;
             self.faults |= bit;
             self.fail(error);

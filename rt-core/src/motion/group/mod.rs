@@ -1,8 +1,9 @@
 //! Axis groups (HMPL ch. 8): up to 9 axes that move together along a path. A group owns
 //! its settings, its interpolator (`path::planner`: queue, feed, junctions, look-ahead) and
 //! a moving average over its smooth time (the S-curve, as an axis' smoothing, HMPL 5.1)
-//! on each coordinate. With Cartesian kinematics (table 8.1.3.1, the only one available)
-//! the i-th axis added is the i-th MCS coordinate X, Y, Z, A, B, C.
+//! taken along the path (`path::smoothing`), so that it keeps the path's blends and
+//! curves. With Cartesian kinematics (table 8.1.3.1, the only one available) the i-th axis
+//! added is the i-th MCS coordinate X, Y, Z, A, B, C.
 //!
 //! The group's states (HMPL 3.3, 8.2): `Disabled` (axes grouped, each on its own
 //! generator), `Standby` (enabled: the interpolator gives the axes' references, moving or
@@ -20,9 +21,9 @@ use path::Pose;
 use path::blend::{TransitionMode, TransitionParams};
 use path::frames::{CoordSys, Frames};
 use path::planner::{Limits, Planner, Sample};
+use path::smoothing::PathSmoother;
 
 use crate::motion::shaping::{GROUP_MIN_SHAPER_HZ, InputShaper};
-use crate::motion::smoothing::Smoother;
 use crate::profile::Kinematics;
 use settings::{GroupSettings, KIN_CARTESIAN, MAX_SMOOTH_MS};
 
@@ -49,8 +50,8 @@ pub struct Group {
     trans_mode: TransitionMode,
     trans: TransitionParams,
     planner: Planner,
-    /// The S-curve: a moving average of each coordinate over the smooth time.
-    smoothers: [Smoother; COORDINATES],
+    /// The S-curve: a moving average over the smooth time, along the path.
+    smoother: PathSmoother,
     /// HMPL 15.8-15.10: input shaping after the smoothing, on each coordinate.
     shapers: [InputShaper; COORDINATES],
     period_s: f64,
@@ -85,7 +86,7 @@ impl Group {
             trans_mode: TransitionMode::None,
             trans: TransitionParams::default(),
             planner: Planner::new(period_s),
-            smoothers: std::array::from_fn(|_| Smoother::new(max_samples)),
+            smoother: PathSmoother::new(max_samples),
             shapers: std::array::from_fn(|_| InputShaper::new(GROUP_MIN_SHAPER_HZ, period_s)),
             period_s,
             sample: Sample::default(),
@@ -116,7 +117,7 @@ impl Group {
     /// The interpolator, or the smoothing or shaping after it, still moves the pose.
     pub fn is_moving(&self) -> bool {
         self.state == GroupState::Standby
-            && (self.planner.is_moving() || !self.smoothers.iter().all(Smoother::settled) || !self.shapers_settled())
+            && (self.planner.is_moving() || !self.smoother.settled() || !self.shapers_settled())
     }
 
     pub fn commander(&self) -> Option<u8> {
@@ -159,10 +160,7 @@ impl Group {
     /// Stands still at `pose`: the interpolator, the smoothing and the command.
     fn rest_at(&mut self, pose: Pose) {
         self.planner.rest_at(pose);
-        let len = self.samples();
-        for (smoother, &p) in self.smoothers.iter_mut().zip(&pose) {
-            smoother.reset(p, len);
-        }
+        self.smoother.reset(pose, 0.0, self.samples());
         for (shaper, &p) in self.shapers.iter_mut().zip(&pose) {
             shaper.rest_at(p);
         }
@@ -173,21 +171,22 @@ impl Group {
     /// One cycle of the interpolator, smoothed: the pose the axes take.
     fn step(&mut self) -> &Kinematics6 {
         let len = self.samples();
-        if !self.is_moving() && self.smoothers[0].window() != len {
+        if !self.is_moving() && self.smoother.window() != len {
             // A new smooth time takes effect at rest (docs/decisions.md, "Groups").
-            let pose = self.pose_cmd.pos;
-            for (smoother, &p) in self.smoothers.iter_mut().zip(&pose) {
-                smoother.reset(p, len);
-            }
+            self.smoother.reset(self.pose_cmd.pos, self.sample.path_pos, len);
         }
         self.sample = self.planner.step();
-        let raw = self.sample.pose;
+        let smoothed = self.smoother.push(&self.sample);
         let previous = self.pose_cmd;
-        for (i, ((smoother, shaper), &raw)) in self.smoothers.iter_mut().zip(&mut self.shapers).zip(&raw).enumerate() {
-            let k = shaper.push(smoother.push(Kinematics { pos: raw, vel: 0.0, acc: 0.0 }));
+        for (i, (shaper, &pos)) in self.shapers.iter_mut().zip(&smoothed).enumerate() {
+            let k = shaper.push(Kinematics { pos, vel: 0.0, acc: 0.0 });
             self.pose_cmd.pos[i] = k.pos;
             self.pose_cmd.vel[i] = (k.pos - previous.pos[i]) / self.period_s;
             self.pose_cmd.acc[i] = (self.pose_cmd.vel[i] - previous.vel[i]) / self.period_s;
+        }
+        if !self.is_moving() {
+            // At rest the pose no longer changes: its velocity is 0, not the last step's.
+            (self.pose_cmd.vel, self.pose_cmd.acc) = ([0.0; COORDINATES], [0.0; COORDINATES]);
         }
         &self.pose_cmd
     }
@@ -346,13 +345,15 @@ impl super::Kernel {
     }
 
     /// The axes of group `g` leave sync: each comes to rest on its own generator, with its
-    /// kill deceleration (`fault`) or its deceleration; the interpolator forgets its plan.
+    /// kill deceleration (`fault`) or its deceleration, or stays where it is if the group
+    /// stands; the interpolator forgets its plan.
     fn release_group_axes(&mut self, g: usize, fault: bool) {
         let count = self.groups[g].count;
+        let at_rest = !self.groups[g].is_moving();
         for i in 0..count {
             let a = self.groups[g].axes[i] as usize;
             let dec = if fault { self.axes[a].settings().kill_dec } else { self.axes[a].settings().dec };
-            self.axes[a].leave_group_sync(dec);
+            self.axes[a].leave_group_sync(dec, at_rest);
         }
         let pose = self.groups[g].pose_cmd.pos;
         self.groups[g].rest_at(pose);
