@@ -120,12 +120,14 @@ fn en_off_stops_and_frees_the_axes() {
     );
 }
 
-/// Axes that stop following under a running box (one disabled: its group goes to Group
+/// Axes that stop following under a running box (disabled: its group goes to Group
 /// Error Stop; or StopAll, HMPL 2.8, ending the move short) end the step with ERR and 90,
-/// not with DN; the axes go free.
+/// not with DN; the axes go free. The box owns its axes' motion: a program's `Disable` of
+/// one is refused with 0x1AAA001F (docs/decisions.md, "Axis ownership"), `DisableAll`,
+/// a stop, is not.
 #[test]
 fn an_axis_disabled_under_a_box_gives_90_not_dn() {
-    box_interrupted_by("Disable(1)");
+    box_interrupted_by("assert(Disable(1) == 0x1001001F)\nDisableAll()");
 }
 
 #[test]

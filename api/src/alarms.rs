@@ -25,7 +25,8 @@ pub enum Source {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u16)]
 pub enum Event {
-    /// Two tasks commanded the same axis in the same cycle.
+    /// Another task commanded an axis whose motion a task owns (DXMC 9: several programs
+    /// command the same axis at the same time).
     CommandBufferBusy = 0x001F,
     /// A motion command while the controller is not in Run or Diagnosis.
     WrongMode = 0x0020,
@@ -57,7 +58,7 @@ impl Event {
     /// What the event means, for the operator.
     pub fn meaning(self) -> &'static str {
         match self {
-            Event::CommandBufferBusy => "command buffer busy: two tasks commanded the same axis in one cycle",
+            Event::CommandBufferBusy => "command buffer busy: another task commanded an axis whose motion a task owns",
             Event::WrongMode => "the controller is not in Run or Diagnosis: motion commands are refused",
             Event::DrlControl => "DRL control command error: check the DRL control function code",
             Event::PlcControl => "unsupported PLC control command",

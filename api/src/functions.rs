@@ -12,7 +12,7 @@ declare_functions! {
     /// of a gantry pair. Returns at once; `Till(function() return IsEnabled(a) end)` waits.
     ["HMPL 5.2.1", ascii] fn Enable(axis_id: Int[Axis]) -> Int;
     /// Disables (servo off) the axis and clears its path planning.
-    ["HMPL 5.2.2", ascii] fn Disable(axis_id: Int[Axis]) -> Int;
+    ["HMPL 5.2.2", ascii] fn Disable(axis_id: Int[Axis] as Changes) -> Int;
     /// Leaves ErrorStop once the cause is gone (a drive fault is reset too).
     ["HMPL 5.2.3", ascii] fn Reset(axis_id: Int[Axis]) -> Int;
     /// Moves to an absolute position (mm or deg) with the axis' profile. In buffer mode 0 a
@@ -79,7 +79,7 @@ declare_functions! {
     /// Links a slave to a master; both must be enabled.
     ["HMPL 6.2", ascii] fn EnableGear(axis_master_id: Int[Axis], axis_slave_id: Int[Axis]) -> Int;
     /// Removes the link (disengaging first).
-    ["HMPL 6.3", ascii] fn DisableGear(axis_slave_id: Int[Axis]) -> Int;
+    ["HMPL 6.3", ascii] fn DisableGear(axis_slave_id: Int[Axis] as Changes) -> Int;
     /// Engages the linked slave at a ratio (negative allowed): it follows the master's travel.
     ["HMPL 6.4", ascii] fn GearIn(axis_master_id: Int[Axis], axis_slave_id: Int[Axis] as Moves, gear_ratio: Double[GearRatio]) -> Int;
     /// Disengages the slave; it comes to rest with its deceleration.

@@ -262,9 +262,14 @@ pub struct ArgSpec {
 /// it from the typed call (`arg_with`) instead of a list of its own.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Role {
-    /// The axis a motion command sets going: one task at a time may command it in a
-    /// cycle, and an E-stop refuses it until the axis is enabled again.
+    /// The axis a motion command sets going: the task whose command set it going owns it
+    /// until that motion is over, another task's command is refused (DXMC 0x001F), and an
+    /// E-stop refuses it until the axis is enabled again.
     Moves,
+    /// The axis whose motion a command ends or changes without setting it going
+    /// (`Disable`): refused as `Moves` while another task owns that motion, in any
+    /// controller state.
+    Changes,
     /// The group the function addresses (HMPL ch. 18.5, 18.6).
     Group,
     /// The group a group motion command sets going (HMPL ch. 8): as `Moves`, for every
@@ -567,7 +572,7 @@ mod tests {
                 let own = matches!(q, Quantity::Axis | Quantity::Group) || q.is_free();
                 assert!(own || owner.is_some(), "{}: argument {i} has no axis or group before it", spec.name);
             }
-            for arg in spec.args.iter().filter(|a| a.role == Some(Role::Moves)) {
+            for arg in spec.args.iter().filter(|a| matches!(a.role, Some(Role::Moves | Role::Changes))) {
                 assert_eq!(arg.quantity, Some(Quantity::Axis), "{}: {} moves no axis", spec.name, arg.name);
             }
             for arg in spec.args.iter().filter(|a| a.role == Some(Role::MovesGroup)) {

@@ -15,6 +15,7 @@ use path::planner::{BufferMode, Profile};
 use crate::motion::group::GroupState;
 use crate::motion::group::motion::PathCommand;
 use crate::motion::group::settings::LIN_DEFAULT;
+use crate::motion::ownership::box_owner;
 use crate::motion::{Kernel, MAX_GROUPS};
 
 /// Gp 0 and Gp 1 (FUN147 expl. 2).
@@ -163,6 +164,11 @@ impl GroupAxes<'_> {
         self.kernel.group(self.group).is_ok_and(|g| g.is_moving())
     }
 
+    /// The box's owner id (docs/decisions.md, "Axis ownership").
+    fn owner(&self) -> u8 {
+        box_owner(self.group as usize - box_group(0))
+    }
+
     /// A group the box set up must stay enabled and out of error stop (an axis disabled,
     /// faulted or at a software limit puts it into Group Error Stop), and its move may end
     /// short only when the box stops it (not by StopAll, HMPL 2.8).
@@ -185,7 +191,11 @@ impl GroupAxes<'_> {
             return true;
         }
         self.ungroup();
-        let built = want.iter().all(|a| self.kernel.add_axis_to_grp(self.group, a as i64).is_ok())
+        // An axis whose motion a task owns is not the box's to take (DXMC 0x001F).
+        let me = self.owner();
+        let free = want.iter().all(|a| self.kernel.axis_owner(a as u8).is_none_or(|o| o == me));
+        let built = free
+            && want.iter().all(|a| self.kernel.add_axis_to_grp(self.group, a as i64).is_ok())
             && self.kernel.enable_group(self.group).is_ok();
         self.motion.grouped = want;
         if !built {
@@ -229,7 +239,9 @@ impl GroupAxes<'_> {
         for (coordinate, a) in m.grouped.iter().enumerate() {
             target[coordinate] = m.target[a];
         }
-        self.kernel.move_group(self.group, PathCommand::LineAbs { target }, None)
+        self.kernel.move_group(self.group, PathCommand::LineAbs { target }, None)?;
+        self.kernel.claim_group(self.group, self.owner());
+        Ok(())
     }
 
     fn start(&mut self, target: [Option<f64>; 4], speed_hz: f64, continuous: bool) {

@@ -412,7 +412,7 @@ pub fn describe(report: &AlarmReport) -> String {
         ),
         Event::ProcessDied => format!("the task's process died of signal {}", report.detail),
         Event::CommandBufferBusy => {
-            format!("command buffer busy: axis {} is commanded by another task in this cycle", report.detail)
+            format!("command buffer busy: axis {} is commanded by another task", report.detail)
         }
         Event::Hmpl(code) => format!("stopped by {}", api::errors::describe(code as u32)),
         other => other.meaning().to_string(),

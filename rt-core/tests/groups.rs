@@ -430,20 +430,6 @@ fn a_software_limit_stops_the_axis_and_the_group_leaves_sync() {
     assert!(!rig.moving(0) && !rig.moving(1), "both axes came to rest on their own");
 }
 
-/// DXMC alarm 0x001F applies to groups: one task commands a group's axes in a cycle.
-#[test]
-fn one_task_per_group_and_cycle() {
-    let mut rig = xy();
-    rig.enable(2);
-    assert_eq!(rig.call_values(0, Command::LineAbs2D, &[int(G), num(10.0), num(0.0)]).0, 0);
-    let busy = rig.call_values(1, Command::LineAbs2D, &[int(G), num(20.0), num(0.0)]).0;
-    assert_eq!(busy, 0x1000_001F, "task 1, the same group's axis 0, the same cycle");
-    assert_eq!(rig.call(1, Command::MoveAbs, &[2], &[5.0]), 0, "another axis in the same cycle");
-    rig.cycle();
-    assert_eq!(rig.call_values(1, Command::LineAbs2D, &[int(G), num(20.0), num(0.0)]).0, 0, "the next cycle");
-    assert_eq!(rig.machine.kernel.groups()[0].commander(), Some(1), "the last commander owns the group's motion");
-}
-
 /// Axes 0, 1 and 2 enabled and grouped as X, Y and Z, the group enabled.
 fn xyz() -> Rig {
     let mut rig = Rig::new(FaultReaction::Decelerate);

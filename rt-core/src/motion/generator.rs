@@ -114,6 +114,11 @@ impl Generator {
         self.halted.is_some()
     }
 
+    /// Something runs, is halted or paused, or waits in the queue.
+    pub fn is_busy(&self) -> bool {
+        self.running.is_some() || self.halted.is_some() || self.paused.is_some() || self.queue_len > 0
+    }
+
     /// The position the running move ends at, if it is a move to a position.
     pub fn target(&self) -> Option<f64> {
         match self.running {
@@ -142,8 +147,7 @@ impl Generator {
 
     /// A motion command: in buffer mode 0 it replaces what runs, in mode 1 it waits its turn.
     pub fn command(&mut self, m: Move, buffered: bool) -> Result<(), QueueFull> {
-        let busy = self.running.is_some() || self.halted.is_some() || self.paused.is_some() || self.queue_len > 0;
-        if buffered && busy {
+        if buffered && self.is_busy() {
             if self.queue_len == QUEUE_CAPACITY {
                 return Err(QueueFull);
             }

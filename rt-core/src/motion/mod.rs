@@ -13,6 +13,7 @@ pub mod gear;
 pub mod generator;
 pub mod group;
 pub mod homing;
+pub mod ownership;
 pub mod power;
 pub mod pvt;
 pub mod settings;

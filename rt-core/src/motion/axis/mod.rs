@@ -15,6 +15,7 @@ mod vibration;
 pub use vibration::VibrationFilter;
 
 use api::AxisError;
+use api::alarms::Alarm;
 use ipc::messages::fault_status;
 
 use crate::cia402::State;
@@ -66,7 +67,9 @@ pub struct Axis {
     error_stop: bool,
     /// fault_status bits other than ErrorStop.
     faults: u32,
-    last_err: Option<AxisError>,
+    /// HMPL 18.3: the code `GetAxisLastErr` answers, 0 for none: an axis error
+    /// (`0x83IIEEEE`), or the alarm of another task's stop that cut this axis' motion short.
+    last_err: u32,
     drive_err: u16,
     homed: bool,
     home_result: Option<Result<(), AxisError>>,
@@ -80,10 +83,9 @@ pub struct Axis {
     settled_at: Option<u64>,
     move_time_ms: f64,
     settling_time_ms: f64,
-    /// The task whose command set the present motion going: it owns it for fault reactions.
+    /// The task whose command set the present motion going: it owns the motion while it
+    /// lasts (`owner`), and for fault reactions.
     commander: Option<u8>,
-    /// The cycle and task of the last motion command (two tasks in one cycle: 0x001F).
-    last_command: Option<(u64, u8)>,
     /// Stopped by an E-stop: motion is refused with 0x0064 until the axis is enabled again.
     emergency_stopped: bool,
     /// The run speed of the commander's program (DXMC A.3, 0x6B03), as a factor.
@@ -117,7 +119,7 @@ impl Axis {
             cyclic_mode: MODE_CSP,
             error_stop: false,
             faults: 0,
-            last_err: None,
+            last_err: 0,
             drive_err: 0,
             homed: false,
             home_result: None,
@@ -130,7 +132,6 @@ impl Axis {
             move_time_ms: 0.0,
             settling_time_ms: 0.0,
             commander: None,
-            last_command: None,
             emergency_stopped: false,
             run_speed: 1.0,
             touch_probes: TouchProbes::new(id as usize, config, network),
@@ -226,8 +227,13 @@ impl Axis {
 
     /// Records a rejection or a fault as the axis' last error (HMPL 18.3) and returns it.
     pub(crate) fn fail(&mut self, error: AxisError) -> AxisError {
-        self.last_err = Some(error);
+        self.last_err = api::ErrorCode::axis(self.id, error).code();
         error
+    }
+
+    /// Records an alarm as the axis' last error (`Kernel::record_interruption`).
+    pub(in crate::motion) fn record_alarm(&mut self, alarm: Alarm) {
+        self.last_err = alarm.0;
     }
 
     fn check<T>(&mut self, result: Result<T, AxisError>) -> Result<T, AxisError> {
@@ -235,7 +241,7 @@ impl Axis {
     }
 
     pub fn clear_last_err(&mut self) {
-        self.last_err = None;
+        self.last_err = 0;
     }
 
     fn cycles(&self, ms: f64) -> u64 {
@@ -271,19 +277,22 @@ impl Axis {
         self.commander
     }
 
-    /// Whether `task` may command motion in `cycle`: not when another task already did in
-    /// this cycle (DXMC 0x001F); the error names that task.
-    pub fn check_claim(&self, task: u8, cycle: u64) -> Result<(), u8> {
-        match self.last_command {
-            Some((c, other)) if c == cycle && other != task => Err(other),
-            _ => Ok(()),
-        }
+    /// The task that owns the axis' own motion: its commander, while the motion it set
+    /// going lasts (planned, halted, queued, settling, homing, an engaged gear, a torque)
+    /// on an enabled axis out of error stop (docs/decisions.md, "Axis ownership"). A
+    /// grouped axis' motion is its group's (`Kernel::axis_owner`).
+    pub fn owner(&self) -> Option<u8> {
+        let lasts = self.generator.is_busy()
+            || self.is_moving()
+            || self.source.is_homing()
+            || self.source.is_torque()
+            || self.source.engagement().is_some();
+        self.commander.filter(|_| lasts && self.link.is_enabled() && !self.error_stop)
     }
 
-    /// `task`, whose program runs at `run_speed` (a factor), commanded motion in `cycle`:
-    /// it owns the axis' motion from now on.
-    pub fn claim(&mut self, task: u8, cycle: u64, run_speed: f64) {
-        self.last_command = Some((cycle, task));
+    /// `task`, whose program runs at `run_speed` (a factor), commanded motion: it owns the
+    /// axis' motion from now on.
+    pub fn claim(&mut self, task: u8, run_speed: f64) {
         self.commander = Some(task);
         self.set_run_speed(run_speed);
     }

@@ -91,7 +91,7 @@ impl Axis {
         AxisSnapshot {
             motion_status: motion,
             fault_status: fault,
-            last_err: self.last_err.map_or(0, |e| api::ErrorCode::axis(self.id, e).code()),
+            last_err: self.last_err,
             drive_err: self.drive_err as u32,
             coe_controlword: self.link.controlword(),
             coe_statusword: self.feedback.statusword,
