@@ -728,11 +728,12 @@ fn native_carries_out_every_ascii_function() {
     assert_eq!(c.ask("GetAxisNum()"), "4", "and the server goes on");
 }
 
-/// The string functions over ASCII give what the manual's examples of HMPL 3.4-3.13 say
-/// (the same code as a script's), `SendEvent` reaches the event stream as task 62's, and
-/// the scope gate answers as a script's `SetHMIScope`.
+/// The functions a script carries out in its own process, over ASCII: the string
+/// functions give what the manual's examples of HMPL 3.4-3.13 say (the same code as a
+/// script's), `SendEvent` reaches the event stream as task 62's, the scope gate answers as
+/// a script's `SetHMIScope`, and the user table is saved to and loaded from its file.
 #[test]
-fn native_string_functions_answer_as_the_manual_says() {
+fn native_carries_out_a_scripts_functions_as_the_manual_says() {
     let ns = unique_ns("ascii-str");
     let dir = tempfile::tempdir().unwrap();
     let serving = serve(&ns, dir.path(), &[]);
@@ -753,6 +754,13 @@ fn native_string_functions_answer_as_the_manual_says() {
         ("SetHMIScope(2)", "ERROR 0x0000138F eERR_HMPL_ARG_OUT_OF_RANGE (argument out of range)"),
         ("SendEvent(70000)", "ERROR 0x0000138F eERR_HMPL_ARG_OUT_OF_RANGE (argument out of range)"),
         ("StringLen(\"a\", \"b\")", "ERROR StringLen takes 1 argument(s), got 2"),
+        // HMPL 11.6/11.7: the controller's one file, as a script saves and loads it.
+        ("SetTableValue(5, 2.5)", "0"),
+        ("SaveUserTable(5, 1)", "0"),
+        ("SetTableValue(5, 0)", "0"),
+        ("LoadUserTable(5, 1)", "0"),
+        ("GetTableValue(5)", "2.5"),
+        ("SaveUserTable(-1, 1)", "ERROR 0x0000138F eERR_HMPL_ARG_OUT_OF_RANGE (argument out of range)"),
     ];
     // SendEvent until the reader, once subscribed, has seen one (events sent before are
     // not handed to it).
