@@ -21,6 +21,7 @@ pub mod master;
 pub mod motion;
 pub mod output;
 pub mod overrun;
+pub mod ownership;
 pub mod pool;
 pub mod position_trigger;
 pub mod profile;

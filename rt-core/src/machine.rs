@@ -71,11 +71,14 @@ impl Machine {
     }
 
     /// DXMC 3.6, 0x6A81: a switch needs the EtherCAT network in Op, else the controller
-    /// is in Fail. Leaving Run or Diagnosis stops every axis as `StopAll` does.
+    /// is in Fail. Leaving Run or Diagnosis stops every axis as `StopAll` does, and the
+    /// programs whose motion it cut short are told (docs/decisions.md, "Axis ownership").
     pub fn switch_state(&mut self, target: ControllerState) {
         let next = if self.network.state() == crate::ecat::AlState::Op { target } else { ControllerState::Fail };
         if self.state.allows_motion() && !next.allows_motion() {
+            let owners = self.owners_reached(&crate::ownership::Reach::All, None);
             self.kernel.stop_all();
+            self.tell_owners(&owners);
         }
         self.state = next;
     }

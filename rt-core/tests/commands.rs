@@ -129,6 +129,22 @@ fn another_tasks_stop_stops_the_axis_and_the_owner_sees_it() {
     }
 }
 
+/// DXMC 3.6: the console's switch out of Run (to Edit, over Modbus 0x6A81) stops every
+/// axis as StopAll does; a program whose move it cut short sees it as from a task's stop.
+#[test]
+fn leaving_run_stops_the_axes_and_their_owners_see_it() {
+    use rt_core::console::{ConsoleOrder, ControllerState};
+    let mut rig = Rig::new(FaultReaction::Decelerate);
+    rig.machine.carry_out(ConsoleOrder::SwitchState(ControllerState::Run));
+    rig.enable(0);
+    assert_eq!(rig.call(0, Command::MoveAbs, &[0], &[100.0]), 0);
+    rig.cycles(100);
+    rig.machine.carry_out(ConsoleOrder::SwitchState(ControllerState::Edit));
+    let s = settle(&mut rig, 0);
+    assert!(s.pos_fb < 99.0, "in position short of 100: {}", s.pos_fb);
+    assert_eq!((s.last_err as i64, task_alarm(&rig, 0)), (BUSY, BUSY), "the axis' last error and the owner's alarm");
+}
+
 /// A homing run and an engaged gear slave are motion their task owns.
 #[test]
 fn a_homing_axis_and_an_engaged_slave_are_their_tasks() {

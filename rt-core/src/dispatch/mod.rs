@@ -22,13 +22,13 @@ use api::call::{Doubles, Sink};
 use api::{ArgSpec, CommandCall, ErrorCode, GroupError, Quantity, Refusal, Role, SdoAbort, SystemError};
 use calls::wire::{self, DecodeError};
 use ipc::Disposition;
-use ipc::messages::{MAX_AXES, Reply, Request};
+use ipc::messages::{Reply, Request};
 
 use crate::ecat::{AlState, SdoError};
 use crate::machine::Machine;
 use crate::motion::axis::{Ignore, VibrationFilter as Vibration};
 use crate::motion::group::settings as group_settings;
-use crate::motion::ownership;
+use crate::ownership::Reach;
 use crate::tasks::Entry;
 use axis::{axis, home_number, motion};
 
@@ -286,7 +286,7 @@ fn may_command(m: &mut Machine, caller: u8, a: i64, owned: bool) -> Result<u8, F
 /// box owns axis `id`'s motion, `caller`'s command on it is refused with the alarm
 /// `0x1AAA001F`, which is published as the caller's.
 fn may_change(m: &mut Machine, caller: u8, id: u8) -> Result<(), Failure> {
-    match owner(m, id) {
+    match m.motion_owner(id) {
         Some(owner) if owner != caller => {
             Err(Failure::Alarm(m.tasks.axis_alarm(caller, id, AlarmEvent::CommandBufferBusy, m.cycle)))
         }
@@ -294,66 +294,20 @@ fn may_change(m: &mut Machine, caller: u8, id: u8) -> Result<(), Failure> {
     }
 }
 
-/// The owner of axis `a`'s motion: a FUN147 box, or a task that still runs (the motion a
-/// stopped task leaves going, fault reaction `none`, is no one's).
-fn owner(m: &Machine, a: u8) -> Option<u8> {
-    m.kernel.axis_owner(a).filter(|&owner| ownership::is_box(owner) || m.tasks.accepts_commands(owner))
-}
-
 /// The axes a stop reaches. A stop is never refused for ownership (a stop button must
-/// stop); the owners whose motion it cuts short are told (`tell_owners`).
-enum Reach {
-    Axis(i64),
-    Group(i64),
-    All,
-}
-
-impl Reach {
-    fn of(call: &CommandCall) -> Option<Reach> {
-        use CommandCall as C;
-        match *call {
-            C::Stop { axis_id } | C::Halt { axis_id } => Some(Reach::Axis(axis_id)),
-            C::StopGroup { group_id } | C::HaltGroup { group_id } => Some(Reach::Group(group_id)),
-            C::StopAll {} | C::DisableAll {} => Some(Reach::All),
-            _ => None,
-        }
-    }
-
-    /// The tasks other than `caller` that own the motion of the axes reached, by axis.
-    fn owners(&self, m: &Machine, caller: u8) -> [Option<u8>; MAX_AXES] {
-        let mut owners = [None; MAX_AXES];
-        let axes = m.kernel.axes().len();
-        let mut mark = |a: usize| {
-            owners[a] = owner(m, a as u8).filter(|&o| o != caller && !ownership::is_box(o));
-        };
-        match *self {
-            Reach::Axis(a) => usize::try_from(a).ok().filter(|&a| a < axes).into_iter().for_each(&mut mark),
-            Reach::Group(g) => {
-                let Ok(group) = m.kernel.group(g) else { return owners };
-                let (members, n) = group.members();
-                members[..n].iter().for_each(|&a| mark(a as usize));
-            }
-            Reach::All => (0..axes).for_each(mark),
-        }
-        owners
-    }
-}
-
-/// A stop of `caller` cut short the motion other tasks owned (`owners`, by axis): each
-/// such axis records the alarm `0x1AAA001F` as its last error, and the alarm is published
-/// as the owner's, so that a program told "in position" where it did not command it can
-/// see why (docs/decisions.md, "Axis ownership").
-fn tell_owners(m: &mut Machine, owners: &[Option<u8>; MAX_AXES]) {
-    for (a, owner) in owners.iter().enumerate() {
-        if let Some(owner) = *owner {
-            let alarm = m.tasks.axis_alarm(owner, a as u8, AlarmEvent::CommandBufferBusy, m.cycle);
-            m.kernel.record_interruption(a as u8, alarm);
-        }
+/// stop); the owners whose motion it cuts short are told (`Machine::tell_owners`).
+fn reach(call: &CommandCall) -> Option<Reach> {
+    use CommandCall as C;
+    match *call {
+        C::Stop { axis_id } | C::Halt { axis_id } => Some(Reach::Axis(axis_id)),
+        C::StopGroup { group_id } | C::HaltGroup { group_id } => Some(Reach::Group(group_id)),
+        C::StopAll {} | C::DisableAll {} => Some(Reach::All),
+        _ => None,
     }
 }
 
 fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
-    let reach = Reach::of(call);
+    let reach = reach(call);
     let owned = reach.is_none();
     // The axis a motion command sets going (declared `as Moves` in the registry).
     let moved = match call.arg_with(Role::Moves) {
@@ -376,7 +330,7 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
         }
         _ => None,
     };
-    let cut = reach.map(|reach| reach.owners(m, caller));
+    let cut = reach.map(|reach| m.owners_reached(&reach, Some(caller)));
     let outcome = run_command(m, caller, call, reply);
     if outcome.is_ok() {
         let run_speed = m.run_speed(caller);
@@ -390,7 +344,7 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
             m.kernel.claim_group(g, caller);
         }
         if let Some(owners) = &cut {
-            tell_owners(m, owners);
+            m.tell_owners(owners);
         }
     }
     outcome
