@@ -613,7 +613,7 @@ fn run_served(
     // The web view holds the agent's last handle: the agent ends after it.
     if let Some((web, agent_thread)) = web {
         drop(web);
-        let _ = agent_thread.join();
+        agent_thread.join();
     }
     // The port holds a handle on the Modbus server's registers: it goes first.
     drop(serial);

@@ -73,3 +73,30 @@ fn an_accept_nobody_answers_fails_with_what_it_waited_for() {
     let message = failed.downcast_ref::<String>().cloned().unwrap_or_default();
     assert!(message.starts_with("no connection from the program's client within 200ms"), "{message}");
 }
+
+/// A test binary that runs past its deadline ends, saying so: this binary run again with a
+/// deadline of 1 s and only the test below, which outlasts it.
+#[test]
+fn a_test_binary_past_its_deadline_ends_saying_so() {
+    let mut command = Command::new(std::env::current_exe().unwrap());
+    command.args(["--exact", "sleeper_for_the_deadline", "--nocapture"]);
+    command
+        .env("LUAMOTION_TEST_DEADLINE_S", "1")
+        .env("HARNESS_SLEEPER", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let started = Instant::now();
+    let out = finish(command.spawn().unwrap(), Duration::from_secs(30));
+    assert_eq!(out.status.code(), Some(124), "{out:?}");
+    assert!(out.stderr.contains("ran longer than its deadline of 1 s"), "{}", out.stderr);
+    assert!(started.elapsed() < Duration::from_secs(20), "took {:?}", started.elapsed());
+}
+
+/// Run only by the test above (which sets `HARNESS_SLEEPER`): a test that outlasts its
+/// binary's deadline.
+#[test]
+fn sleeper_for_the_deadline() {
+    if std::env::var_os("HARNESS_SLEEPER").is_some() {
+        std::thread::sleep(Duration::from_secs(60));
+    }
+}

@@ -354,6 +354,8 @@ pub fn run(
         let woke = monotonic_ns();
         if let Some(cpu) = cpu {
             work.timing.previous_cpu_ns = cpu.previous_cycle_ns;
+            work.timing.previous_faults = cpu.previous_faults;
+            work.timing.previous_preemptions = cpu.previous_preemptions;
             let _ = stats.cpu.record(cpu.previous_cycle_ns.max(1));
             let _ = stats.wake_up_cpu.record(cpu.wake_up_ns.max(1));
             if let Some(mut overrun) = unclassified_overrun.take() {

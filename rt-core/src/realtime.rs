@@ -193,11 +193,31 @@ pub fn thread_cpu_ns() -> u64 {
 /// or of a scheduler tick since. Read right after a wake-up it is the CPU time up to the
 /// sleep before.
 pub fn thread_cpu_ns_at_last_sleep() -> u64 {
+    thread_usage().cpu_ns
+}
+
+/// What getrusage(RUSAGE_THREAD) tells of the calling thread: its CPU time as of its last
+/// accounting, and the exact counts of its page faults and of the times it was preempted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct ThreadUsage {
+    cpu_ns: u64,
+    /// Minor and major page faults.
+    faults: u64,
+    /// Involuntary context switches: another thread (or the host's vCPU scheduler, where it
+    /// tells the guest) took the CPU from this one.
+    preemptions: u64,
+}
+
+fn thread_usage() -> ThreadUsage {
     // SAFETY: an all-zero `rusage` is valid, and the call only writes it.
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     unsafe { libc::getrusage(libc::RUSAGE_THREAD, &mut usage) };
     let us = |t: libc::timeval| t.tv_sec as u64 * 1_000_000 + t.tv_usec as u64;
-    (us(usage.ru_utime) + us(usage.ru_stime)) * 1_000
+    ThreadUsage {
+        cpu_ns: (us(usage.ru_utime) + us(usage.ru_stime)) * 1_000,
+        faults: (usage.ru_minflt + usage.ru_majflt) as u64,
+        preemptions: usage.ru_nivcsw as u64,
+    }
 }
 
 /// The CPU time of a thread that sleeps once a cycle, from each wake-up to the next sleep,
@@ -211,6 +231,8 @@ pub fn thread_cpu_ns_at_last_sleep() -> u64 {
 #[derive(Debug, Default)]
 pub struct CycleCpuTime {
     woke_ns: Option<u64>,
+    /// The page faults and preemptions counted at the last wake-up.
+    woke_usage: ThreadUsage,
 }
 
 /// What a wake-up learns of the CPU time (`CycleCpuTime::woke`), ns.
@@ -221,18 +243,27 @@ pub struct WokeCpuTime {
     /// This wake-up's, from the end of the sleep to now: the way out of the sleep (a few
     /// microseconds) and whatever stall of the VM the kernel charged to the thread there.
     pub wake_up_ns: u64,
+    /// Page faults from the previous wake-up to this one. A cycle that touched memory it
+    /// had not touched before (a first allocation, a page the kernel took away) counts
+    /// them; one that only stalled does not.
+    pub previous_faults: u64,
+    /// Preemptions from the previous wake-up to this one.
+    pub previous_preemptions: u64,
 }
 
 impl CycleCpuTime {
     /// Called first thing after each wake-up (none for the first).
     pub fn woke(&mut self) -> Option<WokeCpuTime> {
         // Before the exact read, which brings the lock-free count up to date as well.
-        let at_sleep_ns = thread_cpu_ns_at_last_sleep();
+        let at_sleep = thread_usage();
         let now_ns = thread_cpu_ns();
+        let before = std::mem::replace(&mut self.woke_usage, at_sleep);
         let woke_ns = self.woke_ns.replace(now_ns)?;
         Some(WokeCpuTime {
-            previous_cycle_ns: at_sleep_ns.saturating_sub(woke_ns),
-            wake_up_ns: now_ns.saturating_sub(at_sleep_ns),
+            previous_cycle_ns: at_sleep.cpu_ns.saturating_sub(woke_ns),
+            wake_up_ns: now_ns.saturating_sub(at_sleep.cpu_ns),
+            previous_faults: at_sleep.faults - before.faults,
+            previous_preemptions: at_sleep.preemptions - before.preemptions,
         })
     }
 
@@ -324,6 +355,42 @@ mod tests {
         drop(held);
     }
 
+    /// A cycle that touches memory it never touched counts its page faults, one per page;
+    /// one that only computes counts none: what tells a cycle's own work on memory from a
+    /// stall charged to it.
+    #[test]
+    fn a_cycle_counts_the_pages_it_touched_first() {
+        std::thread::spawn(|| {
+            const PAGES: usize = 256;
+            let mut cycle = CycleCpuTime::default();
+            cycle.woke();
+            let mut x = 1.0f64;
+            for _ in 0..100_000 {
+                x = std::hint::black_box(x * 1.000_001);
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            let computed = cycle.woke().expect("a cycle ended");
+            let len = PAGES * 4096;
+            // SAFETY: a fresh private anonymous mapping, written inside its length and unmapped.
+            unsafe {
+                let flags = libc::MAP_PRIVATE | libc::MAP_ANONYMOUS;
+                let area = libc::mmap(std::ptr::null_mut(), len, libc::PROT_READ | libc::PROT_WRITE, flags, -1, 0);
+                assert_ne!(area, libc::MAP_FAILED);
+                libc::madvise(area, len, libc::MADV_NOHUGEPAGE);
+                for page in 0..PAGES {
+                    (area as *mut u8).add(page * 4096).write_volatile(1);
+                }
+                libc::munmap(area, len);
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            let touched = cycle.woke().expect("a cycle ended");
+            assert!(touched.previous_faults >= PAGES as u64, "{touched:?}");
+            assert!(computed.previous_faults < 8, "{computed:?}");
+        })
+        .join()
+        .unwrap();
+    }
+
     /// Right after a sleep the lock-free count is the thread's CPU time up to that sleep
     /// (without the sleep's update it lags by up to a scheduler tick, 4 ms here), and a
     /// cycle's CPU time is its work's.
@@ -344,7 +411,7 @@ mod tests {
                 let at_sleep = thread_cpu_ns_at_last_sleep();
                 let now = thread_cpu_ns();
                 assert!(now - at_sleep < 100_000, "{now} ns used, {at_sleep} ns counted at the sleep");
-                let WokeCpuTime { previous_cycle_ns: cpu, wake_up_ns } = cycle.woke().expect("a cycle ended");
+                let WokeCpuTime { previous_cycle_ns: cpu, wake_up_ns, .. } = cycle.woke().expect("a cycle ended");
                 // Preemption may take some of the work's wall time; nothing adds to it but
                 // the way into the sleep (the scheduler's, which on a busy machine may
                 // balance the CPU's load then), never the sleep itself.

@@ -42,12 +42,15 @@ pub struct TracedAxis {
 
 /// The wall-time columns of a row, ns: how late this cycle woke, how long the previous
 /// cycle's work took, and how much CPU time the RT thread used from that cycle's wake-up to
-/// its sleep (which a preempted cycle does not inflate).
+/// its sleep (which a preempted cycle does not inflate); and the RT thread's page faults
+/// and preemptions from the previous wake-up to this one (`realtime::WokeCpuTime`).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CycleTiming {
     pub lateness_ns: u64,
     pub previous_execution_ns: u64,
     pub previous_cpu_ns: u64,
+    pub previous_faults: u64,
+    pub previous_preemptions: u64,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -250,7 +253,9 @@ fn write(
     let mut out = std::io::BufWriter::new(file);
     let mut pulses_out = std::io::BufWriter::new(pulses);
     writeln!(pulses_out, "cycle,axis,position,time_ms")?;
-    let mut header = String::from("cycle,overruns,lateness_us,previous_execution_us,previous_cpu_us");
+    let mut header = String::from(
+        "cycle,overruns,lateness_us,previous_execution_us,previous_cpu_us,previous_faults,previous_preemptions",
+    );
     for (a, &load) in loads.iter().enumerate() {
         header += &format!(",a{a}_ref_pos,a{a}_pos_fb,a{a}_motion_status,a{a}_fault_status");
         if load {
@@ -270,7 +275,8 @@ fn write(
             let timing = row.timing;
             let (late, execution, cpu) =
                 (us(timing.lateness_ns), us(timing.previous_execution_ns), us(timing.previous_cpu_ns));
-            write!(out, "{},{},{late},{execution},{cpu}", row.cycle, row.overruns)?;
+            let (faults, preemptions) = (timing.previous_faults, timing.previous_preemptions);
+            write!(out, "{},{},{late},{execution},{cpu},{faults},{preemptions}", row.cycle, row.overruns)?;
             for (axis, &load) in row.axes.iter().zip(loads) {
                 write!(out, ",{},{},{},{}", axis.ref_pos, axis.pos_fb, axis.motion_status, axis.fault_status)?;
                 if load {
@@ -314,7 +320,13 @@ mod tests {
         row.axes[0].pos_fb = 100.0;
         let base = digest_of(&[row, row]);
         assert_eq!(base, digest_of(&[row, row]));
-        let timing = CycleTiming { lateness_ns: 12_345, previous_execution_ns: 678, previous_cpu_ns: 90 };
+        let timing = CycleTiming {
+            lateness_ns: 12_345,
+            previous_execution_ns: 678,
+            previous_cpu_ns: 90,
+            previous_faults: 3,
+            previous_preemptions: 1,
+        };
         let timed = TraceRow { timing, ..row };
         assert_eq!(digest_of(&[row, timed]), base, "wall time is left out");
         let mut moved = row;

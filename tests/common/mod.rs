@@ -15,6 +15,32 @@ use std::time::{Duration, Instant};
 
 pub const BIN: &str = env!("CARGO_BIN_EXE_luamotion");
 
+/// How long one test binary may run, s (`LUAMOTION_TEST_DEADLINE_S` sets another): the
+/// longest, `faults`, takes about 3 minutes, 10 on a loaded machine.
+const BINARY_DEADLINE_S: u64 = 1500;
+
+/// The backstop under every wait's own deadline: each end-to-end test binary starts a
+/// watchdog before `main` (an `.init_array` entry), which ends the binary once it has run
+/// longer than `BINARY_DEADLINE_S`, so that a wait this file's helpers do not cover cannot
+/// hang the suite. The harness has named the tests still running ("has been running for
+/// over 60 seconds").
+#[used]
+#[unsafe(link_section = ".init_array")]
+static BINARY_DEADLINE: extern "C" fn() = start_binary_deadline;
+
+extern "C" fn start_binary_deadline() {
+    let limit =
+        std::env::var("LUAMOTION_TEST_DEADLINE_S").ok().and_then(|s| s.parse().ok()).unwrap_or(BINARY_DEADLINE_S);
+    std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_secs(limit));
+        eprintln!(
+            "this test binary ran longer than its deadline of {limit} s (LUAMOTION_TEST_DEADLINE_S): a test hangs; \
+             the tests still running were named above as running for over 60 seconds"
+        );
+        std::process::exit(124);
+    });
+}
+
 /// A namespace no other test (or test run) uses.
 pub fn unique_ns(tag: &str) -> String {
     static NEXT: AtomicU32 = AtomicU32::new(0);
@@ -259,6 +285,12 @@ pub fn eventually(timeout: Duration, mut f: impl FnMut() -> bool) -> bool {
         std::thread::sleep(Duration::from_millis(10));
     }
     f()
+}
+
+/// Whether this run is CI's (`CI` set to anything but empty, `false` or `0`): there a
+/// missing prerequisite fails the test, it never skips and passes.
+pub fn in_ci() -> bool {
+    std::env::var("CI").is_ok_and(|ci| !ci.is_empty() && ci != "false" && ci != "0")
 }
 
 /// The virtualenv's python, with pymodbus installed once per build directory.
