@@ -7,10 +7,8 @@
 mod common;
 
 use std::collections::HashMap;
-use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc::{self, Receiver};
 use std::sync::{Mutex, OnceLock};
 use std::time::Duration;
 
@@ -138,18 +136,6 @@ fn read_trace(path: &Path) -> Vec<HashMap<String, f64>> {
     lines.map(|l| header.iter().zip(l.split(',')).map(|(h, v)| (h.to_string(), v.parse().unwrap())).collect()).collect()
 }
 
-fn lines_of(stream: impl std::io::Read + Send + 'static) -> Receiver<String> {
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stream).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    rx
-}
-
 fn run(fault: Option<Fault>, reaction: &str) -> Run {
     let dir = tempfile::tempdir().unwrap();
     program(dir.path(), "faulty.lua", &faulty_program(fault));
@@ -197,9 +183,9 @@ fn run(fault: Option<Fault>, reaction: &str) -> Run {
         unsafe { libc::kill(pid as i32, signal) };
     }
     let finished = finish(child, Duration::from_secs(60));
-    out.extend(stdout.try_iter());
+    out.extend(rest_of(&stdout, Duration::from_secs(10)));
     out.extend(finished.stdout.lines().map(str::to_string));
-    let mut err: Vec<String> = stderr.try_iter().collect();
+    let mut err = rest_of(&stderr, Duration::from_secs(10));
     err.push(finished.stderr);
     Run { stdout: out, stderr: err.join("\n"), trace: read_trace(&trace), signalled_at }
 }

@@ -6,10 +6,10 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc::{self, Receiver};
+use std::sync::mpsc::Receiver;
 use std::time::Duration;
 
 use common::*;
@@ -36,13 +36,7 @@ impl Said {
 /// `luamotion run --clock sim ARGS`, its stdout lines read as they come.
 fn start(ns: &str, args: &[&str]) -> (Child, Receiver<String>) {
     let mut child = start_run(ns, &[&["--clock", "sim"], args].concat());
-    let stdout = child.stdout.take().expect("stdout");
-    let (tx, lines) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
+    let lines = lines_of(child.stdout.take().expect("stdout"));
     (child, lines)
 }
 
@@ -60,7 +54,7 @@ fn until(lines: &Receiver<String>, text: &str, seen: &mut Vec<String>) -> String
 /// Waits for the run's end and the rest of its output.
 fn end(child: Child, lines: Receiver<String>, mut seen: Vec<String>) -> Said {
     let out = finish(child, Duration::from_secs(240));
-    seen.extend(lines.try_iter());
+    seen.extend(rest_of(&lines, Duration::from_secs(10)));
     Said { lines: seen, out }
 }
 

@@ -169,6 +169,31 @@ fn collect(reader: std::sync::mpsc::Receiver<String>, until: Instant) -> String 
         .unwrap_or_else(|_| "(the pipe was still open seconds after the process ended)".to_string())
 }
 
+/// A child's output stream line by line, read on its own thread, as it comes.
+pub fn lines_of(stream: impl std::io::Read + Send + 'static) -> std::sync::mpsc::Receiver<String> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufRead::lines(std::io::BufReader::new(stream)).map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// The lines still to come once the process has ended: until its pipe closes, at most
+/// `timeout` (a grandchild that outlived it may hold the pipe). The reader thread may
+/// still be reading the pipe when the process is reaped, so `try_iter` would lose the end.
+pub fn rest_of(lines: &std::sync::mpsc::Receiver<String>, timeout: Duration) -> Vec<String> {
+    let until = Instant::now() + timeout;
+    let mut rest = Vec::new();
+    while let Ok(line) = lines.recv_timeout(until.saturating_duration_since(Instant::now())) {
+        rest.push(line);
+    }
+    rest
+}
+
 /// Accepts one connection within `timeout`, or fails the test saying what it waited for.
 pub fn accept_within(
     listener: &std::net::TcpListener,
