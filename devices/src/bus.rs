@@ -3,11 +3,11 @@
 //! simulation does to its drives and terminals. The master (`ecat/`) knows none of these devices.
 
 use crate::analog_terminal::AnalogIoTerminal;
-use crate::config::{self, AxisConfig, MachineConfig, SlaveConfig, SlaveDevice};
 use crate::drive::{Drive, FaultInjectionError};
 use crate::ecat::network::SlaveSetup;
 use crate::ecat::{Device, Network};
 use crate::terminal::{DigitalIoTerminal, NoSuchChannel};
+use config::{self, AxisConfig, MachineConfig, SlaveConfig, SlaveDevice};
 
 impl Network {
     /// One drive per axis, in ring order.

@@ -4,9 +4,9 @@
 mod bench;
 
 use bench::{Bench, PERIOD_NS};
-use rt_core::config::AxisConfig;
-use rt_core::drive::DriveModel;
-use rt_core::ecat::{AlState, SdoAbort, SdoError};
+use config::AxisConfig;
+use devices::drive::DriveModel;
+use devices::ecat::{AlState, SdoAbort, SdoError};
 
 fn abort(result: Result<impl std::fmt::Debug, SdoError>) -> SdoAbort {
     match result {
@@ -113,7 +113,7 @@ fn default_pdo_mapping() {
     assert_eq!(b.net.slaves()[0].pdo_lengths(), (6, 10), "CoE 2.4");
 }
 
-fn pre_op() -> rt_core::ecat::Network {
+fn pre_op() -> devices::ecat::Network {
     let mut net = Bench::unstarted(bench::drive_defaults());
     net.request_state(0, AlState::PreOp).unwrap();
     net
@@ -122,7 +122,7 @@ fn pre_op() -> rt_core::ecat::Network {
 /// CoE 2.4, table 4-15: mapping rules, checked on the way to SafeOp or refused by the mailbox.
 #[test]
 fn pdo_mapping_validation() {
-    let write = |net: &mut rt_core::ecat::Network, index: u16, sub: u8, v: u32| {
+    let write = |net: &mut devices::ecat::Network, index: u16, sub: u8, v: u32| {
         let len = if sub == 0 { 1 } else { 4 };
         net.sdo_write(0, index, sub, &v.to_le_bytes()[..len])
     };
@@ -204,8 +204,8 @@ fn safe_op_has_inputs_only() {
 #[test]
 fn sync_settings() {
     let mut net = pre_op();
-    let w16 = |net: &mut rt_core::ecat::Network, i: u16, s: u8, v: u16| net.sdo_write(0, i, s, &v.to_le_bytes());
-    let w32 = |net: &mut rt_core::ecat::Network, i: u16, s: u8, v: u32| net.sdo_write(0, i, s, &v.to_le_bytes());
+    let w16 = |net: &mut devices::ecat::Network, i: u16, s: u8, v: u16| net.sdo_write(0, i, s, &v.to_le_bytes());
+    let w32 = |net: &mut devices::ecat::Network, i: u16, s: u8, v: u32| net.sdo_write(0, i, s, &v.to_le_bytes());
     assert!(w16(&mut net, 0x1C32, 1, 0).is_ok(), "CoE table 4-4: free run");
     assert!(w16(&mut net, 0x1C32, 1, 2).is_ok(), "CoE table 4-4: DC");
     assert_eq!(abort(w16(&mut net, 0x1C32, 1, 1)), SdoAbort::ValueRange, "type 1 (SM sync) is not offered");
@@ -314,7 +314,7 @@ const ASSIGN_TOUCH_PROBE_PDO: [(u16, u8, &[u8]); 7] = [
 ];
 
 /// Slave `slave` of `net` in PreOp with 0x1A00 and 0x1A01 (0x60B9, 0x60BA) assigned.
-fn assign_touch_probe_pdo(net: &mut rt_core::ecat::Network, slave: usize) {
+fn assign_touch_probe_pdo(net: &mut devices::ecat::Network, slave: usize) {
     net.request_state(slave, AlState::PreOp).unwrap();
     for (index, sub, data) in ASSIGN_TOUCH_PROBE_PDO {
         net.sdo_write(slave, index, sub, data).unwrap_or_else(|e| panic!("0x{index:04X}:{sub}: {e}"));
@@ -323,7 +323,7 @@ fn assign_touch_probe_pdo(net: &mut rt_core::ecat::Network, slave: usize) {
 
 /// An axis 1.5 mm from zero at 10 000 counts/mm, with the drive's default mapping.
 fn at_15000_counts() -> AxisConfig {
-    let travel = rt_core::config::TravelConfig { start_position: 1.5, ..Default::default() };
+    let travel = config::TravelConfig { start_position: 1.5, ..Default::default() };
     AxisConfig { counts_per_unit: bench::CPU, travel, ..bench::drive_defaults() }
 }
 
@@ -378,11 +378,11 @@ fn assignment_rules_of_the_second_pdo() {
 /// order, every offset from the mappings the master read back.
 #[test]
 fn the_process_image_of_two_slaves() {
-    let mut net = rt_core::ecat::Network::new(&[at_15000_counts(), bench::drive_defaults()]);
+    let mut net = devices::ecat::Network::new(&[at_15000_counts(), bench::drive_defaults()]);
     assign_touch_probe_pdo(&mut net, 0);
     net.start(PERIOD_NS).expect("start-up to Op");
     let (rx, tx) = net.image_entries(0);
-    let offsets = |entries: &[rt_core::ecat::network::ImageEntry]| {
+    let offsets = |entries: &[devices::ecat::network::ImageEntry]| {
         entries.iter().map(|e| (e.index, e.sub, e.offset)).collect::<Vec<_>>()
     };
     assert_eq!(offsets(rx), [(0x6040, 0, 0), (0x607A, 0, 2)]);
@@ -400,35 +400,4 @@ fn the_process_image_of_two_slaves() {
         0x40, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, // slave 1 from byte 16
     ];
     assert_eq!(inputs, expected);
-}
-
-/// Programs see the second TxPDO too: the snapshot holds both PDOs of a direction, so
-/// `ReadPDO` (HMPL 17.3) finds the touch probe's objects mapped by 0x1A01.
-#[test]
-fn the_snapshot_shows_the_second_pdo_to_programs() {
-    use api::QueryCall;
-    use calls::query::{Value, evaluate};
-    // The built-in machine's TxPDO: 0x1A00 full (7 entries, 19 bytes); 0x1A01 as assigned
-    // here through SDO, not the master's touch probe mapping.
-    let full = AxisConfig { counts_per_unit: bench::CPU, touch_probe_pdo: false, ..AxisConfig::default() };
-    let mut net = Bench::unstarted(AxisConfig { travel: at_15000_counts().travel, ..full });
-    assign_touch_probe_pdo(&mut net, 0);
-    net.sdo_write(0, 0x60B8, 0, &[0x01, 0x00]).unwrap();
-    net.start(PERIOD_NS).expect("start-up to Op");
-    net.exchange(bench::PERIOD_S);
-    let mut snapshot: Box<ipc::messages::Snapshot> = Box::default();
-    rt_core::master::describe_slaves(&net, &mut snapshot);
-    rt_core::master::update_slaves(&net, &mut snapshot);
-    assert_eq!(snapshot.slaves[0].tx_count, 9, "7 entries of 0x1A00, 2 of 0x1A01");
-    let read = |index, sub| match evaluate(
-        &QueryCall::ReadPDO { slv_id: 0, obj_index: index, obj_subindex: sub },
-        &snapshot,
-    ) {
-        Ok(answer) => answer.0,
-        Err(e) => panic!("ReadPDO 0x{index:04X}: {e:?}"),
-    };
-    assert_eq!(read(0x6064, 0), Value::Int(15000), "0x1A00: position actual");
-    assert_eq!(read(0x60B9, 0), Value::Int(1), "0x1A01: touch probe status, TP1 enabled");
-    assert_eq!(read(0x60BA, 0), Value::Int(0), "0x1A01: no positive edge yet");
-    assert_eq!(read(0x60BB, 0), Value::Int(-1), "not mapped");
 }

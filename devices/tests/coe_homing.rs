@@ -8,8 +8,8 @@
 mod bench;
 
 use bench::{Bench, CPU};
-use rt_core::config::{AxisConfig, DriveSettings, TravelConfig};
-use rt_core::drive::DriveModel;
+use config::{AxisConfig, DriveSettings, TravelConfig};
+use devices::drive::DriveModel;
 
 const OFFSET: i64 = 1_000;
 /// Table 3-7, `sw & 0x3400`.

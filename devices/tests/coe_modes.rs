@@ -3,7 +3,7 @@
 mod bench;
 
 use bench::{Bench, CPU};
-use rt_core::config::{AxisConfig, TravelConfig};
+use config::{AxisConfig, TravelConfig};
 
 /// Statusword bits 10, 12, 13.
 const REACHED: u16 = 1 << 10;

@@ -7,8 +7,8 @@
 mod bench;
 
 use bench::{Bench, CPU};
-use rt_core::config::{AxisConfig, TouchProbeKind, TravelConfig};
-use rt_core::ecat::SdoError;
+use config::{AxisConfig, TouchProbeKind, TravelConfig};
+use devices::ecat::SdoError;
 
 /// Runs positive at 20 mm/s (profile velocity) for `ms`.
 fn run_positive(b: &mut Bench, ms: usize) {

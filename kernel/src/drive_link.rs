@@ -3,10 +3,10 @@
 
 use api::AxisError;
 
-use crate::cia402::{State, controlword};
-use crate::config::AxisConfig;
-use crate::ecat::{Field, Network};
-use crate::motion::power::{Power, PowerEvent};
+use crate::power::{Power, PowerEvent};
+use config::AxisConfig;
+use devices::cia402::{State, controlword};
+use devices::ecat::{Field, Network};
 
 /// Modes of operation the kernel uses (CoE manual table 4-17).
 pub const MODE_HOMING: i64 = 6;

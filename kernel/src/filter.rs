@@ -6,9 +6,9 @@
 //! on group motion). The stages are added at start-up into room reserved then: nothing in
 //! the cycle allocates.
 
-use crate::motion::shaping::Vibration;
-use crate::motion::smoothing::Smoother;
-use crate::profile::Kinematics;
+use crate::shaping::Vibration;
+use crate::smoothing::Smoother;
+use devices::profile::Kinematics;
 
 /// Stages one chain holds: smoothing, VSF, input shaping, and one to spare.
 pub const MAX_STAGES: usize = 4;
@@ -246,7 +246,7 @@ mod tests {
     /// shaper takes the axis' own motion from where it came to rest.
     #[test]
     fn a_suspended_chain_passes_the_vibration_filters_too() {
-        use crate::motion::shaping::ShaperParams;
+        use crate::shaping::ShaperParams;
         let mut chain = FilterChain::for_axis(50, 1.5, 1e-3);
         let v = chain.vibration().unwrap();
         v.shaper.configure(ShaperParams { freq_hz: 10.0, damping: 0.0, robust: false });

@@ -6,7 +6,7 @@
 use api::{AxisError, ErrorCode};
 
 use super::Kernel;
-use crate::motion::axis::Axis;
+use crate::axis::Axis;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pair {

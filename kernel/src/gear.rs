@@ -7,7 +7,7 @@
 use api::{AxisError, ErrorCode};
 
 use super::Kernel;
-use crate::motion::source::{Engagement, ReferenceSource};
+use crate::source::{Engagement, ReferenceSource};
 
 impl Kernel {
     /// HMPL 6.2: both axes enabled; the slave is not yet a slave, nor a master, nor in a gantry.

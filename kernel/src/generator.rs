@@ -4,8 +4,8 @@
 //! axis' filter chain (`filter.rs`) smooths it into an S-curve. Everything is fixed-size:
 //! the RT thread plans without allocating.
 
-use crate::motion::pvt::Pvt;
-use crate::profile::{Kinematics, Limits, Trapezoid, ramp_velocity};
+use crate::pvt::Pvt;
+use devices::profile::{Kinematics, Limits, Trapezoid, ramp_velocity};
 
 /// Commands the axis queue holds in buffer mode 1 (`eERR_AXIS_CMD_QUEUE_FULL` beyond).
 pub const QUEUE_CAPACITY: usize = 16;

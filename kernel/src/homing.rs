@@ -5,8 +5,8 @@
 
 use api::AxisError;
 
-use crate::cia402::controlword::NEW_SET_POINT;
-use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_HOMING};
+use crate::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_HOMING};
+use devices::cia402::controlword::NEW_SET_POINT;
 
 /// Table 3-7, `sw & 0x3400`.
 const ATTAINED: u16 = 0x1400;

@@ -25,10 +25,10 @@ pub mod touch_probe;
 use api::{AxisError, ErrorCode, SystemError};
 use ipc::messages::{AxisSnapshot, Snapshot, motion_status};
 
-use crate::config::{FaultReaction, MachineConfig};
-use crate::ecat::Network;
 use axis::Axis;
 use compensation::Compensations;
+use config::{FaultReaction, MachineConfig};
+use devices::ecat::Network;
 use gantry::Gantries;
 use group::Group;
 

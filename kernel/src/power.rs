@@ -3,7 +3,7 @@
 //! Each step shows in the statusword one bus cycle later, so enabling takes several cycles,
 //! as on a real drive.
 
-use crate::cia402::{State, controlword};
+use devices::cia402::{State, controlword};
 
 /// Where the axis is on its way to or from being energised.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -134,7 +134,7 @@ impl Power {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::fsa::Fsa;
+    use devices::drive::fsa::Fsa;
 
     /// The master's sequence walks a drive from Switch on disabled to Operation enabled in
     /// a few cycles, with the one-cycle bus delay in each direction.

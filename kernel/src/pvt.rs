@@ -1,7 +1,7 @@
 //! PVT motion (HMPL 5.2.8): through points of time (ms, from 0), position and velocity,
 //! with cubic Hermite segments; at most 50 points.
 
-use crate::profile::Kinematics;
+use devices::profile::Kinematics;
 
 pub const MAX_POINTS: usize = 50;
 

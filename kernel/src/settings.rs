@@ -3,8 +3,8 @@
 
 use api::AxisError;
 
-use crate::config::AxisConfig;
-use crate::motion::generator::Profile;
+use crate::generator::Profile;
+use config::AxisConfig;
 
 /// Smooth time range (HMPL table 5.1.1.2), ms.
 pub const MAX_SMOOTH_TIME_MS: f64 = 500.0;

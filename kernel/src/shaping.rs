@@ -19,7 +19,7 @@
 
 use std::f64::consts::PI;
 
-use crate::profile::Kinematics;
+use devices::profile::Kinematics;
 
 /// HMPL 15.7: `shaper_type` 1.
 pub const SHAPER_NORMAL: i64 = 1;

@@ -4,7 +4,7 @@
 //! profile's samples never exceeds the profile's own velocity and acceleration, so the
 //! limits hold after smoothing too.
 
-use crate::profile::Kinematics;
+use devices::profile::Kinematics;
 
 pub struct Smoother {
     samples: Vec<Kinematics>,

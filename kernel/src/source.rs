@@ -18,8 +18,8 @@
 
 use api::AxisError;
 
-use crate::motion::homing::Homing;
-use crate::profile::Kinematics;
+use crate::homing::Homing;
+use devices::profile::Kinematics;
 
 /// An engaged gear: slave = slave origin + ratio x (master - master origin) (HMPL 6.1).
 #[derive(Clone, Copy, Debug, PartialEq)]

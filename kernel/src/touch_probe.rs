@@ -5,9 +5,9 @@
 
 use api::AxisError;
 
-use crate::cia402::touch_probe::*;
-use crate::config::{AxisConfig, TouchProbeKind};
-use crate::ecat::{Field, Network};
+use config::{AxisConfig, TouchProbeKind};
+use devices::cia402::touch_probe::*;
+use devices::ecat::{Field, Network};
 
 /// What `SetTouchProbeNFunc` chose of one probe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

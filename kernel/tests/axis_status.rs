@@ -3,9 +3,9 @@
 //! situations that set each bit (Acc, Homing and HomeSwitch pass too fast or need a
 //! switch; their Lua checks cover them through IsAcc/IsHoming/IsHomeSwitch).
 
-use rt_core::MachineConfig;
-use rt_core::ecat::Network;
-use rt_core::motion::Kernel;
+use config::MachineConfig;
+use devices::ecat::Network;
+use kernel::Kernel;
 
 struct Rig {
     network: Network,

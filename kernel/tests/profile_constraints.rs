@@ -4,10 +4,10 @@
 //! acceleration never exceed the limits in force (plus 1e-9 relative), nothing is NaN,
 //! and every move that ends, ends exactly on its target.
 
-use rt_core::motion::filter::FilterChain;
-use rt_core::motion::generator::{Generator, Move, Profile};
-use rt_core::motion::shaping::AXIS_MIN_SHAPER_HZ;
-use rt_core::profile::Kinematics;
+use devices::profile::Kinematics;
+use kernel::filter::FilterChain;
+use kernel::generator::{Generator, Move, Profile};
+use kernel::shaping::AXIS_MIN_SHAPER_HZ;
 
 const PERIOD: f64 = 1e-3;
 const MOVES: usize = 10_000;
@@ -214,7 +214,7 @@ fn ten_thousand_random_moves_respect_their_limits() {
     assert!(cycles > 1_000_000, "checked {cycles} cycles");
 }
 
-fn check(k: rt_core::profile::Kinematics, vel_bound: f64, acc_bound: f64) {
+fn check(k: devices::profile::Kinematics, vel_bound: f64, acc_bound: f64) {
     assert!(k.pos.is_finite() && k.vel.is_finite() && k.acc.is_finite(), "NaN: {k:?}");
     assert!(k.vel.abs() <= vel_bound * (1.0 + 1e-9), "velocity {} over {vel_bound}", k.vel);
     assert!(k.acc.abs() <= acc_bound * (1.0 + 1e-9), "acceleration {} over {acc_bound}", k.acc);

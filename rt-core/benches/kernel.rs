@@ -17,15 +17,15 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use devices::ecat::Network;
+use devices::profile::{Limits, Trapezoid};
+use kernel::Kernel;
+use kernel::filter::FilterChain;
+use kernel::generator::{Generator, Move, Profile};
+use kernel::group::motion::PathCommand;
+use kernel::shaping::AXIS_MIN_SHAPER_HZ;
 use rt_core::MachineConfig;
 use rt_core::config::{AxisConfig, TravelConfig};
-use rt_core::ecat::Network;
-use rt_core::motion::Kernel;
-use rt_core::motion::filter::FilterChain;
-use rt_core::motion::generator::{Generator, Move, Profile};
-use rt_core::motion::group::motion::PathCommand;
-use rt_core::motion::shaping::AXIS_MIN_SHAPER_HZ;
-use rt_core::profile::{Limits, Trapezoid};
 
 const PERIOD_S: f64 = 1e-3;
 const LIMITS: Limits = Limits { vel: 500.0, acc: 5_000.0, dec: 3_000.0 };

@@ -6,7 +6,7 @@
 use api::analog::{AxisVariable, ConversionType};
 use ipc::messages::{ANALOG_OUTPUTS, AnalogOutputSnapshot, AxisSnapshot, MAX_ANALOG_CHANNELS, MAX_SLAVES, Snapshot};
 
-use crate::ecat::Network;
+use devices::ecat::Network;
 
 /// One analog output's settings.
 #[derive(Clone, Copy, Debug)]

@@ -11,16 +11,16 @@ use ipc::{CoreEndpoint, Namespace};
 use crate::config::MachineConfig;
 use crate::console::ConsoleInbox;
 use crate::cycle::{self, CycleStats, RtControl};
-use crate::ecat::Network;
 use crate::huge_pages;
 use crate::machine::Machine;
-use crate::motion::Kernel;
 use crate::realtime;
 use crate::scope::ScopeSampler;
 use crate::sim_clock::{Clock, Lockstep};
 use crate::supervisor::{ScriptLauncher, Supervisor, TaskReport};
 use crate::tasks::{self, Tasks};
 use crate::trace;
+use devices::ecat::Network;
+use kernel::Kernel;
 
 /// How long the tasks have to be stopped in order at shutdown before the rest are killed.
 const STOP_PATIENCE: Duration = Duration::from_secs(2);

@@ -12,11 +12,11 @@ use api::ErrorCode as HmplError;
 use fun147::{Axes, AxisSet, ErrorCode, Fun147, Inputs, OperandError, Outputs, Plc, Reg, Relay};
 use path::planner::{BufferMode, Profile};
 
-use crate::motion::group::GroupState;
-use crate::motion::group::motion::PathCommand;
-use crate::motion::group::settings::LIN_DEFAULT;
-use crate::motion::ownership::box_owner;
-use crate::motion::{Kernel, MAX_GROUPS};
+use kernel::group::GroupState;
+use kernel::group::motion::PathCommand;
+use kernel::group::settings::LIN_DEFAULT;
+use kernel::ownership::box_owner;
+use kernel::{Kernel, MAX_GROUPS};
 
 /// Gp 0 and Gp 1 (FUN147 expl. 2).
 pub const BOXES: usize = 2;

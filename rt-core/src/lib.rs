@@ -1,30 +1,22 @@
-//! The controller process: the RT cycle, the simulated EtherCAT network of CiA 402
-//! drives, the motion kernel, and the supervisor of the script processes.
+//! The controller process: the RT cycle, the tasks and their supervisor, dispatch of the
+//! scripts' calls, over the simulated EtherCAT segment (`devices`) and the motion kernel (`kernel`).
 //! See ARCHITECTURE.md for the map and the invariants.
 
 pub mod analog;
-pub mod analog_terminal;
-pub mod bus;
-pub mod cia402;
-pub mod coe;
 pub mod console;
 pub mod controller;
 pub mod cycle;
 pub mod dispatch;
-pub mod drive;
-pub mod ecat;
 pub mod fun147_boxes;
 pub mod huge_pages;
 pub mod io;
 pub mod machine;
 pub mod master;
-pub mod motion;
 pub mod output;
 pub mod overrun;
 pub mod ownership;
 pub mod pool;
 pub mod position_trigger;
-pub mod profile;
 pub mod realtime;
 pub mod replay;
 pub mod scope;
@@ -32,7 +24,6 @@ pub mod signals;
 pub mod sim_clock;
 pub mod supervisor;
 pub mod tasks;
-pub mod terminal;
 pub mod trace;
 
 /// The machine file lives in its own crate; re-exported so that `rt_core::config` and

@@ -7,13 +7,13 @@ use ipc::messages::MAX_TASKS;
 
 use crate::analog::AnalogIo;
 use crate::console::{ConsoleOrder, ControllerState};
-use crate::ecat::Network;
 use crate::fun147_boxes::Boxes;
 use crate::io::ControllerIo;
 use crate::master::PdoForces;
-use crate::motion::Kernel;
 use crate::position_trigger::PositionTriggers;
 use crate::tasks::Tasks;
+use devices::ecat::Network;
+use kernel::Kernel;
 
 /// Everything the RT thread owns and steps.
 pub struct Machine {
@@ -74,7 +74,7 @@ impl Machine {
     /// is in Fail. Leaving Run or Diagnosis stops every axis as `StopAll` does, and the
     /// programs whose motion it cut short are told (docs/decisions.md, "Axis ownership").
     pub fn switch_state(&mut self, target: ControllerState) {
-        let next = if self.network.state() == crate::ecat::AlState::Op { target } else { ControllerState::Fail };
+        let next = if self.network.state() == devices::ecat::AlState::Op { target } else { ControllerState::Fail };
         if self.state.allows_motion() && !next.allows_motion() {
             let owners = self.owners_reached(&crate::ownership::Reach::All, None);
             self.kernel.stop_all();

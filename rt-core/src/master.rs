@@ -5,8 +5,8 @@ use ipc::messages::{
     AnalogSnapshot, MAX_ANALOG_TERMINALS, MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot,
 };
 
-use crate::ecat::network::ImageEntry;
-use crate::ecat::{Field, Network};
+use devices::ecat::network::ImageEntry;
+use devices::ecat::{Field, Network};
 
 /// How many objects may be forced at once.
 pub const MAX_FORCES: usize = 32;
@@ -128,5 +128,36 @@ mod tests {
         cw.write(outputs, 6);
         forces.apply(outputs);
         assert_eq!(cw.read(outputs), 6);
+    }
+
+    /// Programs see the second TxPDO too: the snapshot holds both PDOs of a direction, so
+    /// `ReadPDO` (HMPL 17.3) finds the touch probe's objects that 0x1A01 maps (CoE 2.4).
+    #[test]
+    fn the_snapshot_shows_the_second_pdo_to_programs() {
+        use api::QueryCall;
+        use calls::query::{Value, evaluate};
+        let travel = crate::config::TravelConfig { start_position: 1.5, ..Default::default() };
+        let mut net = Network::new(&[AxisConfig { counts_per_unit: 10_000.0, travel, ..AxisConfig::default() }]);
+        net.start(1_000_000).expect("start-up to Op");
+        // 0x60B8 is in the master's second RxPDO: TP1 enabled through process data.
+        let function = net.output_field(0, 0x60B8, 0).unwrap();
+        function.write(net.images_mut().1, 0x0001);
+        net.exchange(1e-3);
+        let mut snapshot: Box<Snapshot> = Box::default();
+        describe_slaves(&net, &mut snapshot);
+        update_slaves(&net, &mut snapshot);
+        assert_eq!(snapshot.slaves[0].tx_count, 10, "7 entries of 0x1A00, 3 of the touch probe's 0x1A01");
+        let read = |index, sub| match evaluate(
+            &QueryCall::ReadPDO { slv_id: 0, obj_index: index, obj_subindex: sub },
+            &snapshot,
+        ) {
+            Ok(answer) => answer.0,
+            Err(e) => panic!("ReadPDO 0x{index:04X}: {e:?}"),
+        };
+        assert_eq!(read(0x6064, 0), Value::Int(15000), "0x1A00: position actual");
+        assert_eq!(read(0x60B9, 0), Value::Int(1), "0x1A01: touch probe status, TP1 enabled");
+        assert_eq!(read(0x60BA, 0), Value::Int(0), "0x1A01: no positive edge yet");
+        assert_eq!(read(0x60BB, 0), Value::Int(0), "0x1A01: no negative edge yet");
+        assert_eq!(read(0x60BC, 0), Value::Int(-1), "not mapped");
     }
 }

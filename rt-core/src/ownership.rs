@@ -1,14 +1,14 @@
 //! Axis ownership on the machine (DXMC 9, 0x001F; docs/decisions.md, "Axis ownership"):
 //! whose motion an axis runs, for dispatch's refusals, and whom to tell when a stop (a
 //! task's, or the console's leaving Run) cuts that motion short. The kernel says who set
-//! the motion going (`motion::ownership`); the machine knows which tasks still run and
+//! the motion going (`kernel::ownership`); the machine knows which tasks still run and
 //! publishes the alarms.
 
 use api::alarms::Event;
 use ipc::messages::MAX_AXES;
 
 use crate::machine::Machine;
-use crate::motion::ownership::is_box;
+use kernel::ownership::is_box;
 
 /// The axes a stop reaches.
 pub enum Reach {

@@ -16,7 +16,7 @@ use config::MachineConfig;
 use ipc::messages::{MAX_AXES, PtSnapshot};
 
 use crate::io::ControllerIo;
-use crate::motion::Kernel;
+use kernel::Kernel;
 
 /// HMPL 12.9: the position array's length.
 pub const ARRAY_LEN: usize = 256;

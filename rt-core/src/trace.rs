@@ -18,9 +18,9 @@ use crossbeam::queue::ArrayQueue;
 use ipc::messages::Snapshot;
 
 use crate::config::MachineConfig;
-use crate::ecat::Network;
-use crate::motion::Kernel;
 use crate::position_trigger::{PositionTriggers, Pulse};
+use devices::ecat::Network;
+use kernel::Kernel;
 
 /// Axes a trace row holds.
 pub const TRACED_AXES: usize = 8;

@@ -312,8 +312,8 @@ fn the_run_speed_scales_the_motion_of_its_task_only() {
 fn a_second_axis_is_checked_where_its_command_checks_it() {
     let code = |e: SystemError| api::ErrorCode::System(e).code() as i64;
     let mut rig = Rig::new(FaultReaction::None);
-    rig.machine.network.request_state(0, rt_core::ecat::AlState::PreOp).unwrap();
-    assert_ne!(rig.machine.network.state(), rt_core::ecat::AlState::Op);
+    rig.machine.network.request_state(0, devices::ecat::AlState::PreOp).unwrap();
+    assert_ne!(rig.machine.network.state(), devices::ecat::AlState::Op);
     assert_eq!(rig.call(0, Command::EnableGear, &[0, 99], &[]), code(SystemError::HmplNotInOpMode));
     assert_eq!(rig.call(0, Command::EnableGantryPair, &[0, 99], &[]), code(SystemError::HmplNotInOpMode));
     assert_eq!(rig.call(0, Command::EnableGear, &[99, 0], &[]), code(SystemError::HmplArgOutOfRange), "the first axis");

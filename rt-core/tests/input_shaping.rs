@@ -19,9 +19,9 @@ mod rig;
 
 use api::Command;
 use api::call::Value;
+use kernel::shaping::{SHAPER_NORMAL, SHAPER_ROBUST, ShaperParams, Vsf, VsfParams};
 use rig::Rig;
 use rt_core::config::{FaultReaction, MachineConfig, PlantConfig};
-use rt_core::motion::shaping::{SHAPER_NORMAL, SHAPER_ROBUST, ShaperParams, Vsf, VsfParams};
 
 /// A flexible load: its spring's frequency (Hz), damping ratio, mass over the motor's.
 #[derive(Clone, Copy)]

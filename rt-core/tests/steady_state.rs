@@ -17,19 +17,19 @@ use std::time::Duration;
 use api::Command;
 use api::call::Value;
 use calls::plc::SharedPlc;
+use devices::ecat::Network;
 use fun147::{Plc, Reg, Relay};
 use ipc::messages::Request;
 use ipc::messages::motion_status::{ENABLED, INPUT_SHAPE, VSF};
 use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
+use kernel::Kernel;
 use rt_core::MachineConfig;
 use rt_core::config::{SlaveConfig, SlaveDevice, TaskConfig};
 use rt_core::cycle::CycleWork;
-use rt_core::ecat::Network;
 use rt_core::fun147_boxes::Contacts;
 use rt_core::machine::Machine;
-use rt_core::motion::Kernel;
 use rt_core::tasks::{self, Tasks};
 
 /// The system allocator, counting the allocations made inside `run_cycle`.

@@ -18,10 +18,10 @@ pub use config::DriveModel;
 
 use crate::cia402::{State, statusword};
 use crate::coe::ObjectStore;
-use crate::config::{AxisConfig, DriveSettings, TouchProbeKind};
 use crate::ecat::SdoAbort;
 use crate::ecat::device::Device;
 use crate::profile::{Kinematics, ramp_velocity};
+use config::{AxisConfig, DriveSettings, TouchProbeKind};
 use fsa::Fsa;
 use limits::{FollowingError, HardwareLimits, clamp_to_software_limits};
 use modes::homing::{Homing, HomingEvent};

@@ -8,8 +8,8 @@
 
 use crate::coe::{ALL_VARIANTS, Access, ObjectDef};
 use crate::coe::{ObjId, ObjectStore};
-use crate::config::TouchProbeKind;
 use crate::drive::DriveModel;
+use config::TouchProbeKind;
 
 /// The drive models an object exists on (CoE manual table 4-22).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -12,7 +12,7 @@
 //! ω and ζ the load's natural frequency and damping ratio with the motor held. The
 //! loops know only the motor: the load rings after a move, as a cantilever does (HMPL 15.1).
 
-use crate::config::PlantConfig;
+use config::PlantConfig;
 
 /// The servo loops' rate.
 pub const SERVO_PERIOD_S: f64 = 62.5e-6;

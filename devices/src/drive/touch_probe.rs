@@ -6,8 +6,8 @@
 //! index (01), with 0x60BC/0x60BD.
 
 use crate::cia402::touch_probe::*;
-use crate::config::TouchProbeKind;
 use crate::drive::travel::{Edge, Edges};
+use config::TouchProbeKind;
 
 /// What a probe latches.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

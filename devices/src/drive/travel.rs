@@ -4,7 +4,7 @@
 //! raw encoder counts, fixed to the machine (homing shifts the drive's coordinates, not
 //! the switches).
 
-use crate::config::TravelConfig;
+use config::TravelConfig;
 
 /// Signal edges found while the motor moved from one position to the next.
 #[derive(Clone, Copy, Debug, PartialEq)]

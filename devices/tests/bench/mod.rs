@@ -4,9 +4,9 @@
 
 #![allow(dead_code)]
 
-use rt_core::config::{AxisConfig, TravelConfig};
-use rt_core::drive::Drive;
-use rt_core::ecat::{Field, Network};
+use config::{AxisConfig, TravelConfig};
+use devices::drive::Drive;
+use devices::ecat::{Field, Network};
 
 pub const PERIOD_NS: u64 = 1_000_000;
 pub const PERIOD_S: f64 = 1e-3;
@@ -103,7 +103,7 @@ impl Bench {
         self.try_write(index, sub, value).unwrap_or_else(|e| panic!("write 0x{index:04X}:{sub} = {value}: {e}"));
     }
 
-    pub fn try_write(&mut self, index: u16, sub: u8, value: i64) -> Result<(), rt_core::ecat::SdoError> {
+    pub fn try_write(&mut self, index: u16, sub: u8, value: i64) -> Result<(), devices::ecat::SdoError> {
         let bytes = self.net.slaves()[0].sdo_describe(index, sub).map_or(4, |d| d.ty.bytes());
         self.net.sdo_write(0, index, sub, &value.to_le_bytes()[..bytes])
     }

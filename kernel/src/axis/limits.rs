@@ -6,7 +6,7 @@ use api::AxisError;
 use ipc::messages::fault_status;
 
 use super::Axis;
-use crate::profile::Kinematics;
+use devices::profile::Kinematics;
 
 impl Axis {
     /// Before the generator steps: if the move would pass a software limit, stop it with

@@ -18,21 +18,21 @@ use api::AxisError;
 use api::alarms::Alarm;
 use ipc::messages::fault_status;
 
-use crate::cia402::State;
-use crate::coe::fits_width;
-use crate::config::AxisConfig;
-use crate::ecat::Network;
-use crate::motion::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
-use crate::motion::filter::FilterChain;
-use crate::motion::generator::{Generator, Move};
-use crate::motion::homing::Homing;
-use crate::motion::power::PowerEvent;
-use crate::motion::pvt::{Pvt, PvtError, PvtPoint};
-use crate::motion::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
-use crate::motion::shaping::AXIS_MIN_SHAPER_HZ;
-use crate::motion::source::{Engagement, ReferenceSource};
-use crate::motion::touch_probe::TouchProbes;
-use crate::profile::Kinematics;
+use crate::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
+use crate::filter::FilterChain;
+use crate::generator::{Generator, Move};
+use crate::homing::Homing;
+use crate::power::PowerEvent;
+use crate::pvt::{Pvt, PvtError, PvtPoint};
+use crate::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
+use crate::shaping::AXIS_MIN_SHAPER_HZ;
+use crate::source::{Engagement, ReferenceSource};
+use crate::touch_probe::TouchProbes;
+use config::AxisConfig;
+use devices::cia402::State;
+use devices::coe::fits_width;
+use devices::ecat::Network;
+use devices::profile::Kinematics;
 
 /// Below this fraction of the axis' velocity limit the motor counts as standing.
 const STANDSTILL: f64 = 1e-3;
@@ -226,13 +226,13 @@ impl Axis {
     }
 
     /// Records a rejection or a fault as the axis' last error (HMPL 18.3) and returns it.
-    pub(crate) fn fail(&mut self, error: AxisError) -> AxisError {
+    pub fn fail(&mut self, error: AxisError) -> AxisError {
         self.last_err = api::ErrorCode::axis(self.id, error).code();
         error
     }
 
     /// Records an alarm as the axis' last error (`Kernel::record_interruption`).
-    pub(in crate::motion) fn record_alarm(&mut self, alarm: Alarm) {
+    pub(crate) fn record_alarm(&mut self, alarm: Alarm) {
         self.last_err = alarm.0;
     }
 
@@ -543,7 +543,7 @@ impl Axis {
 
     /// HMPL 5.3.19: the present position becomes `pos` by moving the origin (`pos_offset`).
     /// The kernel refuses it on a gantry axis first (`Kernel::set_pos`).
-    pub(in crate::motion) fn set_pos(&mut self, pos: f64) -> Result<(), AxisError> {
+    pub(crate) fn set_pos(&mut self, pos: f64) -> Result<(), AxisError> {
         let refused = if self.is_gear_slave() {
             Some(AxisError::CmdInvalidInSync)
         } else if self.source.group().is_some() {
@@ -708,7 +708,7 @@ impl Axis {
     }
 
     /// The kernel's gantry transform replaces the drive position with a pair's.
-    pub(in crate::motion) fn set_drive_position(&mut self, position: f64) {
+    pub(crate) fn set_drive_position(&mut self, position: f64) {
         self.drive_position = position;
     }
 
@@ -804,13 +804,13 @@ impl Axis {
     // --- gear (HMPL ch. 6): the kernel's gear commands move the source ---
 
     /// `EnableGear`: the kernel has checked the pair of axes.
-    pub(in crate::motion) fn link_gear(&mut self, master: u8) -> Result<(), AxisError> {
+    pub(crate) fn link_gear(&mut self, master: u8) -> Result<(), AxisError> {
         let result = self.source.link_gear(master);
         self.check(result)
     }
 
     /// `DisableGear`: the master it was linked to; an engaged slave comes to rest first.
-    pub(in crate::motion) fn unlink_gear(&mut self) -> Result<u8, AxisError> {
+    pub(crate) fn unlink_gear(&mut self) -> Result<u8, AxisError> {
         let result = self.source.unlink_gear();
         let (master, engaged) = self.check(result)?;
         if engaged.is_some() {
@@ -820,13 +820,13 @@ impl Axis {
     }
 
     /// `GearIn`: the kernel has checked both axes are enabled.
-    pub(in crate::motion) fn engage(&mut self, master: u8, engagement: Engagement) -> Result<(), AxisError> {
+    pub(crate) fn engage(&mut self, master: u8, engagement: Engagement) -> Result<(), AxisError> {
         let result = self.source.engage(master, engagement);
         self.check(result)
     }
 
     /// `GearOut`: the slave comes to rest from where the gear left it.
-    pub(in crate::motion) fn gear_out(&mut self) -> Result<(), AxisError> {
+    pub(crate) fn gear_out(&mut self) -> Result<(), AxisError> {
         let result = self.source.disengage();
         self.check(result)?;
         self.come_to_rest(self.settings.dec);
@@ -836,7 +836,7 @@ impl Axis {
     /// A gear slave's reference from its master's (HMPL 6.1). A slave the master would take
     /// past a limit (its software limits, or the ends of its drive's counts) is disengaged
     /// and stopped with its kill deceleration, as a move would be.
-    pub(in crate::motion) fn follow(&mut self, master: Kinematics) {
+    pub(crate) fn follow(&mut self, master: Kinematics) {
         if let Some(e) = self.source.engagement() {
             let next = e.follow(master);
             if let Some((bit, error)) = self.passes_limit(next) {
@@ -855,19 +855,19 @@ impl Axis {
     // --- groups (HMPL ch. 8): the kernel's group commands move the source ---
 
     /// `AddAxisToGrp`: the kernel has checked the group.
-    pub(in crate::motion) fn join_group(&mut self, group: u8) -> Result<(), AxisError> {
+    pub(crate) fn join_group(&mut self, group: u8) -> Result<(), AxisError> {
         let result = self.source.join_group(group);
         self.check(result)
     }
 
     /// `RemoveAxisFromGrp`, `UngrpAllAxes`: the group is disabled, the axis at rest.
-    pub(in crate::motion) fn leave_group(&mut self) {
+    pub(crate) fn leave_group(&mut self) {
         self.source.leave_group();
     }
 
     /// `EnableGroup`, `ResetGroup`: the group's interpolator takes the reference from where
     /// the axis stands.
-    pub(in crate::motion) fn sync_group(&mut self) {
+    pub(crate) fn sync_group(&mut self) {
         self.source.set_group_sync(true);
     }
 
@@ -875,7 +875,7 @@ impl Axis {
     /// and brings it to rest with `dec` (HMPL table 8.1.1.4: "group leaves sync"). A group
     /// that stands (`group_at_rest`: its move over, or stopped at once) leaves the axis
     /// standing where it is, not braking from the last cycle's step.
-    pub(in crate::motion) fn leave_group_sync(&mut self, dec: f64, group_at_rest: bool) {
+    pub(crate) fn leave_group_sync(&mut self, dec: f64, group_at_rest: bool) {
         if self.source.is_group_synced() {
             self.source.set_group_sync(false);
             if group_at_rest {
@@ -888,7 +888,7 @@ impl Axis {
     /// A synced group axis' reference from its group's interpolator. A reference that would
     /// pass a limit stops the axis with its kill deceleration in error stop, as a move would;
     /// the group sees it in its next cycle and leaves sync (HMPL table 8.1.1.4).
-    pub(in crate::motion) fn follow_group(&mut self, next: Kinematics) {
+    pub(crate) fn follow_group(&mut self, next: Kinematics) {
         if !self.source.is_group_synced() || !self.link.is_enabled() {
             return;
         }
@@ -920,7 +920,7 @@ impl Axis {
     }
 
     /// HMPL 14.1: this cycle's compensation (`Kernel::compensate`).
-    pub(in crate::motion) fn set_compensation(&mut self, value: f64) {
+    pub(crate) fn set_compensation(&mut self, value: f64) {
         self.compensation = value;
     }
 
@@ -931,14 +931,14 @@ impl Axis {
     /// HMPL 14.1: the compensation passed its limit (0x83II0802): the axis' own motion
     /// stops with the kill deceleration in ErrorStop, as at a software limit
     /// (docs/decisions.md, "Compensation").
-    pub(in crate::motion) fn compensation_limit(&mut self) {
+    pub(crate) fn compensation_limit(&mut self) {
         self.kill_stop();
         self.error_stop = true;
         self.fail(AxisError::CompLimit);
     }
 
     /// HMPL 14.3: without compensation the reference is where the (disabled) axis stands.
-    pub(in crate::motion) fn end_compensation(&mut self) {
+    pub(crate) fn end_compensation(&mut self) {
         self.compensation = 0.0;
         self.comp_in_fb = 0.0;
         self.pos_fb = self.drive_position - self.pos_offset;

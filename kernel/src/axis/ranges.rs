@@ -6,8 +6,8 @@
 use api::{AxisError, Quantity, Refusal};
 
 use super::Axis;
-use crate::motion::settings::MAX_SMOOTH_TIME_MS;
-use crate::motion::shaping::{AXIS_MIN_SHAPER_HZ, MAX_SHAPER_DAMPING};
+use crate::settings::MAX_SMOOTH_TIME_MS;
+use crate::shaping::{AXIS_MIN_SHAPER_HZ, MAX_SHAPER_DAMPING};
 
 /// The longest time argument (acceleration, deceleration and in-position times, PVT
 /// times), ms: beyond a minute it is a mistake of units, not a setting.

@@ -4,8 +4,8 @@
 use ipc::messages::{AxisSnapshot, fault_status, motion_status};
 
 use super::Axis;
-use crate::cia402::State;
-use crate::motion::touch_probe::TouchProbes;
+use crate::touch_probe::TouchProbes;
+use devices::cia402::State;
 
 impl Axis {
     /// In position: within the window, at rest, for the window time (HMPL 5.3.45-48).
@@ -28,12 +28,12 @@ impl Axis {
         }
     }
 
-    pub(in crate::motion) fn is_in_position(&self) -> bool {
+    pub(crate) fn is_in_position(&self) -> bool {
         self.in_position()
     }
 
     /// `fault_status` bits but ErrorStop (HMPL table 5.1.1.4).
-    pub(in crate::motion) fn fault_status(&self) -> u32 {
+    pub(crate) fn fault_status(&self) -> u32 {
         self.faults
     }
 
@@ -52,7 +52,7 @@ impl Axis {
 
     /// The axis as the scope and the status functions see it (HMPL tables 5.1.1.1 to
     /// 5.1.1.6), but for its couplings, which the kernel adds (`Kernel::axis_snapshot`).
-    pub(in crate::motion) fn snapshot(&self) -> AxisSnapshot {
+    pub(crate) fn snapshot(&self) -> AxisSnapshot {
         let mut motion = 0;
         if self.link.drive_enabled() {
             motion |= motion_status::ENABLED;

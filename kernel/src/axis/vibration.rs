@@ -5,7 +5,7 @@
 use api::AxisError;
 
 use super::Axis;
-use crate::motion::shaping::{SHAPER_NORMAL, SHAPER_ROBUST, ShaperParams, Vibration, VsfParams};
+use crate::shaping::{SHAPER_NORMAL, SHAPER_ROBUST, ShaperParams, Vibration, VsfParams};
 
 /// Which of the two filters a command addresses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -8,7 +8,7 @@ use ipc::messages::MAX_GROUP_AXES;
 
 use super::settings::{self, KIN_CARTESIAN};
 use super::{COORDINATES, GroupState};
-use crate::motion::Kernel;
+use crate::Kernel;
 
 impl Kernel {
     /// Runs `f` on group `group` and records its refusal as the group's last error.

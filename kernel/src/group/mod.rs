@@ -23,8 +23,8 @@ use path::frames::{CoordSys, Frames};
 use path::planner::{Limits, Planner, Sample};
 use path::smoothing::PathSmoother;
 
-use crate::motion::shaping::{GROUP_MIN_SHAPER_HZ, InputShaper};
-use crate::profile::Kinematics;
+use crate::shaping::{GROUP_MIN_SHAPER_HZ, InputShaper};
+use devices::profile::Kinematics;
 use settings::{GroupSettings, KIN_CARTESIAN, MAX_SMOOTH_MS};
 
 /// MCS coordinates: X, Y, Z, A, B, C (HMPL 8.1.2).
@@ -192,7 +192,7 @@ impl Group {
     }
 
     /// The per-coordinate limits the interpolator keeps: each axis' own (HMPL 8.1).
-    fn limits(&self, axes: &[crate::motion::axis::Axis]) -> Limits {
+    fn limits(&self, axes: &[crate::axis::Axis]) -> Limits {
         let mut limits = Limits { max_vel: [f64::INFINITY; COORDINATES], max_acc: [f64::INFINITY; COORDINATES] };
         for (i, &a) in self.axes().iter().take(COORDINATES).enumerate() {
             let s = axes[a as usize].settings();
@@ -203,7 +203,7 @@ impl Group {
     }
 
     /// `carte_pose_fb` (table 8.1.1.1): the axes' feedback, Cartesian kinematics.
-    pub fn pose_fb(&self, axes: &[crate::motion::axis::Axis]) -> Pose {
+    pub fn pose_fb(&self, axes: &[crate::axis::Axis]) -> Pose {
         let mut pose = [0.0; COORDINATES];
         for (p, &a) in pose.iter_mut().zip(self.axes()) {
             *p = axes[a as usize].pos_fb();
@@ -212,7 +212,7 @@ impl Group {
     }
 
     /// The group as the status functions see it (HMPL tables 8.1.1.1 to 8.1.1.5).
-    pub fn snapshot(&self, axes: &[crate::motion::axis::Axis]) -> GroupSnapshot {
+    pub fn snapshot(&self, axes: &[crate::axis::Axis]) -> GroupSnapshot {
         let members = || self.axes().iter().map(|&a| &axes[a as usize]);
         let moving = self.is_moving();
         let mut motion_status = 0;
@@ -371,8 +371,8 @@ impl super::Kernel {
 
     /// A task failed or was stopped: the groups it set going react as its fault reaction
     /// says; other tasks' groups go on.
-    pub(super) fn react_groups(&mut self, task: u8, reaction: crate::config::FaultReaction) {
-        use crate::config::FaultReaction;
+    pub(super) fn react_groups(&mut self, task: u8, reaction: config::FaultReaction) {
+        use config::FaultReaction;
         for g in 0..self.groups.len() {
             let group = &self.groups[g];
             if group.commander != Some(task) || !group.is_moving() {

@@ -14,7 +14,7 @@ use path::{Pose, Segment};
 
 use super::settings::profile_from;
 use super::{COORDINATES, GroupState};
-use crate::motion::Kernel;
+use crate::Kernel;
 
 /// A path command as the script gave it, in the coordinate system it names.
 #[derive(Clone, Copy, Debug, PartialEq)]

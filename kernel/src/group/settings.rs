@@ -1,7 +1,7 @@
 //! A group's settings (HMPL 8.3) and the ranges of its arguments (HMPL 8.3.6, 8.3.7,
 //! 8.3.28, table 8.3.26.1), each refused with its code of table 18.1.3.1.
 
-use crate::motion::shaping::{GROUP_MIN_SHAPER_HZ, MAX_SHAPER_DAMPING};
+use crate::shaping::{GROUP_MIN_SHAPER_HZ, MAX_SHAPER_DAMPING};
 use api::{GroupError, Quantity, Refusal};
 use path::planner::{BufferMode, LookAhead, Motion, Profile};
 

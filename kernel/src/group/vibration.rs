@@ -5,7 +5,7 @@
 
 use api::{ErrorCode, GroupError};
 
-use crate::motion::shaping::{SHAPER_NORMAL, SHAPER_ROBUST, ShaperParams};
+use crate::shaping::{SHAPER_NORMAL, SHAPER_ROBUST, ShaperParams};
 
 impl super::Group {
     /// The group's shapers are on.
@@ -18,7 +18,7 @@ impl super::Group {
     }
 }
 
-impl crate::motion::Kernel {
+impl crate::Kernel {
     /// Group `group`'s shapers, once it stands (HMPL 15.8-15.10: "not while moving").
     fn group_at_rest(&mut self, group: i64) -> Result<usize, ErrorCode> {
         let g = self.group_id(group)?;

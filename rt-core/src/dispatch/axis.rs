@@ -4,11 +4,11 @@ use api::call::Doubles;
 use api::{AxisError, ErrorCode, SystemError};
 
 use super::{Done, Failure, Outcome, now};
-use crate::ecat::AlState;
 use crate::machine::Machine;
-use crate::motion::axis::Axis;
-use crate::motion::pvt::{MAX_POINTS, PvtPoint};
-use crate::motion::settings::HomeSettings;
+use devices::ecat::AlState;
+use kernel::axis::Axis;
+use kernel::pvt::{MAX_POINTS, PvtPoint};
+use kernel::settings::HomeSettings;
 
 /// A motion command needs EtherCAT in Op (HMPL 2.2; `eERR_HMPL_NOT_IN_OP_MODE`).
 pub(super) fn motion(m: &mut Machine, f: impl FnOnce(&mut Machine) -> Outcome) -> Outcome {

@@ -4,7 +4,7 @@ use api::call::Doubles;
 
 use super::{Done, Outcome, axis::motion, now};
 use crate::machine::Machine;
-use crate::motion::compensation::Setup;
+use kernel::compensation::Setup;
 
 /// HMPL 14.4: a 1-D table.
 pub(super) fn setup_1d(

@@ -4,7 +4,7 @@
 use api::ErrorCode;
 
 use super::{Outcome, axis::motion, now};
-use crate::motion::Kernel;
+use kernel::Kernel;
 
 /// A coupling command: needs EtherCAT in Op, like every motion command.
 pub(super) fn coupling(

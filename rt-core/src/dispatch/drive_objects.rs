@@ -5,9 +5,9 @@ use api::{ErrorCode, SdoAbort, SystemError};
 use ipc::messages::Reply;
 
 use super::{Done, Failure, Outcome, now};
-use crate::coe::fits_width;
-use crate::ecat::{AlState, Field};
 use crate::machine::Machine;
+use devices::coe::fits_width;
+use devices::ecat::{AlState, Field};
 
 /// HMPL 17.2.1: the object's value (sign-extended).
 pub(super) fn read_sdo(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], reply: &mut Reply) -> Outcome {

@@ -6,8 +6,8 @@ use ipc::messages::Reply;
 
 use super::{Outcome, axis::motion, now};
 use crate::machine::Machine;
-use crate::motion::Kernel;
-use crate::motion::group::motion::{Advanced, PathCommand};
+use kernel::Kernel;
+use kernel::group::motion::{Advanced, PathCommand};
 
 /// A group command that changes the machine.
 pub(super) fn group(m: &mut Machine, f: impl FnOnce(&mut Kernel) -> Result<(), ErrorCode>) -> Outcome {

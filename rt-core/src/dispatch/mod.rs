@@ -24,13 +24,13 @@ use calls::wire::{self, DecodeError};
 use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
-use crate::ecat::{AlState, SdoError};
 use crate::machine::Machine;
-use crate::motion::axis::{Ignore, VibrationFilter as Vibration};
-use crate::motion::group::settings as group_settings;
 use crate::ownership::Reach;
 use crate::tasks::Entry;
 use axis::{axis, home_number, motion};
+use devices::ecat::{AlState, SdoError};
+use kernel::axis::{Ignore, VibrationFilter as Vibration};
+use kernel::group::settings as group_settings;
 
 /// How a command failed, in the return convention of its chapter.
 enum Failure {
@@ -351,8 +351,8 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
 }
 
 fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Outcome {
-    use crate::motion::group::motion::PathCommand as P;
     use CommandCall as C;
+    use kernel::group::motion::PathCommand as P;
     use path::planner::Profile;
     match *call {
         // HMPL 5.2: motion.

@@ -6,7 +6,7 @@ use api::AxisError;
 use super::Outcome;
 use super::axis::axis;
 use crate::machine::Machine;
-use crate::motion::touch_probe::TouchProbes;
+use kernel::touch_probe::TouchProbes;
 
 /// Runs `f` on axis `a`'s touch probes.
 pub(super) fn probes(m: &mut Machine, a: i64, f: impl FnOnce(&mut TouchProbes) -> Result<(), AxisError>) -> Outcome {

@@ -4,16 +4,16 @@
 #![allow(dead_code)]
 
 use api::Command;
+use devices::ecat::Network;
 use ipc::messages::{Reply, Request};
 use ipc::shared::SharedData;
 use ipc::shm::zeroed;
 use ipc::task_table::TaskTable;
+use kernel::Kernel;
 use rt_core::MachineConfig;
 use rt_core::config::{FaultReaction, TaskConfig};
 use rt_core::dispatch;
-use rt_core::ecat::Network;
 use rt_core::machine::Machine;
-use rt_core::motion::Kernel;
 use rt_core::tasks::{self, SupervisorEnd, Tasks};
 
 pub struct Rig {

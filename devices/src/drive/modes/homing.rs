@@ -8,12 +8,12 @@
 
 use crate::cia402::controlword::NEW_SET_POINT;
 use crate::cia402::statusword::{OMS_12, OMS_13, TARGET_REACHED};
-use crate::config::DriveSettings;
 use crate::drive::DriveModel;
 use crate::drive::modes::{ModeInput, Setpoint};
 use crate::drive::od;
 use crate::drive::travel::Edge;
 use crate::profile::{Limits, Trapezoid, ramp_velocity};
+use config::DriveSettings;
 
 /// A reference a seek looks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
