@@ -1,0 +1,263 @@
+//! ARCHITECTURE.md invariant 11: no import circle between the files of a crate, except
+//! api's functions <-> registry (the `declare_functions!` macro lives beside the
+//! declarations it reads).
+//!
+//! A file depends on another when it names one of its items through `crate::` or
+//! `super::` (a parent naming its own child modules is how Rust lays out a crate, and is
+//! not counted). Test modules (`#[cfg(test)]`)
+//! do not count: a test may use what it tests. The circles that are there today are
+//! listed in `KNOWN` (issue 37 opens them); a new one fails the test, and so does a listed
+//! one that is gone, so the list can only shrink.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// The circles of today, each as its files (crate-relative, sorted), to be opened.
+const KNOWN: &[&[&str]] = &[
+    &["api/src/functions.rs", "api/src/registry.rs"],
+    &["fun147/src/axes.rs", "fun147/src/sim.rs"],
+    &[
+        "ipc/src/pool.rs",
+        "ipc/src/services.rs",
+        "ipc/src/shared.rs",
+        "ipc/src/shm.rs",
+        "ipc/src/snapshot_board.rs",
+        "ipc/src/task_table.rs",
+    ],
+    &["path/src/blend.rs", "path/src/segment.rs"],
+    &["path/src/planner/mod.rs", "path/src/smoothing.rs"],
+    &["rt-core/src/machine.rs", "rt-core/src/ownership.rs"],
+    &["rt-core/src/position_trigger.rs", "rt-core/src/trace.rs"],
+    &[
+        "script-host/src/bindings/agent.rs",
+        "script-host/src/bindings/expect.rs",
+        "script-host/src/bindings/library.rs",
+        "script-host/src/bindings/locals.rs",
+    ],
+];
+
+/// One crate's files by module path (`a::b` for src/a/b.rs or src/a/b/mod.rs).
+fn modules(src: &Path) -> BTreeMap<Vec<String>, PathBuf> {
+    let mut found = BTreeMap::new();
+    let mut stack = vec![src.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap().map(Result::unwrap) {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let relative = path.strip_prefix(src).unwrap().with_extension("");
+                let mut module: Vec<String> = relative.iter().map(|p| p.to_string_lossy().into_owned()).collect();
+                if matches!(module.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+                    module.pop();
+                }
+                if module.first().is_some_and(|m| m == "bin") {
+                    continue;
+                }
+                found.insert(module, path);
+            }
+        }
+    }
+    found
+}
+
+/// The file's text without its test modules.
+fn without_tests(text: &str) -> &str {
+    text.find("#[cfg(test)]").map_or(text, |at| &text[..at])
+}
+
+/// Every path the file names: `crate::a::b`, `super::c`, and the groups of `use x::{..}`,
+/// each as its segments, with the first segment (`crate`, `super`, `self` or a name).
+fn paths(text: &str) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    let bytes = text.as_bytes();
+    let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let mut i = 0;
+    while i < bytes.len() {
+        let starts_word = i == 0 || !(ident(bytes[i - 1]) || bytes[i - 1] == b':');
+        if starts_word && ident(bytes[i]) {
+            let mut segments = Vec::new();
+            let mut j = i;
+            loop {
+                let start = j;
+                while j < bytes.len() && ident(bytes[j]) {
+                    j += 1;
+                }
+                segments.push(text[start..j].to_string());
+                if text[j..].starts_with("::") && bytes.get(j + 2).is_some_and(|&c| ident(c)) {
+                    j += 2;
+                } else {
+                    break;
+                }
+            }
+            if segments.len() > 1 || text[j..].starts_with("::{") {
+                if text[j..].starts_with("::{") {
+                    let close = text[j..].find('}').map_or(text.len(), |c| j + c);
+                    for item in text[j + 3..close].split(',') {
+                        let first = item.trim().split("::").next().unwrap_or("").trim().to_string();
+                        if !first.is_empty() && first.bytes().all(ident) {
+                            out.push([segments.clone(), vec![first]].concat());
+                        }
+                    }
+                }
+                out.push(segments);
+            }
+            i = j.max(i + 1);
+        } else {
+            i += 1;
+        }
+    }
+    out
+}
+
+/// The module a path names, as the longest known prefix.
+fn resolve(path: &[String], here: &[String], known: &BTreeMap<Vec<String>, PathBuf>) -> Option<Vec<String>> {
+    let (mut base, rest): (Vec<String>, &[String]) = match path[0].as_str() {
+        "crate" => (Vec::new(), &path[1..]),
+        "self" => (here.to_vec(), &path[1..]),
+        "super" => {
+            let mut base = here.to_vec();
+            let mut rest = path;
+            while rest.first().is_some_and(|s| s == "super") {
+                base.pop()?;
+                rest = &rest[1..];
+            }
+            (base, rest)
+        }
+        _ => return None,
+    };
+    let mut best = known.contains_key(&base).then(|| base.clone());
+    for segment in rest {
+        base.push(segment.clone());
+        if known.contains_key(&base) {
+            best = Some(base.clone());
+        } else {
+            break;
+        }
+    }
+    best
+}
+
+/// The strongly connected components of more than one file (Tarjan's algorithm).
+fn circles(edges: &BTreeMap<usize, BTreeSet<usize>>, n: usize) -> Vec<Vec<usize>> {
+    struct Walk<'a> {
+        edges: &'a BTreeMap<usize, BTreeSet<usize>>,
+        index: Vec<Option<usize>>,
+        low: Vec<usize>,
+        on_stack: Vec<bool>,
+        stack: Vec<usize>,
+        next: usize,
+        found: Vec<Vec<usize>>,
+    }
+    impl Walk<'_> {
+        fn visit(&mut self, v: usize) {
+            self.index[v] = Some(self.next);
+            self.low[v] = self.next;
+            self.next += 1;
+            self.stack.push(v);
+            self.on_stack[v] = true;
+            for &w in self.edges.get(&v).into_iter().flatten() {
+                match self.index[w] {
+                    None => {
+                        self.visit(w);
+                        self.low[v] = self.low[v].min(self.low[w]);
+                    }
+                    Some(i) if self.on_stack[w] => self.low[v] = self.low[v].min(i),
+                    Some(_) => {}
+                }
+            }
+            if Some(self.low[v]) == self.index[v] {
+                let mut component = Vec::new();
+                while let Some(w) = self.stack.pop() {
+                    self.on_stack[w] = false;
+                    component.push(w);
+                    if w == v {
+                        break;
+                    }
+                }
+                if component.len() > 1 {
+                    self.found.push(component);
+                }
+            }
+        }
+    }
+    let mut walk = Walk {
+        edges,
+        index: vec![None; n],
+        low: vec![0; n],
+        on_stack: vec![false; n],
+        stack: Vec::new(),
+        next: 0,
+        found: Vec::new(),
+    };
+    for v in 0..n {
+        if walk.index[v].is_none() {
+            walk.visit(v);
+        }
+    }
+    walk.found
+}
+
+/// The circles between the files of the crate in `dir`, as sorted repo-relative paths.
+fn crate_circles(root: &Path, dir: &Path) -> Vec<Vec<String>> {
+    let known = modules(&dir.join("src"));
+    let files: Vec<(&Vec<String>, &PathBuf)> = known.iter().collect();
+    let number: BTreeMap<&Vec<String>, usize> = files.iter().enumerate().map(|(i, (m, _))| (*m, i)).collect();
+    let mut edges: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    for (i, (module, file)) in files.iter().enumerate() {
+        let text = std::fs::read_to_string(file).unwrap();
+        for path in paths(without_tests(&text)) {
+            if let Some(target) = resolve(&path, module, &known)
+                && let Some(&j) = number.get(&target)
+                && j != i
+            {
+                edges.entry(i).or_default().insert(j);
+            }
+        }
+    }
+    let name = |i: usize| files[i].1.strip_prefix(root).unwrap().to_string_lossy().into_owned();
+    let mut found: Vec<Vec<String>> = circles(&edges, files.len())
+        .into_iter()
+        .map(|c| {
+            let mut names: Vec<String> = c.into_iter().map(name).collect();
+            names.sort();
+            names
+        })
+        .collect();
+    found.sort();
+    found
+}
+
+fn workspace_crates(root: &Path) -> Vec<PathBuf> {
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).unwrap();
+    let members = manifest.split("members = [").nth(1).and_then(|s| s.split(']').next()).expect("workspace members");
+    let mut crates: Vec<PathBuf> = members.split(',').map(|m| root.join(m.trim().trim_matches('"'))).collect();
+    crates.push(root.to_path_buf());
+    crates
+}
+
+#[test]
+fn no_import_circle_between_files_but_the_known_ones() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let found: BTreeSet<Vec<String>> = workspace_crates(root).iter().flat_map(|c| crate_circles(root, c)).collect();
+    let known: BTreeSet<Vec<String>> = KNOWN.iter().map(|c| c.iter().map(|s| s.to_string()).collect()).collect();
+    let new: Vec<_> = found.difference(&known).collect();
+    let gone: Vec<_> = known.difference(&found).collect();
+    assert!(new.is_empty(), "import circles between files (ARCHITECTURE.md invariant 11): {new:#?}");
+    assert!(gone.is_empty(), "these circles are open now: take them off KNOWN: {gone:#?}");
+}
+
+/// The checker finds a circle where there is one, and none where there is none.
+#[test]
+fn the_checker_sees_a_circle() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir_all(src.join("a")).unwrap();
+    std::fs::write(src.join("lib.rs"), "mod a;\nmod b;\nmod c;\n").unwrap();
+    std::fs::write(src.join("a/mod.rs"), "mod inner;\nuse self::inner::X;\nuse crate::{b::Y, c};\n").unwrap();
+    std::fs::write(src.join("a/inner.rs"), "pub struct X;\n").unwrap();
+    std::fs::write(src.join("b.rs"), "use super::a::Z;\npub struct Y;\n").unwrap();
+    std::fs::write(src.join("c.rs"), "#[cfg(test)]\nmod tests { use crate::a::Z; }\n").unwrap();
+    let found = crate_circles(dir.path(), dir.path());
+    assert_eq!(found, vec![vec!["src/a/mod.rs".to_string(), "src/b.rs".to_string()]]);
+}
