@@ -26,8 +26,6 @@ const KNOWN: &[&[&str]] = &[
     ],
     &["path/src/blend.rs", "path/src/segment.rs"],
     &["path/src/planner/mod.rs", "path/src/smoothing.rs"],
-    &["rt-core/src/machine.rs", "rt-core/src/ownership.rs"],
-    &["rt-core/src/position_trigger.rs", "rt-core/src/trace.rs"],
     &[
         "script-host/src/bindings/agent.rs",
         "script-host/src/bindings/expect.rs",

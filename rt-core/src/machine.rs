@@ -10,6 +10,7 @@ use crate::console::{ConsoleOrder, ControllerState};
 use crate::fun147_boxes::Boxes;
 use crate::io::ControllerIo;
 use crate::master::PdoForces;
+use crate::ownership;
 use crate::position_trigger::PositionTriggers;
 use crate::tasks::Tasks;
 use devices::ecat::Network;
@@ -76,9 +77,9 @@ impl Machine {
     pub fn switch_state(&mut self, target: ControllerState) {
         let next = if self.network.state() == devices::ecat::AlState::Op { target } else { ControllerState::Fail };
         if self.state.allows_motion() && !next.allows_motion() {
-            let owners = self.owners_reached(&crate::ownership::Reach::All, None);
+            let owners = ownership::owners_reached(&self.kernel, &self.tasks, &ownership::Reach::All, None);
             self.kernel.stop_all();
-            self.tell_owners(&owners);
+            ownership::tell_owners(&mut self.kernel, &mut self.tasks, self.cycle, &owners);
         }
         self.state = next;
     }

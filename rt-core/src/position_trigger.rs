@@ -28,8 +28,9 @@ pub const SAMPLING_HZ: u64 = 16_000;
 pub const PULSE_WIDTH_NS: std::ops::RangeInclusive<i64> = 20..=80_000;
 /// Pulses of a pass kept for `GetPTPulse`.
 pub const PULSE_LOG: usize = 256;
-/// Pulses of one axis and cycle the trace is handed.
-pub const TRACE_PULSES: usize = crate::trace::TRACED_PULSES;
+/// Pulses of one axis and cycle the trace is handed, and that a trace row carries of all
+/// axes together; more in one cycle are counted in the axes' columns only.
+pub const TRACE_PULSES: usize = 8;
 
 /// Why a PT function was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -18,7 +18,7 @@ use crossbeam::queue::ArrayQueue;
 use ipc::messages::Snapshot;
 
 use crate::config::MachineConfig;
-use crate::position_trigger::{PositionTriggers, Pulse};
+use crate::position_trigger::{PositionTriggers, Pulse, TRACE_PULSES};
 use devices::ecat::Network;
 use kernel::Kernel;
 
@@ -26,9 +26,6 @@ use kernel::Kernel;
 pub const TRACED_AXES: usize = 8;
 /// Rows in flight: 16 s at 1 ms.
 const CAPACITY: usize = 16_384;
-/// Position-trigger pulses a row carries (of every axis); more in one cycle are counted in
-/// the axes' columns only.
-pub const TRACED_PULSES: usize = 8;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TracedAxis {
@@ -62,7 +59,7 @@ pub struct TraceRow {
     /// Each traced axis' position-trigger pulses in this cycle.
     pub pt_counts: [u32; TRACED_AXES],
     /// This cycle's first pulses: (axis, pulse).
-    pub pulses: [(u8, Pulse); TRACED_PULSES],
+    pub pulses: [(u8, Pulse); TRACE_PULSES],
     pub pulse_count: usize,
     /// The controller's outputs.
     pub gpo: u32,

@@ -25,7 +25,7 @@ use ipc::Disposition;
 use ipc::messages::{Reply, Request};
 
 use crate::machine::Machine;
-use crate::ownership::Reach;
+use crate::ownership::{self, Reach};
 use crate::tasks::Entry;
 use axis::{axis, home_number, motion};
 use devices::ecat::{AlState, SdoError};
@@ -286,7 +286,7 @@ fn may_command(m: &mut Machine, caller: u8, a: i64, owned: bool) -> Result<u8, F
 /// box owns axis `id`'s motion, `caller`'s command on it is refused with the alarm
 /// `0x1AAA001F`, which is published as the caller's.
 fn may_change(m: &mut Machine, caller: u8, id: u8) -> Result<(), Failure> {
-    match m.motion_owner(id) {
+    match ownership::motion_owner(&m.kernel, &m.tasks, id) {
         Some(owner) if owner != caller => {
             Err(Failure::Alarm(m.tasks.axis_alarm(caller, id, AlarmEvent::CommandBufferBusy, m.cycle)))
         }
@@ -295,7 +295,7 @@ fn may_change(m: &mut Machine, caller: u8, id: u8) -> Result<(), Failure> {
 }
 
 /// The axes a stop reaches. A stop is never refused for ownership (a stop button must
-/// stop); the owners whose motion it cuts short are told (`Machine::tell_owners`).
+/// stop); the owners whose motion it cuts short are told (`ownership::tell_owners`).
 fn reach(call: &CommandCall) -> Option<Reach> {
     use CommandCall as C;
     match *call {
@@ -330,7 +330,7 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
         }
         _ => None,
     };
-    let cut = reach.map(|reach| m.owners_reached(&reach, Some(caller)));
+    let cut = reach.map(|reach| ownership::owners_reached(&m.kernel, &m.tasks, &reach, Some(caller)));
     let outcome = run_command(m, caller, call, reply);
     if outcome.is_ok() {
         let run_speed = m.run_speed(caller);
@@ -344,7 +344,7 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
             m.kernel.claim_group(g, caller);
         }
         if let Some(owners) = &cut {
-            m.tell_owners(owners);
+            ownership::tell_owners(&mut m.kernel, &mut m.tasks, m.cycle, owners);
         }
     }
     outcome
