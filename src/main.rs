@@ -8,8 +8,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
-use config::{MAX_TASKS, MachineConfig, TaskConfig};
+use config::{MachineConfig, TaskConfig};
 use ipc::Namespace;
+use ipc::messages::MAX_TASKS;
 use rt_core::sim_clock::{Clock, Speed};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 
