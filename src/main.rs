@@ -10,9 +10,9 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use config::{MachineConfig, TaskConfig};
 use ipc::Namespace;
-use ipc::messages::MAX_TASKS;
 use rt_core::sim_clock::{Clock, Speed};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
+use schema::MAX_TASKS;
 
 mod drl_cli;
 mod replay_cli;

@@ -33,7 +33,7 @@ impl Default for AsciiConfig {
             bind: "127.0.0.1".into(),
             native_port: 3999,
             user_port: 4000,
-            agent_task: (ipc::messages::MAX_TASKS - 2) as u8,
+            agent_task: (schema::MAX_TASKS - 2) as u8,
             max_connections: 32,
             idle_timeout_ms: 60_000,
         }

@@ -28,7 +28,7 @@ pub struct DrlConfig {
 impl Default for DrlConfig {
     fn default() -> Self {
         DrlConfig {
-            task: (ipc::messages::MAX_TASKS - 1) as u8,
+            task: (schema::MAX_TASKS - 1) as u8,
             projects: None,
             export: None,
             watchdog_ms: TaskConfig::default_watchdog_ms(),
@@ -54,7 +54,7 @@ impl DrlConfig {
     }
 
     pub(crate) fn validate(&self) -> Result<(), ConfigError> {
-        if self.task as usize >= ipc::messages::MAX_TASKS {
+        if self.task as usize >= schema::MAX_TASKS {
             return Err(invalid("drl.task", format!("task ids are 0..63, not {}", self.task)));
         }
         if self.watchdog_ms == 0 || !(1..=4096).contains(&self.memory_limit_mib) {

@@ -23,7 +23,7 @@ mod web;
 
 use std::path::{Path, PathBuf};
 
-use ipc::messages::{MAX_AXES, MAX_TASKS};
+use schema::{MAX_AXES, MAX_TASKS};
 use serde::Deserialize;
 
 pub use ascii::AsciiConfig;
@@ -178,8 +178,8 @@ impl MachineConfig {
         }
         self.rt.validate()?;
         // The snapshot has a fixed room for slaves: drives and terminals share it.
-        if self.axes.len() + self.slaves.len() > ipc::messages::MAX_SLAVES {
-            let max = ipc::messages::MAX_SLAVES;
+        if self.axes.len() + self.slaves.len() > schema::MAX_SLAVES {
+            let max = schema::MAX_SLAVES;
             return Err(invalid("slaves", format!("a bus holds at most {max} slaves, the axes' drives included")));
         }
         slave::validate_slaves(&self.slaves)?;

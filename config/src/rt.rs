@@ -68,8 +68,8 @@ impl RtConfig {
             return Err(invalid("rt.priority", "SCHED_FIFO priorities are 1..99 (0: plain thread)"));
         }
         // Each waiting process is a node of the namespace's services, sized for this many.
-        if self.script_pool > ipc::services::MAX_POOL {
-            let max = ipc::services::MAX_POOL;
+        if self.script_pool > ipc::limits::MAX_POOL {
+            let max = ipc::limits::MAX_POOL;
             return Err(invalid("rt.script_pool", format!("at most {max} waiting script processes (0: none)")));
         }
         Ok(())
@@ -111,7 +111,7 @@ mod tests {
         assert!(RtConfig::default().idle_poll, "idle CPUs poll by default");
         assert!(!parse("idle_poll = false\n").idle_poll);
         assert!(parse("script_pool = 0\n").validate().is_ok());
-        let too_many = format!("script_pool = {}\n", ipc::services::MAX_POOL + 1);
+        let too_many = format!("script_pool = {}\n", ipc::limits::MAX_POOL + 1);
         assert!(
             matches!(parse(&too_many).validate(), Err(ConfigError::Invalid { key, .. }) if key == "rt.script_pool")
         );

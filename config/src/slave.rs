@@ -40,7 +40,7 @@ impl SlaveDevice {
     pub fn max_channels(self) -> u8 {
         match self {
             SlaveDevice::DigitalIo => MAX_TERMINAL_CHANNELS,
-            SlaveDevice::AnalogIo => ipc::messages::MAX_ANALOG_CHANNELS as u8,
+            SlaveDevice::AnalogIo => schema::MAX_ANALOG_CHANNELS as u8,
         }
     }
 }
@@ -57,8 +57,8 @@ pub(crate) fn validate_slaves(slaves: &[SlaveConfig]) -> Result<(), ConfigError>
             }
         }
         let analog = slaves[..=i].iter().filter(|s| s.device == SlaveDevice::AnalogIo).count();
-        if analog > ipc::messages::MAX_ANALOG_TERMINALS {
-            let room = format!("at most {} analog_io terminals", ipc::messages::MAX_ANALOG_TERMINALS);
+        if analog > schema::MAX_ANALOG_TERMINALS {
+            let room = format!("at most {} analog_io terminals", schema::MAX_ANALOG_TERMINALS);
             return Err(invalid(format!("slaves[{i}]"), room));
         }
         if slave.loopback && slave.device != SlaveDevice::AnalogIo {

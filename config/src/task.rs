@@ -4,7 +4,7 @@
 use std::collections::HashSet;
 use std::path::PathBuf;
 
-use ipc::messages::MAX_TASKS;
+use schema::MAX_TASKS;
 use serde::Deserialize;
 
 use crate::error::{ConfigError, invalid};

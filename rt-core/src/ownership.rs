@@ -5,7 +5,7 @@
 //! publishes the alarms.
 
 use api::alarms::Event;
-use ipc::messages::MAX_AXES;
+use schema::MAX_AXES;
 
 use crate::machine::Machine;
 use crate::motion::ownership::is_box;

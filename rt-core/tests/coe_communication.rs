@@ -416,7 +416,7 @@ fn the_snapshot_shows_the_second_pdo_to_programs() {
     net.sdo_write(0, 0x60B8, 0, &[0x01, 0x00]).unwrap();
     net.start(PERIOD_NS).expect("start-up to Op");
     net.exchange(bench::PERIOD_S);
-    let mut snapshot: Box<ipc::messages::Snapshot> = Box::default();
+    let mut snapshot: Box<schema::Snapshot> = Box::default();
     rt_core::master::describe_slaves(&net, &mut snapshot);
     rt_core::master::update_slaves(&net, &mut snapshot);
     assert_eq!(snapshot.slaves[0].tx_count, 9, "7 entries of 0x1A00, 2 of 0x1A01");

@@ -110,7 +110,7 @@ impl AxisConfig {
     pub(crate) fn validate(&self, key: &str) -> Result<(), ConfigError> {
         positive(&format!("{key}.counts_per_unit"), self.counts_per_unit)?;
         if let Some(pt) = &self.pt
-            && !(1..=ipc::messages::GPIO_PINS).contains(&pt.output)
+            && !(1..=schema::GPIO_PINS).contains(&pt.output)
         {
             return Err(invalid(format!("{key}.pt.output"), "a controller GPO, 1..8"));
         }

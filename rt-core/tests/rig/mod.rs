@@ -4,9 +4,7 @@
 #![allow(dead_code)]
 
 use api::Command;
-use ipc::messages::{Reply, Request};
-use ipc::shared::SharedData;
-use ipc::shm::zeroed;
+use ipc::call::{Reply, Request};
 use ipc::task_table::TaskTable;
 use rt_core::MachineConfig;
 use rt_core::config::{FaultReaction, TaskConfig};
@@ -15,6 +13,8 @@ use rt_core::ecat::Network;
 use rt_core::machine::Machine;
 use rt_core::motion::Kernel;
 use rt_core::tasks::{self, SupervisorEnd, Tasks};
+use schema::layout::zeroed;
+use schema::shared::SharedData;
 
 pub struct Rig {
     pub machine: Machine,

@@ -16,7 +16,7 @@ pub use vibration::VibrationFilter;
 
 use api::AxisError;
 use api::alarms::Alarm;
-use ipc::messages::fault_status;
+use schema::fault_status;
 
 use crate::cia402::State;
 use crate::coe::fits_width;
