@@ -8,10 +8,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
-use config::{MAX_TASKS, MachineConfig, TaskConfig};
+use config::{MachineConfig, TaskConfig};
 use ipc::Namespace;
 use rt_core::sim_clock::{Clock, Speed};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
+use schema::MAX_TASKS;
 
 mod drl_cli;
 mod replay_cli;

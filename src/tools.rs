@@ -5,9 +5,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use api::alarms::Alarm;
+use ipc::event_record::{EventKind, EventRecord};
 use ipc::events::EventReader;
-use ipc::messages::{EventKind, EventRecord, TaskState};
 use ipc::{Monitor, Namespace};
+use schema::TaskState;
 
 use crate::stdout::outln;
 
@@ -55,7 +56,7 @@ pub fn tasks(ns: &str) -> Result<ExitCode> {
 
 /// One event in words, as `luamotion events` prints it and the web view lists it.
 pub fn describe(record: &EventRecord) -> String {
-    let who = if record.task == ipc::messages::CONTROLLER {
+    let who = if record.task == ipc::event_record::CONTROLLER {
         "controller".to_string()
     } else {
         format!("task {}", record.task)

@@ -16,14 +16,6 @@ use std::path::{Path, PathBuf};
 const KNOWN: &[&[&str]] = &[
     &["api/src/functions.rs", "api/src/registry.rs"],
     &["fun147/src/axes.rs", "fun147/src/sim.rs"],
-    &[
-        "ipc/src/pool.rs",
-        "ipc/src/services.rs",
-        "ipc/src/shared.rs",
-        "ipc/src/shm.rs",
-        "ipc/src/snapshot_board.rs",
-        "ipc/src/task_table.rs",
-    ],
     &["path/src/blend.rs", "path/src/segment.rs"],
     &["path/src/planner/mod.rs", "path/src/smoothing.rs"],
     &[

@@ -10,8 +10,8 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use common::*;
-use ipc::messages::{MAX_TASKS, TaskState};
 use ipc::shm::Region;
+use schema::{MAX_TASKS, TaskState};
 
 /// The user-table cells the test raises: the programs go on when they see 1.
 const GO: usize = 1000;
@@ -96,7 +96,7 @@ fn sixty_four_tasks_at_once_with_the_tools_attached() {
     let mut monitors: Vec<ipc::Monitor> = (0..4).map(|_| ipc::Monitor::open(&namespace).unwrap()).collect();
     let readers: Vec<ipc::events::EventReader> =
         (0..4).map(|_| ipc::events::EventReader::open(&namespace).unwrap()).collect();
-    let shared = Region::<ipc::shared::SharedData>::open(&namespace, "shared").unwrap();
+    let shared = Region::<schema::shared::SharedData>::open(&namespace, "shared").unwrap();
     // Time for the events tool to subscribe (it starts in milliseconds; the history of 16
     // would not cover 64 events sent before it).
     std::thread::sleep(Duration::from_secs(1));

@@ -124,7 +124,7 @@ fn a_waiting_process_that_dies_is_replaced_and_all_die_with_the_controller() {
     let survivors = waiting_children_of(pid);
     // Now the starts, from the replaced pool.
     let namespace = ipc::Namespace::new(&ns).unwrap();
-    let shared = ipc::shm::Region::<ipc::shared::SharedData>::open(&namespace, "shared").unwrap();
+    let shared = ipc::shm::Region::<schema::shared::SharedData>::open(&namespace, "shared").unwrap();
     shared.set_user_table(0, 1.0);
     let ran = eventually(Duration::from_secs(20), || shared.user_table(1).is_some_and(|runs| runs >= 2.0));
     // SAFETY: killing this test's controller as a crash would.
@@ -180,7 +180,7 @@ fn places_come_back_while_their_tasks_run_and_every_script_dies_with_the_control
     let namespace = ipc::Namespace::new(&ns).unwrap();
     assert!(eventually(Duration::from_secs(20), || ipc::controller_ready(&namespace).unwrap_or(false)));
     let table = ipc::shm::Region::<ipc::task_table::TaskTable>::open(&namespace, "tasks").unwrap();
-    let shared = ipc::shm::Region::<ipc::shared::SharedData>::open(&namespace, "shared").unwrap();
+    let shared = ipc::shm::Region::<schema::shared::SharedData>::open(&namespace, "shared").unwrap();
     let ready = || table.pool.places.iter().filter(|p| p.state() == ipc::pool::PlaceState::Ready).count();
     let mut started = 0;
     for k in 1..=starts {

@@ -1,9 +1,9 @@
-//! The FUN147 register image in the namespace's shared memory (`ipc::plc_image`) as a
+//! The FUN147 register image in the namespace's shared memory (`schema::plc_image`) as a
 //! `fun147::Plc`, and its Modbus addresses (docs/fun147.md, "Modbus"): holding registers in
 //! the SDV range the DXMC map reserves (DXMC A.1), relays packed 16 to a word.
 
 use fun147::{Plc, Reg, Relay};
-use ipc::plc_image::{PlcImage, WordArea};
+use schema::plc_image::{PlcImage, WordArea};
 
 /// The shared image, read and written in place.
 #[derive(Clone, Copy)]

@@ -5,7 +5,7 @@
 use api::analog::ConversionType;
 use api::{ErrorCode, QueryCall, SystemError};
 
-use ipc::messages::{
+use schema::{
     ANALOG_INPUTS, ANALOG_OUTPUTS, AnalogOutputSnapshot, AnalogSnapshot, AxisSnapshot, DigitalWord, GPIO_PINS,
     GroupSnapshot, PdoEntrySnapshot, PtSnapshot, SLAVE_DIGITAL_INPUTS, SLAVE_DIGITAL_OUTPUTS, Snapshot, TaskState,
     channel_mask, fault_status, group_fault_status, group_motion_status, motion_status,

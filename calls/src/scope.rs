@@ -5,8 +5,8 @@
 //! `u32` code in the scope ring (`ipc::scope`), sampled from the cycle's snapshot and the
 //! shared data.
 
-use ipc::messages::{AxisSnapshot, GroupSnapshot, MAX_AXES, MAX_GROUPS, Snapshot};
-use ipc::shared::{SharedData, TestValue, TestVar, USER_TABLE_LEN};
+use schema::shared::{SharedData, TestValue, TestVar, USER_TABLE_LEN};
+use schema::{AxisSnapshot, GroupSnapshot, MAX_AXES, MAX_GROUPS, Snapshot};
 
 type AxisGetter = fn(&AxisSnapshot) -> f64;
 type GroupGetter = fn(&GroupSnapshot, usize) -> f64;

@@ -1,8 +1,8 @@
 //! DXMC A.1: the Modbus user areas, DV (volatile) at 0x0000..0x2FFF and DH (kept across
 //! restarts) at 0x8000..0xAFFF. Their words live in the namespace's shared memory
-//! (`ipc::shared::SharedData`); this is what a Modbus address means.
+//! (`schema::shared::SharedData`); this is what a Modbus address means.
 
-use ipc::shared::{SharedData, USER_AREA_WORDS};
+use schema::shared::{SharedData, USER_AREA_WORDS};
 
 /// Where DV starts in the Modbus address space.
 pub const DV_BASE: u16 = 0x0000;
@@ -71,7 +71,7 @@ mod tests {
     /// A write by address lands in the area's word, and only a DH write counts as one to save.
     #[test]
     fn words_by_address() {
-        let shared: Box<SharedData> = ipc::shm::zeroed();
+        let shared: Box<SharedData> = schema::layout::zeroed();
         assert!(write(&shared, 0x0010, 7));
         assert_eq!(shared.dh_writes(), 0);
         assert!(write(&shared, 0x8010, 9));

@@ -10,7 +10,7 @@ use std::os::fd::AsRawFd;
 use std::path::{Path, PathBuf};
 
 use api::SystemError;
-use ipc::shared::{SharedData, USER_TABLE_LEN};
+use schema::shared::{SharedData, USER_TABLE_LEN};
 
 const FILE: &str = "user_table.bin";
 const BYTES: usize = USER_TABLE_LEN * 8;
@@ -109,7 +109,7 @@ mod tests {
     use super::*;
 
     fn table() -> Box<SharedData> {
-        ipc::shm::zeroed()
+        schema::layout::zeroed()
     }
 
     /// HMPL 11.1: write [3..5] = 2, 6, 4; save; overwrite; load: 2, 6, 4 again.

@@ -8,8 +8,8 @@ use std::borrow::Cow;
 
 use api::call::{Doubles, Sink, Source, TypedCall};
 use api::{ErrorCode, Query, QueryCall};
-use ipc::messages::Snapshot;
 use ipc::task_table::{ANSWER_WORDS, WATCH_ARGS, WatchEntry};
+use schema::Snapshot;
 
 use crate::query::{self, Answer, Value};
 
@@ -136,7 +136,7 @@ impl<'a> Source<'a> for Words {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ipc::messages::motion_status;
+    use schema::motion_status;
 
     fn snapshot(axes: u32) -> Box<Snapshot> {
         let mut s: Box<Snapshot> = Box::default();

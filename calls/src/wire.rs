@@ -1,4 +1,4 @@
-//! A command on the wire (`ipc::messages::Request`): the one place that knows how a typed
+//! A command on the wire (`ipc::call::Request`): the one place that knows how a typed
 //! call (`api::CommandCall`) lies in the argument words and the blob, both ways.
 //!
 //! In the declaration's order, each argument takes one word: an `Int` its value, a
@@ -13,7 +13,7 @@ use std::borrow::Cow;
 
 use api::call::{Doubles, Sink, Source, TypedCall};
 use api::{Command, CommandCall};
-use ipc::messages::{BLOB_SIZE, MAX_ARGS, Request};
+use ipc::call::{BLOB_SIZE, MAX_ARGS, Request};
 
 /// Why a call does not fit in a request.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]

@@ -7,7 +7,7 @@
 //! (`SimSetSlvAIRaw`) go to the device directly, as `inject_fault` does for a drive. With
 //! `loopback` output n is wired to input n.
 
-use ipc::messages::{ANALOG_INPUTS, ANALOG_OUTPUTS, MAX_ANALOG_CHANNELS};
+use schema::{ANALOG_INPUTS, ANALOG_OUTPUTS, MAX_ANALOG_CHANNELS};
 
 use crate::coe::{
     ALL_VARIANTS, DataType, ObjId, ObjectDef, ObjectStore, RO, RO_PDO, RW, RW_PDO, id, terminal_object as row,

@@ -5,7 +5,7 @@
 //! (`SimSetSlvGPI`) go to the device directly, as `inject_fault` does for a drive.
 
 use config::MAX_TERMINAL_CHANNELS;
-use ipc::messages::channel_mask;
+use schema::channel_mask;
 
 use crate::coe::{
     ALL_VARIANTS, DataType, ObjId, ObjectDef, ObjectStore, RO, RO_PDO, RW, RW_PDO, id, terminal_object as row,

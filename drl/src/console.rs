@@ -10,15 +10,16 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
 use api::alarms::{Alarm, Event, Source};
-use ipc::debug::DebugBlock;
+use ipc::event_record::{CONTROLLER, EventKind, EventRecord};
 use ipc::events::EventSender;
-use ipc::messages::{CONTROLLER, EventKind, EventRecord, TaskState};
 use ipc::services::{self, Open};
-use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Monitor, Namespace};
 use rt_core::console::{Console, ConsoleOrder, ControllerState};
 use rt_core::replay::Inputs;
+use schema::TaskState;
+use schema::debug::DebugBlock;
+use schema::shared::SharedData;
 use tokio::sync::oneshot;
 
 use crate::program::{Host, ProgramControl};

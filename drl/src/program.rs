@@ -15,8 +15,8 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use ipc::debug::{DebugBlock, DebugCommand, Halt, RunMode};
-use ipc::messages::TaskState;
+use schema::TaskState;
+use schema::debug::{DebugBlock, DebugCommand, Halt, RunMode};
 
 use crate::codes::{Control, ExecState, Status};
 use crate::projects::{MAX_ID, Projects};

@@ -5,15 +5,19 @@
 
 use iceoryx2::prelude::*;
 
+use schema::shared::SharedData;
+use schema::{MAX_TASKS, Snapshot};
+
+use crate::call::{Reply, Request};
 use crate::clock::monotonic_ns;
-use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
+use crate::error::IpcError;
+use crate::namespace::Namespace;
+use crate::room::region_too_big;
 use crate::services::{self, Ipc};
-use crate::shared::SharedData;
 use crate::shm::Region;
 use crate::snapshot_board::{BoardWriter, SlotWrite, SnapshotBoard};
 use crate::task_table::{RunState, TaskTable};
 use crate::task_waker::TaskWakers;
-use crate::{IpcError, Namespace};
 
 /// Name of the controller's node; a live node of this name owns the namespace.
 pub const CORE_NODE_NAME: &str = "luamotion-core";
@@ -46,7 +50,7 @@ struct TaskChannel {
 }
 
 /// The board slot a cycle writes its snapshot into, then `CoreEndpoint::send_snapshot`.
-pub type SnapshotSample = SlotWrite;
+pub type SnapshotSample = SlotWrite<Snapshot>;
 
 /// Counters the soak test and the logs read.
 #[derive(Clone, Copy, Debug, Default)]
@@ -74,7 +78,7 @@ pub struct CoreIpcStats {
 
 /// The controller's end of the IPC: publishes the snapshot, serves the tasks' requests and wakes them.
 pub struct CoreEndpoint {
-    board: BoardWriter,
+    board: BoardWriter<Snapshot>,
     tasks: Vec<TaskChannel>,
     /// The tasks served, bit t for task t.
     served: u64,
@@ -94,7 +98,8 @@ impl CoreEndpoint {
     /// Creates the snapshot board and the task table, with a mailbox for each configured task.
     pub fn create(ns: &Namespace, task_ids: &[u8]) -> Result<Self, IpcError> {
         let node = services::node(ns, CORE_NODE_NAME)?;
-        let board = BoardWriter::new(SnapshotBoard::create(ns)?);
+        // Without the room for it, says what the shared memory is sized for.
+        let board = BoardWriter::new(SnapshotBoard::create(ns).map_err(|e| region_too_big("snapshot board", e))?);
         let tasks: Vec<TaskChannel> = task_ids
             .iter()
             .filter(|&&id| (id as usize) < MAX_TASKS)

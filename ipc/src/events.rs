@@ -3,9 +3,12 @@
 
 use iceoryx2::prelude::*;
 
-use crate::messages::EventRecord;
-use crate::services::{self, EventPublisher, EventSubscriber, Ipc, Open, failed, too_big};
-use crate::{IpcError, Namespace};
+use crate::advice::failed;
+use crate::error::IpcError;
+use crate::event_record::EventRecord;
+use crate::namespace::Namespace;
+use crate::room::too_big;
+use crate::services::{self, EventPublisher, EventSubscriber, Ipc, Open};
 
 /// A writer of the stream: one per script process, one for the controller.
 pub struct EventSender {

@@ -4,7 +4,7 @@
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
-use crate::Namespace;
+use crate::namespace::Namespace;
 use crate::namespace::base_config;
 
 /// Where POSIX shared memory is (every `lm.<ns>.` region and iceoryx2 data segment).

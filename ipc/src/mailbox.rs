@@ -17,7 +17,10 @@
 
 use std::sync::atomic::{AtomicU64, Ordering, fence};
 
-use crate::messages::{BLOB_SIZE, MAX_ARGS, MAX_TASKS, Reply, Request};
+use schema::MAX_TASKS;
+use schema::layout::Shareable;
+
+use crate::call::{BLOB_SIZE, MAX_ARGS, Reply, Request};
 
 const BLOB_WORDS: usize = BLOB_SIZE / 8;
 const _: () = assert!(BLOB_SIZE.is_multiple_of(8), "the blob is copied in whole words");
@@ -178,6 +181,9 @@ pub struct Calls {
     blobs: [Blobs; MAX_TASKS],
 }
 
+// SAFETY: repr(C), only atomics, valid when zeroed (nothing posted, empty mailboxes).
+unsafe impl Shareable for Calls {}
+
 impl Calls {
     /// Task `task`'s mailbox.
     pub fn mailbox(&self, task: u8) -> Mailbox<'_> {
@@ -208,8 +214,9 @@ impl Calls {
 
 #[cfg(test)]
 mod tests {
+    use schema::layout::zeroed;
+
     use super::*;
-    use crate::task_table::TaskTable;
 
     fn request(seq: u64, words: &[u64], blob: &[u8]) -> Request {
         let mut request = Request::new(42);
@@ -237,8 +244,7 @@ mod tests {
     /// A posted request reaches the core whole, once; the core's reply reaches the task.
     #[test]
     fn a_posted_call_is_taken_once_and_answered() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
-        let calls = &table.calls;
+        let calls: Box<Calls> = zeroed();
         let mut taken = Request::new(0);
         assert_eq!(calls.mailbox(5).read_request(&mut taken), None, "an empty mailbox");
         let sent = request(1 << 32 | 1, &[3, u64::MAX], b"hello, core");
@@ -267,8 +273,8 @@ mod tests {
     /// reads call n's reply, by its sequence number not its own.
     #[test]
     fn a_stale_reply_shows_its_own_sequence() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
-        let mailbox = table.calls.mailbox(1);
+        let calls: Box<Calls> = zeroed();
+        let mailbox = calls.mailbox(1);
         let first = request(7 << 32 | 1, &[1], b"");
         mailbox.write_request(&first);
         mailbox.write_reply(&Reply::to(&first));
@@ -286,8 +292,8 @@ mod tests {
     /// blob, and keeps its counts for the decoder to refuse.
     #[test]
     fn a_request_with_impossible_counts_is_copied_without_panic() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
-        let mailbox = table.calls.mailbox(2);
+        let calls: Box<Calls> = zeroed();
+        let mailbox = calls.mailbox(2);
         let mut hostile = request(3 << 32 | 1, &[1, 2], &[0x55; 16]);
         (hostile.argc, hostile.blob_len) = (u16::MAX, u32::MAX);
         mailbox.write_request(&hostile);
@@ -308,8 +314,8 @@ mod tests {
     /// copies) leaves nothing a reader takes.
     #[test]
     fn a_half_written_request_is_not_taken() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
-        let mailbox = table.calls.mailbox(4);
+        let calls: Box<Calls> = zeroed();
+        let mailbox = calls.mailbox(4);
         mailbox.write_request(&request(5 << 32 | 1, &[1], b""));
         begin_write(&mailbox.heads.request.seq);
         mailbox.heads.request.words[2].store(666, Ordering::Relaxed);
@@ -326,15 +332,15 @@ mod tests {
     /// call is answered with its own arguments, none torn.
     #[test]
     fn calls_between_two_threads_are_never_torn() {
-        let table: std::sync::Arc<Box<TaskTable>> = std::sync::Arc::new(crate::shm::zeroed());
+        let calls: std::sync::Arc<Box<Calls>> = std::sync::Arc::new(zeroed());
         let task = {
-            let table = table.clone();
+            let calls = calls.clone();
             std::thread::spawn(move || {
                 let mut got = Reply::to(&Request::new(0));
                 for n in 1..=2000u64 {
                     let blob = [n as u8; 40];
-                    table.calls.post(3, &request(1 << 32 | n, &[n, !n], &blob));
-                    while table.calls.mailbox(3).read_reply(&mut got) != Some(1 << 32 | n) {
+                    calls.post(3, &request(1 << 32 | n, &[n, !n], &blob));
+                    while calls.mailbox(3).read_reply(&mut got) != Some(1 << 32 | n) {
                         std::hint::spin_loop();
                     }
                     assert_eq!((got.values[0], got.rc), (n * 2, 40), "call {n}");
@@ -344,17 +350,17 @@ mod tests {
         let mut taken = Request::new(0);
         let mut served = 0;
         while served < 2000 {
-            if table.calls.take_posted() & 1 << 3 == 0 {
+            if calls.take_posted() & 1 << 3 == 0 {
                 std::hint::spin_loop();
                 continue;
             }
-            let seq = table.calls.mailbox(3).read_request(&mut taken).expect("posted whole");
+            let seq = calls.mailbox(3).read_request(&mut taken).expect("posted whole");
             assert_eq!((taken.args[1], taken.blob()), (!taken.args[0], &[taken.args[0] as u8; 40][..]));
             let mut reply = Reply::to(&taken);
             reply.push_int(taken.args[0] as i64 * 2);
             reply.rc = taken.blob_len;
             assert_eq!(reply.seq, seq);
-            table.calls.mailbox(3).write_reply(&reply);
+            calls.mailbox(3).write_reply(&reply);
             served += 1;
         }
         task.join().unwrap();

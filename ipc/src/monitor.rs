@@ -1,15 +1,17 @@
 //! A tool's view of a running controller (`luamotion tasks`): its newest snapshot and its
 //! task table, read without taking part in the cycle.
 
-use crate::messages::Snapshot;
+use schema::Snapshot;
+
+use crate::error::IpcError;
+use crate::namespace::Namespace;
 use crate::shm::Region;
 use crate::snapshot_board::{BoardReader, SnapshotBoard};
 use crate::task_table::TaskTable;
-use crate::{IpcError, Namespace};
 
 /// A tool's read-only view of a running controller: its snapshot and its task table.
 pub struct Monitor {
-    state: BoardReader,
+    state: BoardReader<Snapshot>,
     table: Region<TaskTable>,
 }
 
@@ -42,7 +44,7 @@ impl Monitor {
         while self.state.latest().is_none() && std::time::Instant::now() < deadline {
             std::thread::sleep(std::time::Duration::from_millis(1));
         }
-        self.state.latest().ok_or_else(|| IpcError::Service("no snapshot from the controller".into()))
+        self.state.latest().ok_or(IpcError::NoSnapshot)
     }
 
     /// Takes the newest snapshot, without waiting.

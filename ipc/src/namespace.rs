@@ -7,7 +7,7 @@ use iceoryx2_bb_container::semantic_string::SemanticString;
 use iceoryx2_bb_system_types::file_name::FileName;
 use iceoryx2_bb_system_types::path::Path;
 
-use crate::IpcError;
+use crate::error::IpcError;
 
 const MAX_LEN: usize = 40;
 
@@ -61,7 +61,7 @@ impl Namespace {
     /// The iceoryx2 service name of `path` within this namespace.
     pub fn service_name(&self, path: &str) -> Result<ServiceName, IpcError> {
         let name = format!("luamotion/{}/{path}", self.0);
-        ServiceName::new(&name).map_err(|e| IpcError::Service(format!("{name}: {e:?}")))
+        ServiceName::new(&name).map_err(|e| IpcError::Service { what: name, source: e.into() })
     }
 }
 

@@ -14,9 +14,10 @@ use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::time::Duration;
 
 use num_enum::{FromPrimitive, IntoPrimitive};
+use schema::layout::Shareable;
 
 use crate::futex;
-use crate::services::MAX_POOL;
+use crate::limits::MAX_POOL;
 
 /// Node name of a pooled process before it has a task.
 pub const POOL_NODE_NAME: &str = "luamotion-script-pool";
@@ -184,6 +185,9 @@ pub struct Board {
     pub places: [Place; PLACES],
 }
 
+// SAFETY: repr(C), only atomics, valid when zeroed (every place empty).
+unsafe impl Shareable for Board {}
+
 impl Board {
     /// Hands task `task` to the first process waiting (see `Place::hand`): its place and
     /// pid, or `None` when none waits.
@@ -199,14 +203,14 @@ impl Board {
 
 #[cfg(test)]
 mod tests {
+    use schema::layout::zeroed;
+
     use super::*;
-    use crate::task_table::TaskTable;
 
     /// A task handed to a waiting process reaches it whole, once; the place is empty again.
     #[test]
     fn a_task_handed_out_reaches_the_waiting_process() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
-        let board = &table.pool;
+        let board: Box<Board> = zeroed();
         assert_eq!(board.hand(1, 64, b""), None, "nobody waits");
         assert!(board.places[3].offer(4242));
         let entry = "e".repeat(ENTRY_BYTES);
@@ -225,16 +229,16 @@ mod tests {
     /// A process asleep on its place wakes when a task is handed to it from another thread.
     #[test]
     fn a_sleeping_process_wakes_on_its_task() {
-        let table: std::sync::Arc<Box<TaskTable>> = std::sync::Arc::new(crate::shm::zeroed());
-        assert!(table.pool.places[1].offer(1));
+        let board: std::sync::Arc<Box<Board>> = std::sync::Arc::new(zeroed());
+        assert!(board.places[1].offer(1));
         let waiter = {
-            let table = table.clone();
+            let board = board.clone();
             // A long period: only the hand-out's wake ends the sleep in time.
-            std::thread::spawn(move || table.pool.places[1].wait(|| true, Duration::from_secs(30)))
+            std::thread::spawn(move || board.places[1].wait(|| true, Duration::from_secs(30)))
         };
         std::thread::sleep(Duration::from_millis(50));
         let since = std::time::Instant::now();
-        assert_eq!(table.pool.hand(5, 64, b"go"), Some((1, 1)));
+        assert_eq!(board.hand(5, 64, b"go"), Some((1, 1)));
         let got = waiter.join().unwrap().unwrap();
         assert!(since.elapsed() < Duration::from_secs(20), "woken by the hand-out, not the period");
         assert_eq!((got.task, got.entry.as_deref()), (5, Some("go")));
@@ -244,19 +248,19 @@ mod tests {
     /// hand-out fails (the hand-out stands), and a hand-out nobody took can be forgotten.
     #[test]
     fn withdrawal_and_hand_out_exclude_each_other() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
-        let place = &table.pool.places[0];
+        let board: Box<Board> = zeroed();
+        let place = &board.places[0];
         assert!(place.offer(11));
         assert!(!place.withdraw(12, PlaceState::Empty), "another process' offer stands");
         assert!(place.withdraw(11, PlaceState::Closed));
-        assert_eq!(table.pool.hand(1, 64, b""), None);
+        assert_eq!(board.hand(1, 64, b""), None);
         assert_eq!(place.wait(|| true, Duration::from_millis(1)), None, "closed: the process ends");
         assert!(!place.offer(12), "no offer on a closed place");
 
-        let place = &table.pool.places[1];
+        let place = &board.places[1];
         assert!(place.withdraw(13, PlaceState::Empty), "a process that died before its offer");
         assert!(place.offer(14));
-        assert_eq!(table.pool.hand(1, 64, b""), Some((1, 14)));
+        assert_eq!(board.hand(1, 64, b""), Some((1, 14)));
         assert!(!place.withdraw(14, PlaceState::Empty), "handed first");
         place.forget(99);
         assert_eq!(place.state(), PlaceState::Handed, "another process' hand-out stays");
@@ -266,22 +270,22 @@ mod tests {
         assert_eq!(place.wait(|| false, Duration::from_millis(1)), None, "the controller is gone");
         assert!(place.withdraw(15, PlaceState::Empty), "it died waiting");
 
-        let place = &table.pool.places[3];
+        let place = &board.places[3];
         place.expect();
-        assert!(table.pool.coming(), "a process is on its way");
+        assert!(board.coming(), "a process is on its way");
         assert!(place.withdraw(18, PlaceState::Empty), "it died before its offer");
-        assert!(!table.pool.coming());
+        assert!(!board.coming());
         place.expect();
         place.abandon();
-        assert!(!table.pool.coming(), "it could not be started");
+        assert!(!board.coming(), "it could not be started");
         place.expect();
         assert!(place.offer(19), "a process offers itself where it was expected");
-        assert!(!table.pool.coming());
-        assert_eq!(table.pool.hand(5, 64, b""), Some((3, 19)));
+        assert!(!board.coming());
+        assert_eq!(board.hand(5, 64, b""), Some((3, 19)));
 
-        let place = &table.pool.places[2];
+        let place = &board.places[2];
         assert!(place.offer(16));
-        assert_eq!(table.pool.hand(4, 64, b""), Some((2, 16)));
+        assert_eq!(board.hand(4, 64, b""), Some((2, 16)));
         assert!(place.untaken(16) && !place.untaken(17));
         assert!(place.wait(|| true, Duration::from_millis(1)).is_some());
         assert!(!place.untaken(16), "taken");

@@ -10,8 +10,11 @@
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering, fence};
 
-use crate::shm::{Region, Shareable};
-use crate::{IpcError, Namespace};
+use schema::layout::Shareable;
+
+use crate::error::IpcError;
+use crate::namespace::Namespace;
+use crate::shm::Region;
 
 /// Values a row holds.
 pub const CHANNELS: usize = 16;
@@ -171,7 +174,7 @@ mod tests {
 
     #[test]
     fn a_reader_a_ring_behind_sees_the_rows_it_lost() {
-        let ring = crate::shm::zeroed::<ScopeRing>();
+        let ring = schema::layout::zeroed::<ScopeRing>();
         let mut values = [0.0; CHANNELS];
         assert_eq!(ring.read(0, &mut values), RowRead::Pending);
         for cycle in 1..=(ROWS as u64 + 10) {
@@ -186,7 +189,7 @@ mod tests {
 
     #[test]
     fn a_request_is_taken_over_once() {
-        let ring = crate::shm::zeroed::<ScopeRing>();
+        let ring = schema::layout::zeroed::<ScopeRing>();
         let number = ring.request(&[7, 8, 9]);
         let mut codes = [0; CHANNELS];
         assert_eq!(ring.take_request(&mut codes), Some(3));

@@ -15,33 +15,14 @@ use iceoryx2_bb_posix::creation_mode::CreationMode;
 use iceoryx2_bb_posix::shared_memory::{AccessMode, SharedMemory, SharedMemoryBuilder};
 use iceoryx2_bb_system_types::file_name::FileName;
 
-use crate::services::classify;
-use crate::{IpcError, Namespace};
+use schema::layout::Shareable;
+
+use crate::advice::shm_failed;
+use crate::error::{IpcError, Refusal};
+use crate::namespace::Namespace;
 
 /// 2 MiB: the x86-64 and arm64 (4 KiB granule) PMD page, the size of a huge page.
 pub const HUGE_PAGE: usize = 2 << 20;
-
-/// A type that may live in shared memory: `#[repr(C)]`, valid when all-zero, and only
-/// changed through atomics (so `&T` is enough to write it).
-///
-/// # Safety
-/// The implementor guarantees the three properties above.
-pub unsafe trait Shareable: Sync {}
-
-/// A `Shareable` value in this process' own memory, zeroed (for tests and tools that
-/// work without a controller).
-pub fn zeroed<T: Shareable>() -> Box<T> {
-    let layout = std::alloc::Layout::new::<T>();
-    assert!(layout.size() > 0, "shared types have a size");
-    // SAFETY: a `Shareable` type is valid when zeroed, and the layout is `T`'s.
-    unsafe {
-        let ptr = std::alloc::alloc_zeroed(layout) as *mut T;
-        if ptr.is_null() {
-            std::alloc::handle_alloc_error(layout);
-        }
-        Box::from_raw(ptr)
-    }
-}
 
 /// A typed shared-memory region. The creator removes it when dropped.
 pub struct Region<T: Shareable> {
@@ -57,7 +38,7 @@ impl<T: Shareable> Region<T> {
         let shm = map_aligned(&name, size, |builder| {
             builder.creation_mode(CreationMode::PurgeAndCreate).size(size).zero_memory(true).create()
         })
-        .map_err(|e| classify(what, e, IpcError::Shm))?;
+        .map_err(|e| shm_failed(what, e))?;
         Self::checked(shm, what)
     }
 
@@ -65,7 +46,7 @@ impl<T: Shareable> Region<T> {
     pub fn open(ns: &Namespace, what: &str) -> Result<Self, IpcError> {
         let name = file_name(ns, what)?;
         let shm = map_aligned(&name, Self::mapped_size(), |builder| builder.open_existing(AccessMode::ReadWrite))
-            .map_err(|e| classify(what, e, IpcError::Shm))?;
+            .map_err(|e| shm_failed(what, e))?;
         Self::checked(shm, what)
     }
 
@@ -76,7 +57,7 @@ impl<T: Shareable> Region<T> {
 
     fn checked(shm: SharedMemory, what: &str) -> Result<Self, IpcError> {
         if shm.size() < size_of::<T>() || !(shm.base_address().as_ptr() as usize).is_multiple_of(align_of::<T>()) {
-            return Err(IpcError::Shm(format!("{what}: size or alignment does not match this build")));
+            return Err(IpcError::ShmLayout(what.to_string()));
         }
         Ok(Region { shm, _type: PhantomData })
     }
@@ -118,7 +99,7 @@ fn map_aligned<E>(
 
 fn file_name(ns: &Namespace, what: &str) -> Result<FileName, IpcError> {
     let name = format!("{}{what}", ns.prefix());
-    FileName::new(name.as_bytes()).map_err(|e| IpcError::Shm(format!("{name}: {e:?}")))
+    FileName::new(name.as_bytes()).map_err(|e| IpcError::Shm { what: name, source: Refusal::FileName(e) })
 }
 
 #[cfg(test)]

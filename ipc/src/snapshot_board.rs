@@ -1,5 +1,6 @@
-//! The snapshot board (`lm.<ns>.snapshots`): the newest state snapshot, for every task and
-//! tool to read in place.
+//! The snapshot board (`lm.<ns>.snapshots`): the newest value of what one writer publishes
+//! every cycle (the controller's state snapshot, `schema::Snapshot`), for every task and
+//! tool to read in place. The board knows nothing of the value but that it is `Plain`.
 //!
 //! The RT thread writes each cycle's snapshot into a free slot and then makes it the
 //! latest. A reader pins the slot it reads (one byte of its own in `pins`, a hazard
@@ -18,10 +19,14 @@
 use std::cell::UnsafeCell;
 use std::sync::atomic::{AtomicU8, AtomicU32, Ordering};
 
-use crate::messages::{MAX_TASKS, Snapshot};
-use crate::services::{self, MAX_TOOLS};
-use crate::shm::{Region, Shareable};
-use crate::{IpcError, Namespace, process_alive};
+use schema::MAX_TASKS;
+use schema::layout::{Plain, Shareable};
+
+use crate::error::IpcError;
+use crate::limits::MAX_TOOLS;
+use crate::namespace::Namespace;
+use crate::process::process_alive;
+use crate::shm::Region;
 
 /// Readers that are tools (monitors, the web view, the soak), after the tasks'.
 pub const TOOLS: usize = MAX_TOOLS;
@@ -32,23 +37,23 @@ pub const SLOTS: usize = READERS + 2;
 /// The shared-memory file's name under the namespace.
 pub const BOARD_REGION: &str = "snapshots";
 
-/// A slot: a whole snapshot, written only by the RT thread while no reader pins it.
+/// A slot: a whole value, written only by the RT thread while no reader pins it.
 #[repr(C, align(64))]
-struct Slot(UnsafeCell<Snapshot>);
+struct Slot<T>(UnsafeCell<T>);
 
 /// A slot's place in `pins` and `latest`: its index plus one, 0 for none.
 type SlotTag = u8;
 
 /// The board. Each group of fields that one side writes has cache lines of its own.
 #[repr(C)]
-pub struct SnapshotBoard {
+pub struct SnapshotBoard<T: Plain> {
     /// The slot holding the newest snapshot (a `SlotTag`; 0 before the first cycle).
     latest: Padded<AtomicU8>,
     /// The slot each reader reads (a `SlotTag`): written by the readers, read by the writer.
     pins: Padded<[AtomicU8; READERS]>,
     /// The pid of the tool holding each tool reader, 0 when free.
     owners: Padded<[AtomicU32; TOOLS]>,
-    slots: [Slot; SLOTS],
+    slots: [Slot<T>; SLOTS],
 }
 
 /// Fields on cache lines of their own.
@@ -58,24 +63,18 @@ struct Padded<T>(T);
 // SAFETY: repr(C); atomics and plain-number snapshots are valid when zeroed; the atomics
 // change through atomics, and a slot is written (through its `UnsafeCell`) only by the one
 // writer while the pin protocol keeps every reader off it.
-unsafe impl Shareable for SnapshotBoard {}
+unsafe impl<T: Plain> Shareable for SnapshotBoard<T> {}
 // SAFETY: see above: the pins make the writer's and the readers' accesses to a slot exclusive.
-unsafe impl Sync for Slot {}
+unsafe impl<T: Plain> Sync for Slot<T> {}
 
-impl SnapshotBoard {
-    /// Creates the controller's board, empty. Without the room for it, says what the
-    /// shared memory is sized for and where room is missing.
-    pub fn create(ns: &Namespace) -> Result<Region<SnapshotBoard>, IpcError> {
-        Region::create(ns, BOARD_REGION).map_err(|e| match e {
-            IpcError::Shm(error) => {
-                IpcError::Capacity { what: "snapshot board".into(), error, advice: services::room_advice() }
-            }
-            other => other,
-        })
+impl<T: Plain> SnapshotBoard<T> {
+    /// Creates the controller's board, empty.
+    pub fn create(ns: &Namespace) -> Result<Region<SnapshotBoard<T>>, IpcError> {
+        Region::create(ns, BOARD_REGION)
     }
 
     /// Opens a running controller's board.
-    pub fn open(ns: &Namespace) -> Result<Region<SnapshotBoard>, IpcError> {
+    pub fn open(ns: &Namespace) -> Result<Region<SnapshotBoard<T>>, IpcError> {
         Region::open(ns, BOARD_REGION)
     }
 
@@ -94,16 +93,16 @@ impl SnapshotBoard {
         pinned | tag_bit(self.latest.0.load(Ordering::SeqCst))
     }
 
-    fn slot(&self, index: usize) -> *mut Snapshot {
+    fn slot(&self, index: usize) -> *mut T {
         self.slots[index].0.get()
     }
 }
 
 const _: () = assert!(SLOTS <= 128 && SLOTS < SlotTag::MAX as usize, "the taken slots fit a u128 and a tag");
 
-/// The RT thread's end: writes each cycle's snapshot in place into a free slot.
-pub struct BoardWriter {
-    board: Region<SnapshotBoard>,
+/// The RT thread's end: writes each cycle's value in place into a free slot.
+pub struct BoardWriter<T: Plain> {
+    board: Region<SnapshotBoard<T>>,
     /// The layout generation each slot holds, plus one (0: none yet).
     layouts: [u64; SLOTS],
     /// The slot handed out by `begin` and not yet published.
@@ -111,23 +110,23 @@ pub struct BoardWriter {
 }
 
 /// A slot the writer is filling, from `BoardWriter::begin` to `BoardWriter::publish`.
-pub struct SlotWrite {
+pub struct SlotWrite<T> {
     index: usize,
-    snapshot: *mut Snapshot,
+    snapshot: *mut T,
 }
 
-impl SlotWrite {
-    /// The snapshot being written.
-    pub fn payload_mut(&mut self) -> &mut Snapshot {
+impl<T> SlotWrite<T> {
+    /// The value being written.
+    pub fn payload_mut(&mut self) -> &mut T {
         // SAFETY: the slot is neither pinned nor the latest, so no reader looks at it, and
         // the writer hands out one `SlotWrite` at a time.
         unsafe { &mut *self.snapshot }
     }
 }
 
-impl BoardWriter {
+impl<T: Plain> BoardWriter<T> {
     /// The writer of `board` (the controller's only one).
-    pub fn new(board: Region<SnapshotBoard>) -> Self {
+    pub fn new(board: Region<SnapshotBoard<T>>) -> Self {
         BoardWriter { board, layouts: [0; SLOTS], writing: None }
     }
 
@@ -135,7 +134,7 @@ impl BoardWriter {
     /// its versions): copied in only when the slot holds another generation. The caller
     /// writes every other field. `None` when a slot is being written already or every slot
     /// is taken (only a process writing pins that are not its own can do that).
-    pub fn begin(&mut self, layout: &Snapshot, generation: u64) -> Option<SlotWrite> {
+    pub fn begin(&mut self, layout: &T, generation: u64) -> Option<SlotWrite<T>> {
         if self.writing.is_some() {
             return None;
         }
@@ -154,16 +153,16 @@ impl BoardWriter {
     }
 
     /// Makes the slot written the latest.
-    pub fn publish(&mut self, slot: SlotWrite) {
+    pub fn publish(&mut self, slot: SlotWrite<T>) {
         debug_assert_eq!(self.writing, Some(slot.index));
         self.writing = None;
         self.board.latest.0.store(slot.index as SlotTag + 1, Ordering::SeqCst);
     }
 }
 
-/// A reader's end: the newest snapshot, pinned until the next look.
-pub struct BoardReader {
-    board: Region<SnapshotBoard>,
+/// A reader's end: the newest value, pinned until the next look.
+pub struct BoardReader<T: Plain> {
+    board: Region<SnapshotBoard<T>>,
     /// Its reader; `READERS` for none yet (a pooled script process before its task).
     reader: usize,
     /// The tag this reader's pin holds.
@@ -172,9 +171,9 @@ pub struct BoardReader {
     tool: bool,
 }
 
-impl BoardReader {
+impl<T: Plain> BoardReader<T> {
     /// A reader of `board` that reads nothing until `attach_task`.
-    pub fn standby(board: Region<SnapshotBoard>) -> Self {
+    pub fn standby(board: Region<SnapshotBoard<T>>) -> Self {
         BoardReader { board, reader: READERS, pinned: 0, tool: false }
     }
 
@@ -185,7 +184,7 @@ impl BoardReader {
     }
 
     /// A tool's reader: a free one, or one whose owner is dead.
-    pub fn tool(board: Region<SnapshotBoard>) -> Result<Self, IpcError> {
+    pub fn tool(board: Region<SnapshotBoard<T>>) -> Result<Self, IpcError> {
         let pid = std::process::id();
         for (i, owner) in board.owners.0.iter().enumerate() {
             let held = owner.load(Ordering::Acquire);
@@ -197,12 +196,12 @@ impl BoardReader {
                 return Ok(BoardReader { board, reader, pinned: 0, tool: true });
             }
         }
-        Err(IpcError::Service(format!("{TOOLS} tools read this controller's state already")))
+        Err(IpcError::ToolReadersTaken(TOOLS))
     }
 
     /// The newest snapshot; `None` before the controller's first cycle. It stays as it is
     /// (pinned) until the next look.
-    pub fn latest(&mut self) -> Option<&Snapshot> {
+    pub fn latest(&mut self) -> Option<&T> {
         self.refresh();
         self.pinned()
     }
@@ -227,14 +226,14 @@ impl BoardReader {
     }
 
     /// The snapshot the last `refresh` pinned; `None` before the first.
-    pub fn pinned(&self) -> Option<&Snapshot> {
+    pub fn pinned(&self) -> Option<&T> {
         // SAFETY: pinned (`refresh`), so the writer leaves the slot alone until the pin
         // moves, which takes `&mut self`.
         (self.pinned != 0).then(|| unsafe { &*self.board.slot(self.pinned as usize - 1) })
     }
 }
 
-impl Drop for BoardReader {
+impl<T: Plain> Drop for BoardReader<T> {
     fn drop(&mut self) {
         if self.reader == READERS {
             return;
@@ -248,29 +247,40 @@ impl Drop for BoardReader {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::shm::zeroed;
+    use schema::layout::zeroed;
 
-    fn region_pair() -> (Region<SnapshotBoard>, Region<SnapshotBoard>, Namespace) {
+    use super::*;
+
+    /// A small value for the board: a cycle number and a layout part the writer copies in
+    /// only when its generation changes.
+    #[derive(Clone, Copy, Default)]
+    #[repr(C)]
+    struct Counter {
+        cycle: u64,
+        layout: u32,
+    }
+
+    // SAFETY: repr(C), plain numbers, valid when zeroed.
+    unsafe impl Plain for Counter {}
+
+    type Board = SnapshotBoard<Counter>;
+
+    fn region_pair() -> (Region<Board>, Region<Board>, Namespace) {
         static NEXT: AtomicU32 = AtomicU32::new(0);
         let ns = Namespace::new(&format!("board-{}-{}", std::process::id(), NEXT.fetch_add(1, Ordering::Relaxed)))
             .expect("namespace");
-        let created = SnapshotBoard::create(&ns).expect("board");
-        let opened = SnapshotBoard::open(&ns).expect("open");
+        let created = Board::create(&ns).expect("board");
+        let opened = Board::open(&ns).expect("open");
         (created, opened, ns)
     }
 
-    fn write(writer: &mut BoardWriter, cycle: u64) -> usize {
-        let layout = zeroed_snapshot();
+    fn write(writer: &mut BoardWriter<Counter>, cycle: u64) -> usize {
+        let layout = Counter::default();
         let mut slot = writer.begin(&layout, 0).expect("a free slot");
         slot.payload_mut().cycle = cycle;
         let index = slot.index;
         writer.publish(slot);
         index
-    }
-
-    fn zeroed_snapshot() -> Box<Snapshot> {
-        Box::new(Snapshot::default())
     }
 
     /// A reader sees the newest snapshot, and the slot it holds is not written again
@@ -307,7 +317,7 @@ mod tests {
     /// pins a hostile process wrote out of range are ignored.
     #[test]
     fn every_reader_pinned_still_leaves_a_slot() {
-        let board = zeroed::<SnapshotBoard>();
+        let board = zeroed::<Board>();
         for (reader, pin) in board.pins.0.iter().enumerate() {
             pin.store(reader as u8 + 1, Ordering::SeqCst);
         }
@@ -322,16 +332,42 @@ mod tests {
     #[test]
     fn tools_claim_free_and_dead_readers() {
         let (created, _opened, ns) = region_pair();
-        let mut tools: Vec<BoardReader> =
-            (0..TOOLS).map(|_| BoardReader::tool(SnapshotBoard::open(&ns).unwrap()).unwrap()).collect();
-        assert!(BoardReader::tool(SnapshotBoard::open(&ns).unwrap()).is_err(), "all {TOOLS} taken by a live process");
+        let mut tools: Vec<BoardReader<Counter>> =
+            (0..TOOLS).map(|_| BoardReader::tool(Board::open(&ns).unwrap()).unwrap()).collect();
+        assert!(BoardReader::tool(Board::open(&ns).unwrap()).is_err(), "all {TOOLS} taken by a live process");
         let freed = tools.pop().unwrap().reader;
-        assert_eq!(BoardReader::tool(SnapshotBoard::open(&ns).unwrap()).unwrap().reader, freed);
+        assert_eq!(BoardReader::tool(Board::open(&ns).unwrap()).unwrap().reader, freed);
         // A pid that is not running (pid_max is at most 2^22).
         created.owners.0[0].store(1 << 23, Ordering::SeqCst);
         created.pins.0[MAX_TASKS].store(5, Ordering::SeqCst);
-        let taken_over = BoardReader::tool(SnapshotBoard::open(&ns).unwrap()).unwrap();
+        let taken_over = BoardReader::tool(Board::open(&ns).unwrap()).unwrap();
         assert_eq!(taken_over.reader, MAX_TASKS);
         assert_eq!(created.pins.0[MAX_TASKS].load(Ordering::SeqCst), 0, "the dead tool's pin is released");
+    }
+
+    /// The layout part is copied into a slot only when the slot holds another generation;
+    /// the rest of the value is the writer's to write each time.
+    #[test]
+    fn the_layout_is_copied_once_per_slot_and_generation() {
+        let (created, opened, _ns) = region_pair();
+        let mut writer = BoardWriter::new(created);
+        let mut reader = BoardReader::standby(opened);
+        reader.attach_task(0);
+        let publish = |writer: &mut BoardWriter<Counter>, layout: u32, generation: u64, scribble: bool| {
+            let mut slot = writer.begin(&Counter { cycle: 0, layout }, generation).expect("a free slot");
+            if scribble {
+                slot.payload_mut().layout = 99;
+            }
+            writer.publish(slot);
+        };
+        // Without a pin the writer alternates between slots 0 and 1.
+        publish(&mut writer, 7, 0, false);
+        publish(&mut writer, 7, 0, true);
+        publish(&mut writer, 8, 0, false);
+        assert_eq!(reader.latest().map(|c| c.layout), Some(7), "slot 0 again, generation 0: not copied again");
+        publish(&mut writer, 8, 0, false);
+        assert_eq!(reader.latest().map(|c| c.layout), Some(99), "slot 1 keeps what the writer wrote into it");
+        publish(&mut writer, 8, 1, false);
+        assert_eq!(reader.latest().map(|c| c.layout), Some(8), "a new generation is copied in");
     }
 }

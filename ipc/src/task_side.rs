@@ -8,14 +8,18 @@ use std::time::Duration;
 
 use iceoryx2::prelude::*;
 
+use schema::{MAX_TASKS, Snapshot};
+
+use crate::call::{Reply, Request};
 use crate::clock::monotonic_ns;
+use crate::error::IpcError;
 use crate::events::EventSender;
-use crate::messages::{MAX_TASKS, Reply, Request, Snapshot};
+use crate::namespace::Namespace;
+use crate::process::process_alive;
 use crate::services::{self, DeadNodes, Ipc, Open};
 use crate::shm::Region;
 use crate::snapshot_board::{BoardReader, SnapshotBoard};
 use crate::task_table::{RunState, TaskSlot, TaskTable, WaitRequest, WatchEntry};
-use crate::{IpcError, Namespace};
 
 /// How often a blocked script checks that its controller is still alive.
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
@@ -56,7 +60,7 @@ pub struct ReplyCounters {
 /// every task's mailbox), so `attach` opens nothing.
 pub struct PreparedEndpoint {
     controller_pid: u32,
-    state: BoardReader,
+    state: BoardReader<Snapshot>,
     table: Region<TaskTable>,
     node: Node<Ipc>,
 }
@@ -135,7 +139,7 @@ pub struct TaskEndpoint {
     calls_in_cycle: u32,
     share_cycle: u64,
     /// The snapshot board, read as this task's reader once attached.
-    state: BoardReader,
+    state: BoardReader<Snapshot>,
     table: Region<TaskTable>,
     _node: Node<Ipc>,
 }
@@ -160,10 +164,10 @@ impl TaskEndpoint {
     /// for a task the controller does not serve.
     pub fn attach(&mut self, task: u8) -> Result<(), IpcError> {
         if self.task != UNATTACHED {
-            return Err(IpcError::Service(format!("attached to task {} already", self.task)));
+            return Err(IpcError::AlreadyAttached(self.task));
         }
         if (task as usize) >= MAX_TASKS || self.table.calls.configured() & 1 << task == 0 {
-            return Err(IpcError::Service(format!("task {task} is not configured in this controller")));
+            return Err(IpcError::TaskNotConfigured(task));
         }
         self.task = task;
         self.state.attach_task(task);
@@ -196,7 +200,7 @@ impl TaskEndpoint {
                 return Ok(());
             }
             if monotonic_ns() > deadline {
-                return Err(IpcError::Service("no state snapshot from the controller within 5 s".into()));
+                return Err(IpcError::NoSnapshotInTime(5));
             }
             self.check_controller()?;
             std::thread::sleep(Duration::from_millis(1));
@@ -438,6 +442,6 @@ impl TaskEndpoint {
 
     /// Fails when the controller is gone.
     pub fn check_controller(&self) -> Result<(), IpcError> {
-        if crate::process_alive(self.controller_pid) { Ok(()) } else { Err(IpcError::ControllerGone) }
+        if process_alive(self.controller_pid) { Ok(()) } else { Err(IpcError::ControllerGone) }
     }
 }

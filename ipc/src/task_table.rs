@@ -6,13 +6,13 @@
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 use num_enum::{FromPrimitive, IntoPrimitive};
+use schema::MAX_TASKS;
+use schema::debug::DebugBlock;
+use schema::layout::Shareable;
 
-use crate::debug::DebugBlock;
 use crate::futex;
 use crate::mailbox::Calls;
-use crate::messages::MAX_TASKS;
 use crate::pool::Board;
-use crate::shm::Shareable;
 
 /// What a task's script is doing. An unknown word reads as `Idle`: a slot no script
 /// has written yet is zero, and a torn or foreign value must not look alive.
@@ -548,7 +548,7 @@ mod tests {
 
     #[test]
     fn a_program_path_round_trips_and_is_cut_at_a_character() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
+        let table: Box<TaskTable> = schema::layout::zeroed();
         let slot = &table.slots[3];
         slot.set_program("/tmp/a b/main.lua");
         assert_eq!(slot.program(), "/tmp/a b/main.lua");
@@ -560,7 +560,7 @@ mod tests {
     /// A turn is taken once: granted, taken, parked, and nothing to take until the next grant.
     #[test]
     fn a_turn_goes_round_once() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
+        let table: Box<TaskTable> = schema::layout::zeroed();
         let slot = &table.slots[5];
         assert_eq!(slot.baton(), Baton::Held, "a starting task holds the clock");
         assert!(!slot.take_turn());
@@ -581,7 +581,7 @@ mod tests {
     /// next bell.
     #[test]
     fn a_wake_makes_the_syscall_only_for_a_sleeper() {
-        let table: Box<TaskTable> = crate::shm::zeroed();
+        let table: Box<TaskTable> = schema::layout::zeroed();
         let table = &*table;
         table.slots[2].notify(0);
         assert_eq!(table.wake_sleepers(1 << 2), 0, "nobody asleep: no syscall");
@@ -593,7 +593,7 @@ mod tests {
                 .map(|task| {
                     let seen = table.slots[task].wake_count();
                     s.spawn(move || {
-                        crate::pin_current_thread(cpu);
+                        crate::process::pin_current_thread(cpu);
                         table.sleep(task, seen, std::time::Duration::from_secs(20))
                     })
                 })

@@ -14,9 +14,11 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 
+use crate::error::IpcError;
+use crate::futex;
+use crate::namespace::Namespace;
 use crate::shm::Region;
 use crate::task_table::TaskTable;
-use crate::{IpcError, Namespace, futex};
 
 /// The futex wakes handed to one waker thread.
 #[derive(Default)]
@@ -94,9 +96,9 @@ impl TaskWaker {
                 let _ = opened_tx.send(Ok(()));
                 served.serve(&table, &others);
             })
-            .map_err(|e| IpcError::Service(format!("start the task waker: {e}")))?;
+            .map_err(IpcError::TaskWakerThread)?;
         let waker = TaskWaker { handoff, thread: Some(thread), batch: 0 };
-        opened.recv().map_err(|_| IpcError::Service("the task waker ended at its start".into()))??;
+        opened.recv().map_err(|_| IpcError::TaskWakerEnded)??;
         Ok(waker)
     }
 
@@ -146,7 +148,7 @@ impl TaskWakers {
         setup: impl Fn(usize) + Clone + Send + 'static,
     ) -> Result<Self, IpcError> {
         let Some((&first, rest)) = cpus.split_first().filter(|_| cpus.len() <= u8::MAX as usize) else {
-            return Err(IpcError::Service(format!("task wakers for {} CPUs", cpus.len())));
+            return Err(IpcError::TaskWakerCpus(cpus.len()));
         };
         let mut wakers: Vec<TaskWaker> =
             rest.iter().map(|&cpu| TaskWaker::start(ns, cpu, Vec::new(), setup.clone())).collect::<Result<_, _>>()?;
@@ -214,7 +216,7 @@ mod tests {
         let seen = slot.wake_count();
         let (tid_tx, tid) = std::sync::mpsc::channel();
         scope.spawn(move || {
-            assert!(crate::pin_current_thread(cpu), "pinned to CPU {cpu}");
+            assert!(crate::process::pin_current_thread(cpu), "pinned to CPU {cpu}");
             // SAFETY: no arguments.
             tid_tx.send(unsafe { libc::gettid() }).unwrap();
             // A lost wake shows as a count short after `counted`'s 10 s, not as an hour's hang.
@@ -270,6 +272,6 @@ mod tests {
         });
         assert_eq!(counted(&only_a, 1), [1], "CPU {b} has no waker: the first's");
         drop((wakers, only_a, table));
-        crate::remove_namespace_files(&ns);
+        crate::files::remove_namespace_files(&ns);
     }
 }

@@ -5,8 +5,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use ipc::messages::{Request, Snapshot};
+use ipc::call::Request;
 use ipc::{CoreEndpoint, Disposition, Namespace, TaskEndpoint};
+use schema::Snapshot;
 
 fn unique_ns(tag: &str) -> Namespace {
     Namespace::new(&format!("t{}-{tag}", std::process::id())).unwrap()

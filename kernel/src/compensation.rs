@@ -8,7 +8,7 @@
 //! manual leaves open: docs/decisions.md, "Compensation".
 
 use api::{AxisError, ErrorCode};
-use ipc::shared::USER_TABLE_LEN;
+use schema::shared::USER_TABLE_LEN;
 
 use super::Kernel;
 

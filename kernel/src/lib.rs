@@ -23,7 +23,7 @@ pub mod source;
 pub mod touch_probe;
 
 use api::{AxisError, ErrorCode, SystemError};
-use ipc::messages::{AxisSnapshot, Snapshot, motion_status};
+use schema::{AxisSnapshot, Snapshot, motion_status};
 
 use axis::Axis;
 use compensation::Compensations;
@@ -32,7 +32,7 @@ use devices::ecat::Network;
 use gantry::Gantries;
 use group::Group;
 
-pub use ipc::messages::MAX_GROUPS;
+pub use schema::MAX_GROUPS;
 
 pub struct Kernel {
     axes: Vec<Axis>,

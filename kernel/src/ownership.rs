@@ -9,7 +9,7 @@
 //! when another task's stop cut the motion short; the FUN147 boxes take no owned axis.
 
 use api::alarms::Alarm;
-use ipc::messages::MAX_TASKS;
+use schema::MAX_TASKS;
 
 use super::Kernel;
 use super::group::GroupState;

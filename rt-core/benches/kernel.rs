@@ -227,8 +227,8 @@ fn scope(c: &mut Criterion) {
     let ns = ipc::Namespace::new(&format!("bench{}-scope", std::process::id())).unwrap();
     let ring = ipc::scope::ScopeRing::create(&ns, 1_000_000, &codes).unwrap();
     let mut sampler = rt_core::scope::ScopeSampler::new(ring);
-    let shared = ipc::shm::zeroed::<ipc::shared::SharedData>();
-    let mut snapshot = Box::<ipc::messages::Snapshot>::default();
+    let shared = schema::layout::zeroed::<schema::shared::SharedData>();
+    let mut snapshot = Box::<schema::Snapshot>::default();
     c.bench_function("scope_16_variables", |b| {
         b.iter(|| {
             snapshot.cycle += 1;

@@ -4,7 +4,7 @@
 //! themselves travel in process data (`analog_terminal.rs`); this holds no copy of them.
 
 use api::analog::{AxisVariable, ConversionType};
-use ipc::messages::{ANALOG_OUTPUTS, AnalogOutputSnapshot, AxisSnapshot, MAX_ANALOG_CHANNELS, MAX_SLAVES, Snapshot};
+use schema::{ANALOG_OUTPUTS, AnalogOutputSnapshot, AxisSnapshot, MAX_ANALOG_CHANNELS, MAX_SLAVES, Snapshot};
 
 use devices::ecat::Network;
 

@@ -99,7 +99,7 @@ pub fn run(config: MachineConfig, options: RunOptions) -> Result<RunReport, Cont
 }
 
 fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, ControllerError> {
-    ipc::services::check_room()?;
+    ipc::room::check_room()?;
     std::fs::create_dir_all(&options.data_dir)
         .map_err(|source| ControllerError::DataDir { path: options.data_dir.clone(), source })?;
     let (trace, trace_writer) = match &options.trace {

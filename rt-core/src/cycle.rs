@@ -17,8 +17,8 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use api::ErrorCode;
 use hdrhistogram::Histogram;
 use ipc::clock::monotonic_ns;
-use ipc::messages::Snapshot;
 use ipc::{CoreEndpoint, CoreIpcStats};
+use schema::Snapshot;
 
 use crate::console::{ConsoleInbox, ControllerState};
 use crate::dispatch;

@@ -422,7 +422,7 @@ mod tests {
     #[test]
     fn shared_memory_mapped_before_is_rebuilt_in_huge_pages() {
         let ns = ipc::Namespace::new(&format!("huge-{}", std::process::id())).expect("namespace");
-        let region = ipc::shm::Region::<ipc::shared::SharedData>::create(&ns, "huge").expect("a region");
+        let region = ipc::shm::Region::<schema::shared::SharedData>::create(&ns, "huge").expect("a region");
         let at = &*region as *const _ as usize;
         let done = {
             let _turn = ONE_CALL_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());

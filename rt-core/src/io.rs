@@ -3,7 +3,7 @@
 //! task and disables every axis. Inputs are simulated: their electrical level is what
 //! `SimSetGPI` last set.
 
-use ipc::messages::{GPIO_PINS, GpioSnapshot};
+use schema::{GPIO_PINS, GpioSnapshot};
 
 /// HMPL 9.2.6: the E-stop input unless `BindEMO` says otherwise.
 pub const DEFAULT_EMO_INPUT: u8 = 8;

@@ -3,7 +3,7 @@
 //! speed. The cycle (`cycle.rs`) steps it; dispatch (`dispatch/`) applies commands to it.
 
 use api::SystemError;
-use ipc::messages::MAX_TASKS;
+use schema::MAX_TASKS;
 
 use crate::analog::AnalogIo;
 use crate::console::{ConsoleOrder, ControllerState};

@@ -1,7 +1,7 @@
 //! The master's services beside the motion kernel: forced process-data values (HMPL
 //! 17.2.8/17.2.9) and what the snapshot shows of each slave.
 
-use ipc::messages::{
+use schema::{
     AnalogSnapshot, MAX_ANALOG_TERMINALS, MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot,
 };
 

@@ -5,7 +5,7 @@
 //! publishes the alarms.
 
 use api::alarms::Event;
-use ipc::messages::MAX_AXES;
+use schema::MAX_AXES;
 
 use crate::tasks::Tasks;
 use kernel::Kernel;

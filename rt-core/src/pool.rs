@@ -149,7 +149,7 @@ mod tests {
     /// task does not run a second time. One that ended before it took its task is replaced.
     #[test]
     fn a_handed_process_that_ended_counts_as_the_task_s_once_it_took_the_task() {
-        let table: Box<TaskTable> = ipc::shm::zeroed();
+        let table: Box<TaskTable> = schema::layout::zeroed();
         let board = &table.pool;
         let mut pool = Pool::new(2);
         for place in 0..2 {

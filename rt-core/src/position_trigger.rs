@@ -13,7 +13,7 @@
 //! Everything is allocated in `new`; `step` only writes fixed arrays.
 
 use config::MachineConfig;
-use ipc::messages::{MAX_AXES, PtSnapshot};
+use schema::{MAX_AXES, PtSnapshot};
 
 use crate::io::ControllerIo;
 use kernel::Kernel;

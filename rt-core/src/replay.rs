@@ -21,8 +21,8 @@ use std::sync::{Arc, Mutex};
 use calls::clients::ClientOutcome;
 use calls::freeport::EthEvent;
 use crossbeam::queue::ArrayQueue;
-use ipc::messages::{GPIO_PINS, MAX_ANALOG_CHANNELS, MAX_TASKS};
-use ipc::shared::SharedData;
+use schema::shared::SharedData;
+use schema::{GPIO_PINS, MAX_ANALOG_CHANNELS, MAX_TASKS};
 
 /// The first line of a record file; the number is the format's version.
 pub const HEADER: &str = "luamotion-inputs 1";
@@ -454,7 +454,7 @@ mod tests {
     /// both go into the record with that cycle.
     #[test]
     fn writes_land_at_cycle_boundaries() {
-        let shared: Box<SharedData> = ipc::shm::zeroed();
+        let shared: Box<SharedData> = schema::layout::zeroed();
         let inputs = Inputs::new(true, false);
         let replay = [
             Stamped { cycle: 2, input: Input::Modbus { address: 0x0001, value: 11 } },

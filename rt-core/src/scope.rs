@@ -4,10 +4,10 @@
 //! start of a cycle; nothing here allocates or waits.
 
 use calls::scope::Var;
-use ipc::messages::Snapshot;
 use ipc::scope::{CHANNELS, ScopeRing};
-use ipc::shared::SharedData;
 use ipc::shm::Region;
+use schema::Snapshot;
+use schema::shared::SharedData;
 
 pub struct ScopeSampler {
     ring: Region<ScopeRing>,

@@ -25,9 +25,9 @@ use calls::watch;
 use config::TaskConfig;
 use ipc::CoreEndpoint;
 use ipc::clock::monotonic_ns;
-use ipc::messages::{Snapshot, TaskState};
-use ipc::shared::SharedData;
 use ipc::task_table::{Baton, RunState, TaskSlot, TaskTable};
+use schema::shared::SharedData;
+use schema::{Snapshot, TaskState};
 
 use crate::machine::Machine;
 use crate::replay::Feed;

@@ -13,11 +13,12 @@ use std::time::{Duration, Instant};
 
 use api::alarms::{Alarm, Event};
 use ipc::Namespace;
+use ipc::event_record::{EventKind, EventRecord};
 use ipc::events::EventSender;
-use ipc::messages::{EventKind, EventRecord, MAX_TASKS};
 use ipc::services::{self, IpcNode, Open};
 use ipc::shm::Region;
 use ipc::task_table::TaskTable;
+use schema::MAX_TASKS;
 
 use crate::config::TaskConfig;
 use crate::output::{Throttle, spawn_forward};

@@ -15,7 +15,7 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use crossbeam::queue::ArrayQueue;
-use ipc::messages::Snapshot;
+use schema::Snapshot;
 
 use crate::config::MachineConfig;
 use crate::position_trigger::{PositionTriggers, Pulse, TRACE_PULSES};

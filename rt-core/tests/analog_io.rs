@@ -7,9 +7,9 @@ mod rig;
 
 use api::Command;
 use api::analog::{AxisVariable, ConversionType, Range};
-use ipc::messages::{ANALOG_OUTPUTS, Snapshot};
 use rig::Rig;
 use rt_core::config::{FaultReaction, MachineConfig, SlaveConfig, SlaveDevice};
+use schema::{ANALOG_OUTPUTS, Snapshot};
 
 /// Axis 0's drive, then the terminal.
 const TERMINAL: i64 = 1;
@@ -24,7 +24,7 @@ fn rig() -> Rig {
 
 /// What the cycle does after the kernel's stage (`cycle.rs`): the snapshot's axes, then
 /// the bound outputs. Returns the axis as the outputs saw it.
-fn cycle(rig: &mut Rig, snapshot: &mut Snapshot) -> ipc::messages::AxisSnapshot {
+fn cycle(rig: &mut Rig, snapshot: &mut Snapshot) -> schema::AxisSnapshot {
     rig.cycle();
     let m = &mut rig.machine;
     m.kernel.fill(snapshot);

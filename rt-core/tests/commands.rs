@@ -7,9 +7,9 @@ mod rig;
 
 use api::call::Value;
 use api::{Command, SystemError};
-use ipc::messages::{MAX_TASKS, TaskSnapshot, motion_status};
 use rt_core::config::FaultReaction;
 use rt_core::tasks::Entry;
+use schema::{MAX_TASKS, TaskSnapshot, motion_status};
 
 use rig::Rig;
 
@@ -19,7 +19,7 @@ const BUSY: i64 = 0x1000_001F;
 const BUSY_1: i64 = 0x1001_001F;
 
 /// Cycles until axis `a` is at rest and in position (HMPL 5.3.45); fails after 20 s.
-fn settle(rig: &mut Rig, a: usize) -> ipc::messages::AxisSnapshot {
+fn settle(rig: &mut Rig, a: usize) -> schema::AxisSnapshot {
     for _ in 0..20_000 {
         rig.cycle();
         let s = rig.machine.kernel.axis_snapshot(a);
@@ -199,7 +199,7 @@ fn a_groups_path_and_its_axes_are_its_commanders() {
             break;
         }
     }
-    let mut snapshot = ipc::messages::Snapshot::default();
+    let mut snapshot = schema::Snapshot::default();
     rig.machine.kernel.fill(&mut snapshot);
     assert_eq!(
         snapshot.group_last_err[0] & 0xFFFF,

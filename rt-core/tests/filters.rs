@@ -6,9 +6,9 @@ mod rig;
 
 use api::Command;
 use api::call::Value;
-use ipc::messages::{group_motion_status, motion_status};
 use rig::Rig;
 use rt_core::config::FaultReaction;
+use schema::{group_motion_status, motion_status};
 
 fn rig() -> Rig {
     Rig::new(FaultReaction::None)

@@ -7,9 +7,10 @@ mod rig;
 
 use api::call::Value;
 use api::{AxisError, Command, ErrorCode, GroupError};
-use ipc::messages::{Reply, group_fault_status, group_motion_status};
+use ipc::call::Reply;
 use rig::Rig;
 use rt_core::config::FaultReaction;
+use schema::{group_fault_status, group_motion_status};
 
 const G: i64 = 0;
 
@@ -32,7 +33,7 @@ fn list(v: &[f64]) -> Value {
 trait Groups {
     fn group(&mut self, command: Command, args: &[Value]) -> i64;
     fn six(&mut self, command: Command, coord_sys: i64) -> [f64; 6];
-    fn snapshot(&self) -> ipc::messages::GroupSnapshot;
+    fn snapshot(&self) -> schema::GroupSnapshot;
     fn pose(&self) -> [f64; 6];
     fn till_in_pos(&mut self, max_cycles: usize) -> usize;
 }
@@ -53,8 +54,8 @@ impl Groups for Rig {
         std::array::from_fn(|i| f64::from_bits(reply.values[i + 1]))
     }
 
-    fn snapshot(&self) -> ipc::messages::GroupSnapshot {
-        let mut s = ipc::messages::Snapshot::default();
+    fn snapshot(&self) -> schema::GroupSnapshot {
+        let mut s = schema::Snapshot::default();
         self.machine.kernel.fill(&mut s);
         s.groups[G as usize]
     }
@@ -136,7 +137,7 @@ fn a_grouped_axis_refuses_its_own_motion() {
     assert_eq!(rig.call(0, Command::MoveHome, &[0], &[]), refused);
     assert_eq!(rig.call(0, Command::SetPos, &[0], &[5.0]), refused, "HMPL 5.3.19: not while grouped");
     let s = rig.machine.kernel.axis_snapshot(0);
-    assert_ne!(s.motion_status & ipc::messages::motion_status::GROUP, 0, "table 5.1.1.5 bit 4");
+    assert_ne!(s.motion_status & schema::motion_status::GROUP, 0, "table 5.1.1.5 bit 4");
 }
 
 #[test]
@@ -192,9 +193,9 @@ fn defaults_and_ranges_of_the_settings() {
         code(GroupError::CmdCoordSysUnknown),
         "CS_GLOBAL is not supported"
     );
-    let last = ipc::messages::Snapshot::default().group_last_err.len();
+    let last = schema::Snapshot::default().group_last_err.len();
     assert!(last > 0);
-    let mut s = ipc::messages::Snapshot::default();
+    let mut s = schema::Snapshot::default();
     rig.machine.kernel.fill(&mut s);
     assert_eq!(s.group_last_err[0] as i64, code(GroupError::CmdCoordSysUnknown), "HMPL 18.5: the last error");
 }
@@ -421,7 +422,7 @@ fn a_software_limit_stops_the_axis_and_the_group_leaves_sync() {
     let s = rig.snapshot();
     assert_ne!(s.fault_status & group_fault_status::ERROR_STOP, 0, "table 8.1.1.4 bit 0");
     assert_ne!(s.fault_status & group_fault_status::SOFTWARE_LIMIT, 0, "table 8.1.1.4 bit 2");
-    let mut snapshot = ipc::messages::Snapshot::default();
+    let mut snapshot = schema::Snapshot::default();
     rig.machine.kernel.fill(&mut snapshot);
     assert_eq!(snapshot.group_last_err[0] as i64, code(GroupError::AxisSwl), "table 18.1.3.1 0x03FC");
     let y = rig.machine.kernel.axes()[1].pos_fb();

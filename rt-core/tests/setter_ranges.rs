@@ -7,8 +7,9 @@
 mod rig;
 
 use api::Command;
-use ipc::messages::{AxisSnapshot, Request};
+use ipc::call::Request;
 use rt_core::config::FaultReaction;
+use schema::AxisSnapshot;
 
 /// The largest coordinate of the default axes: i32::MAX counts at 10 000 counts per mm.
 const SPAN: f64 = i32::MAX as f64 / 10_000.0;

@@ -7,10 +7,10 @@ mod rig;
 use api::call::Value;
 use api::{Command, Query, QueryCall};
 use devices::terminal::DigitalIoTerminal;
-use ipc::messages::Snapshot;
 use rig::Rig;
 use rt_core::config::{AxisConfig, FaultReaction, MachineConfig, SlaveConfig, SlaveDevice};
 use rt_core::master;
+use schema::Snapshot;
 
 const DRIVE: i64 = 0;
 /// A drive with 0x60FE:01 in its RxPDO.

@@ -19,9 +19,7 @@ use api::call::Value;
 use calls::plc::SharedPlc;
 use devices::ecat::Network;
 use fun147::{Plc, Reg, Relay};
-use ipc::messages::Request;
-use ipc::messages::motion_status::{ENABLED, INPUT_SHAPE, VSF};
-use ipc::shared::SharedData;
+use ipc::call::Request;
 use ipc::shm::Region;
 use ipc::{CoreEndpoint, Namespace, TaskEndpoint};
 use kernel::Kernel;
@@ -31,6 +29,8 @@ use rt_core::cycle::CycleWork;
 use rt_core::fun147_boxes::Contacts;
 use rt_core::machine::Machine;
 use rt_core::tasks::{self, Tasks};
+use schema::motion_status::{ENABLED, INPUT_SHAPE, VSF};
+use schema::shared::SharedData;
 
 /// The system allocator, counting the allocations made inside `run_cycle`.
 struct Counting;

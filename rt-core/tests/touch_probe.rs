@@ -8,9 +8,9 @@ mod rig;
 
 use api::{AxisError, Command, ErrorCode, Query, QueryCall};
 use calls::query::{Answer, Value};
-use ipc::messages::Snapshot;
 use rig::Rig;
 use rt_core::config::{FaultReaction, MachineConfig, TouchProbeKind};
+use schema::Snapshot;
 
 const INDEX_ONLY: i64 = 0;
 const CIA402: i64 = 1;

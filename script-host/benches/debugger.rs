@@ -10,9 +10,9 @@
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use ipc::debug::RunMode;
 use ipc::task_table::TaskTable;
 use mlua::{HookTriggers, Lua, VmState};
+use schema::debug::RunMode;
 use script_host::debugger::{Debugger, LINE_INSTRUCTIONS, SharedTable};
 use script_host::sandbox;
 
@@ -68,7 +68,7 @@ fn never_reached_line() -> u32 {
 
 /// One run in a fresh VM: the time and the program's result.
 fn run_once(setup: Setup) -> mlua::Result<(Duration, i64)> {
-    let table: SharedTable = Rc::new(ipc::shm::zeroed::<TaskTable>());
+    let table: SharedTable = Rc::new(schema::layout::zeroed::<TaskTable>());
     let lua = sandbox::new_vm(256 << 20)?;
     setup.prepare(&lua, &table)?;
     let program = lua.load(PROGRAM).set_name(CHUNK).into_function()?;

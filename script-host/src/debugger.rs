@@ -36,12 +36,12 @@ use std::rc::Rc;
 use std::time::Duration;
 
 use ipc::IpcError;
-use ipc::debug::{DebugBlock, DebugCommand, Halt, RunMode};
 use ipc::task_table::{RunState, TaskSlot, TaskTable};
 use mlua::debug::{Debug, DebugEvent};
 use mlua::ffi;
 use mlua::thread::ThreadStatus;
 use mlua::{HookTriggers, Lua, Thread, VmState};
+use schema::debug::{DebugBlock, DebugCommand, Halt, RunMode};
 
 /// VM instructions between two count events of the line hook (the depth check while
 /// debugging): a few microseconds of Lua.
@@ -472,7 +472,7 @@ mod tests {
             }
             let program = folder.path().join("main.lua");
             std::fs::write(&program, main).unwrap();
-            let table: Arc<TaskTable> = Arc::from(ipc::shm::zeroed::<TaskTable>());
+            let table: Arc<TaskTable> = Arc::from(schema::layout::zeroed::<TaskTable>());
             table.slots[TASK].debug.prepare(mode, breakpoints);
             let alive = Arc::new(AtomicBool::new(true));
             let handle = {

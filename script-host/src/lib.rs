@@ -18,10 +18,10 @@ use std::rc::Rc;
 use api::SystemError;
 use ipc::pool::{Assignment, POOL_NODE_NAME};
 use ipc::services::DeadNodes;
-use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::task_table::{EndCode, RunState, TaskSlot, TaskTable};
 use ipc::{IpcError, Namespace, PreparedEndpoint, TaskEndpoint};
+use schema::shared::SharedData;
 
 use bindings::Host;
 pub use bindings::freeport_sim::FreePortInputs;

@@ -15,9 +15,10 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::{Node, ZeroCopySend};
 use iceoryx2::service::port_factory::publish_subscribe;
 
+use ::ipc::advice::failed;
+use ::ipc::call::{Reply, Request};
 use ::ipc::clock::monotonic_ns;
-use ::ipc::messages::{Reply, Request};
-use ::ipc::services::{self, Ipc, Open, WakeListener, WakeNotifier, failed};
+use ::ipc::services::{self, Ipc, Open, WakeListener, WakeNotifier};
 use ::ipc::shm::Region;
 use ::ipc::task_table::TaskTable;
 use ::ipc::{IpcError, Namespace};

@@ -30,10 +30,10 @@ use axum::{Json, Router};
 use drl::ascii::Agent;
 use drl::codes::{ExecState, Status};
 use ipc::events::EventReader;
-use ipc::messages::{Snapshot, TaskState, motion_status};
 use ipc::task_table::TaskTable;
 use ipc::{IpcError, Monitor, Namespace};
 use rt_core::replay::{Input, Inputs};
+use schema::{Snapshot, TaskState, motion_status};
 use serde::Deserialize;
 use serde_json::{Value, json};
 use tokio::io::AsyncWriteExt;
@@ -368,7 +368,7 @@ async fn axis_command(
 
 /// A controller input's level as a switch wired to it sets it (`SimSetGPI`).
 async fn sim_gpi(State(app): State<App>, Path((pin, level)): Path<(u8, u8)>) -> impl IntoResponse {
-    if level > 1 || !(1..=ipc::messages::GPIO_PINS as u8).contains(&pin) {
+    if level > 1 || !(1..=schema::GPIO_PINS as u8).contains(&pin) {
         return Err((axum::http::StatusCode::BAD_REQUEST, "inputs are 1..8, levels 0 or 1".to_string()));
     }
     Ok(simulate(&app, format!("SimSetGPI({pin}, {level})"), Input::Gpi { pin, on: level == 1 }).await)

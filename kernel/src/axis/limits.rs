@@ -3,7 +3,7 @@
 //! the limit disables the axis; the Ignore* switches suppress each.
 
 use api::AxisError;
-use ipc::messages::fault_status;
+use schema::fault_status;
 
 use super::Axis;
 use devices::profile::Kinematics;

@@ -16,7 +16,7 @@ pub use vibration::VibrationFilter;
 
 use api::AxisError;
 use api::alarms::Alarm;
-use ipc::messages::fault_status;
+use schema::fault_status;
 
 use crate::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
 use crate::filter::FilterChain;

@@ -1,7 +1,7 @@
 //! What an axis shows (HMPL 5.1.1, 5.3.17/18, 5.4): in position, move and settling
 //! times, and the snapshot with `motion_status` and `fault_status` (tables 5.1.1.4/5).
 
-use ipc::messages::{AxisSnapshot, fault_status, motion_status};
+use schema::{AxisSnapshot, fault_status, motion_status};
 
 use super::Axis;
 use crate::touch_probe::TouchProbes;

@@ -81,7 +81,7 @@ impl Axis {
 
     /// `motion_status` bits 6 (InShape) and 7 (VSF), HMPL table 5.1.1.5.
     pub(super) fn vibration_status(&self) -> u32 {
-        use ipc::messages::motion_status;
+        use schema::motion_status;
         let Some(stage) = self.filters.vibration_ref() else { return 0 };
         let mut bits = 0;
         if stage.shaper.is_enabled() {

@@ -4,7 +4,7 @@
 //! table 18.1.3.1.
 
 use api::{ErrorCode, GroupError};
-use ipc::messages::MAX_GROUP_AXES;
+use schema::MAX_GROUP_AXES;
 
 use super::settings::{self, KIN_CARTESIAN};
 use super::{COORDINATES, GroupState};

@@ -16,12 +16,12 @@ pub mod settings;
 mod vibration;
 
 use api::{ErrorCode, GroupError};
-use ipc::messages::{GroupSnapshot, MAX_GROUP_AXES, fault_status, group_fault_status, group_motion_status};
 use path::Pose;
 use path::blend::{TransitionMode, TransitionParams};
 use path::frames::{CoordSys, Frames};
 use path::planner::{Limits, Planner, Sample};
 use path::smoothing::PathSmoother;
+use schema::{GroupSnapshot, MAX_GROUP_AXES, fault_status, group_fault_status, group_motion_status};
 
 use crate::shaping::{GROUP_MIN_SHAPER_HZ, InputShaper};
 use devices::profile::Kinematics;

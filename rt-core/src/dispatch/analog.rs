@@ -6,7 +6,7 @@
 
 use api::SystemError;
 use api::analog::{ConversionType, split_var_id};
-use ipc::messages::ANALOG_OUTPUTS;
+use schema::ANALOG_OUTPUTS;
 
 use super::{Done, Failure, Outcome};
 use crate::analog::Output;

@@ -2,7 +2,7 @@
 //! reply's `rc` says why (a CiA 301 abort code or an HMPL code).
 
 use api::{ErrorCode, SdoAbort, SystemError};
-use ipc::messages::Reply;
+use ipc::call::Reply;
 
 use super::{Done, Failure, Outcome, now};
 use crate::machine::Machine;

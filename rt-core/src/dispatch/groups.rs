@@ -2,7 +2,7 @@
 
 use api::call::Doubles;
 use api::{ErrorCode, GroupError};
-use ipc::messages::Reply;
+use ipc::call::Reply;
 
 use super::{Outcome, axis::motion, now};
 use crate::machine::Machine;

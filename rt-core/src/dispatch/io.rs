@@ -1,7 +1,7 @@
 //! HMPL ch. 9: the controller's digital I/O, and the slaves' digital outputs (9.3) written
 //! into their process data.
 
-use ipc::messages::{SLAVE_DIGITAL_OUTPUTS, channel_mask};
+use schema::{SLAVE_DIGITAL_OUTPUTS, channel_mask};
 
 use super::{Done, Failure, Outcome, drive_objects::out_of_range};
 use crate::io::NoSuchPin;

@@ -22,7 +22,7 @@ use api::call::{Doubles, Sink};
 use api::{ArgSpec, CommandCall, ErrorCode, GroupError, Quantity, Refusal, Role, SdoAbort, SystemError};
 use calls::wire::{self, DecodeError};
 use ipc::Disposition;
-use ipc::messages::{Reply, Request};
+use ipc::call::{Reply, Request};
 
 use crate::machine::Machine;
 use crate::ownership::{self, Reach};

@@ -1,7 +1,7 @@
 //! HMPL ch. 12: the position trigger, on axes whose drive has one (`[axes.pt]`).
 
 use api::{AxisError, ErrorCode, SystemError};
-use ipc::messages::Reply;
+use ipc::call::Reply;
 
 use super::{Done, Failure, Outcome};
 use crate::machine::Machine;

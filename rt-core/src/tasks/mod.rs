@@ -9,9 +9,9 @@ mod watchdog;
 
 use api::SystemError;
 use api::alarms::{Alarm, Event};
-use ipc::messages::{MAX_TASKS, TaskSnapshot, TaskState};
-use ipc::shared::SharedData;
 use ipc::task_table::{EndCode, PROGRAM_BYTES, RunState, TaskTable};
+use schema::shared::SharedData;
+use schema::{MAX_TASKS, TaskSnapshot, TaskState};
 
 use crate::config::{FaultReaction, TaskConfig};
 pub use link::{AlarmReport, CoreLink, ENTRY_BYTES, Entry, Exit, Order, Report, SupervisorEnd, link};
@@ -372,7 +372,7 @@ impl Tasks {
                 }
                 task.pid = None;
                 // Only now that the process is gone can its mutexes go to another task.
-                shared.release_mutexes_of(t);
+                ipc::mutex::release_mutexes_of(shared, t);
                 if task.state == TaskState::Starting && !task.ordered {
                     // The previous run's process: the new one can start now.
                     return;
@@ -453,7 +453,7 @@ impl Tasks {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ipc::shm::zeroed;
+    use schema::layout::zeroed;
 
     struct Rig {
         tasks: Tasks,

@@ -64,7 +64,7 @@ mod tests {
     use ipc::task_table::{TaskTable, WaitRequest};
 
     fn table() -> Box<TaskTable> {
-        ipc::shm::zeroed()
+        schema::layout::zeroed()
     }
 
     /// The first cycle in `from..to` the watchdog, asked every cycle, calls the task hung.

@@ -5,9 +5,7 @@
 
 use api::Command;
 use devices::ecat::Network;
-use ipc::messages::{Reply, Request};
-use ipc::shared::SharedData;
-use ipc::shm::zeroed;
+use ipc::call::{Reply, Request};
 use ipc::task_table::TaskTable;
 use kernel::Kernel;
 use rt_core::MachineConfig;
@@ -15,6 +13,8 @@ use rt_core::config::{FaultReaction, TaskConfig};
 use rt_core::dispatch;
 use rt_core::machine::Machine;
 use rt_core::tasks::{self, SupervisorEnd, Tasks};
+use schema::layout::zeroed;
+use schema::shared::SharedData;
 
 pub struct Rig {
     pub machine: Machine,

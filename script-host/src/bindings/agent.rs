@@ -14,9 +14,9 @@ use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 use api::{Local, SystemError};
-use ipc::messages::{Snapshot, TaskState};
-use ipc::shared::BROADCAST_BYTES;
 use mlua::{Function, Lua, Value};
+use schema::shared::BROADCAST_BYTES;
+use schema::{Snapshot, TaskState};
 
 use super::locals::system_code;
 use super::{Host, binding, error_here, int_arg, lua_string_arg, type_name};

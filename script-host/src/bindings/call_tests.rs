@@ -14,11 +14,12 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 
 use api::FunctionSpec;
-use ipc::messages::{Request, Snapshot};
+use ipc::call::Request;
 use ipc::{CoreEndpoint, Disposition, Namespace, TaskEndpoint};
 use mlua::{Function, Lua, MultiValue, Value};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
+use schema::Snapshot;
 
 use super::{Host, binding, command_call, query_call};
 use crate::sandbox;

@@ -10,10 +10,10 @@ use api::call::{self, Value as Neutral};
 use api::hcv::{self, Hcv, SystemHcv};
 use api::{CommandCall, ErrorCode, Local, QueryCall, SystemError, strings};
 use calls::query;
-use ipc::messages::EventKind;
-use ipc::shared::{TestValue, TestVar};
+use ipc::event_record::EventKind;
 use ipc::task_table::RunState;
 use mlua::{Function, Lua, MultiValue, Table, Value};
+use schema::shared::{TestValue, TestVar};
 
 use super::{Host, binding, bool_arg, double_arg, error_here, int_arg, lua_string_arg, round_trip, type_name};
 

@@ -7,11 +7,11 @@ use std::time::Duration;
 use api::FunctionSpec;
 use api::{CommandCall, ErrorCode, Local, SystemError};
 use calls::user_table;
-use ipc::messages::{EventKind, EventRecord};
+use ipc::event_record::{EventKind, EventRecord};
 use ipc::output::{char_boundary, cut_marker, escape};
-use ipc::shared::{Lock, MUTEXES};
 use ipc::task_table::RunState;
 use mlua::{AnyUserData, BorrowedBytes, Function, Lua, MultiValue, Value};
+use schema::shared::{Lock, MUTEXES};
 
 use super::timer::Timer;
 use super::{
@@ -276,7 +276,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     Some(Lock::HeldBy(owner)) => {
                         let endpoint = host.endpoint.borrow();
                         endpoint.slot().set_state(RunState::Blocked);
-                        host.shared.wait_for_mutex(id, owner, LIVENESS);
+                        ipc::mutex::wait_for_mutex(&host.shared, id, owner, LIVENESS);
                         endpoint.slot().set_state(RunState::Running);
                         endpoint.check_controller().map_err(mlua::Error::external)?;
                     }
@@ -287,7 +287,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
         Local::MutexUnlock => binding(lua, spec, move |lua, args| {
             host.beat();
             let id = mutex_id(lua, spec, &args)?;
-            host.shared.unlock(id, host.task());
+            ipc::mutex::unlock(&host.shared, id, host.task());
             Ok(())
         }),
         Local::TimerInit => binding(lua, spec, move |_, _| {

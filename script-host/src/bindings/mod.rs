@@ -32,13 +32,13 @@ use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::event_rate::Throttle;
 use api::{Command, CommandCall, Func, FunctionSpec, Query, QueryCall, SdoAbort, ValueType};
 use calls::{query, wire};
+use ipc::call::{Reply, Request};
 use ipc::events::EventSender;
-use ipc::messages::{Reply, Request};
 use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
-use ipc::shared::SharedData;
 use ipc::shm::Region;
 use ipc::{IpcError, Namespace, TaskEndpoint};
 use mlua::{BorrowedBytes, Function, IntoLuaMulti, Lua, MultiValue, Value};
+use schema::shared::SharedData;
 
 pub use agent::{DEFAULT_ADDRESS as DEFAULT_USER_ASCII, serve as serve_agent, serve_forever as serve_agent_forever};
 pub use expect::verdict as expectations_verdict;

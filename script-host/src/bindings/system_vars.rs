@@ -7,8 +7,8 @@
 use std::rc::Rc;
 
 use api::system_vars::SystemVar;
-use ipc::shared::{TestValue, TestVar, USER_TABLE_LEN, VarValue};
 use mlua::{Lua, MetaMethod, UserData, UserDataMethods, Value};
+use schema::shared::{TestValue, TestVar, USER_TABLE_LEN, VarValue};
 
 use api::{CommandCall, QueryCall};
 use calls::query;

@@ -4,14 +4,12 @@
 //! the mutexes of a task that stops.
 
 use std::sync::atomic::{AtomicI64, AtomicU8, AtomicU16, AtomicU32, AtomicU64, Ordering};
-use std::time::Duration;
 
 use num_enum::{FromPrimitive, IntoPrimitive};
 
-use crate::futex;
-use crate::messages::MAX_TASKS;
+use crate::ids::MAX_TASKS;
+use crate::layout::Shareable;
 use crate::plc_image::PlcImage;
-use crate::shm::Shareable;
 
 /// HMPL ch. 11: `system_user_table[512000]`.
 pub const USER_TABLE_LEN: usize = 512_000;
@@ -292,33 +290,22 @@ impl SharedData {
         })
     }
 
-    /// Sleeps until mutex `id` is no longer held by `owner`, or `timeout` passes.
-    pub fn wait_for_mutex(&self, id: usize, owner: u8, timeout: Duration) {
-        if let Some(word) = self.mutexes.get(id) {
-            futex::wait(word, owner as u32 + 1, timeout);
-        }
+    /// Mutex `id`'s word: 0 free, otherwise the owner's task id + 1; the futex word its
+    /// waiters sleep on (`ipc::mutex`).
+    pub fn mutex_word(&self, id: usize) -> Option<&AtomicU32> {
+        self.mutexes.get(id)
     }
 
-    /// HMPL 2.23: releases mutex `id` if `task` holds it; otherwise nothing happens.
-    pub fn unlock(&self, id: usize, task: u8) -> bool {
+    /// HMPL 2.23: frees mutex `id` if `task` holds it; whether it did. The waiters are
+    /// the caller's to wake (`ipc::mutex::unlock`).
+    pub fn release(&self, id: usize, task: u8) -> bool {
         let Some(word) = self.mutexes.get(id) else { return false };
-        let released = word.compare_exchange(task as u32 + 1, 0, Ordering::Release, Ordering::Relaxed).is_ok();
-        if released {
-            futex::wake(word);
-        }
-        released
+        word.compare_exchange(task as u32 + 1, 0, Ordering::Release, Ordering::Relaxed).is_ok()
     }
 
     /// The owner of mutex `id`, if held.
     pub fn mutex_owner(&self, id: usize) -> Option<u8> {
         self.mutexes.get(id).map(|w| w.load(Ordering::Acquire)).filter(|&v| v != 0).map(|v| (v - 1) as u8)
-    }
-
-    /// Releases every mutex `task` holds (the task stopped). Wakes the waiters; never blocks.
-    pub fn release_mutexes_of(&self, task: u8) {
-        for id in 0..MUTEXES {
-            self.unlock(id, task);
-        }
     }
 
     /// The persistent variables of task `task`.
@@ -497,24 +484,7 @@ mod tests {
     use super::*;
 
     fn zeroed() -> Box<SharedData> {
-        crate::shm::zeroed()
-    }
-
-    /// HMPL 2.22/2.23: owner semantics, one row per rule.
-    #[test]
-    fn mutex_rules() {
-        let d = zeroed();
-        assert_eq!(d.try_lock(0, 3), Some(Lock::Acquired), "free: taken");
-        assert_eq!(d.try_lock(0, 3), Some(Lock::Twice), "the owner again: a runtime error");
-        assert_eq!(d.try_lock(0, 4), Some(Lock::HeldBy(3)), "another task: it waits");
-        assert!(!d.unlock(0, 4), "a non-owner's unlock does nothing");
-        assert_eq!(d.mutex_owner(0), Some(3));
-        assert!(d.unlock(0, 3));
-        assert_eq!(d.try_lock(0, 4), Some(Lock::Acquired));
-        d.try_lock(5, 4);
-        d.release_mutexes_of(4);
-        assert_eq!((d.mutex_owner(0), d.mutex_owner(5)), (None, None), "released when the owner stops");
-        assert_eq!(d.try_lock(8, 0), None, "ids 0..7");
+        crate::layout::zeroed()
     }
 
     /// HMPL 22.2.1: one agent at a time; a stale owner (its process gone) gives way.
@@ -557,21 +527,6 @@ mod tests {
         let (_, got) = read(cursor);
         assert_eq!(got.len(), BROADCASTS);
         assert_eq!((got[0].as_str(), got[BROADCASTS - 1].as_str()), ("m3", "m18"));
-    }
-
-    #[test]
-    fn a_waiter_wakes_when_the_owner_unlocks() {
-        let d: &'static SharedData = Box::leak(zeroed());
-        d.try_lock(1, 0);
-        let waiter = std::thread::spawn(move || {
-            while d.try_lock(1, 1) != Some(Lock::Acquired) {
-                d.wait_for_mutex(1, 0, Duration::from_secs(5));
-            }
-        });
-        std::thread::sleep(Duration::from_millis(20));
-        d.unlock(1, 0);
-        waiter.join().unwrap();
-        assert_eq!(d.mutex_owner(1), Some(1));
     }
 
     #[test]
