@@ -347,3 +347,19 @@ fn kill_9() {
 fn memory_limit() {
     matrix(Fault::OutOfMemory);
 }
+
+/// The lines a child wrote just before it ended are kept: they are read until its pipe
+/// closes, not taken from what the reader thread had passed on when the child was reaped.
+#[test]
+fn the_last_lines_of_an_ended_child_are_kept() {
+    let mut child = Command::new("sh")
+        .args(["-c", "for i in $(seq 1 2000); do echo line $i; done"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let lines = lines_of(child.stdout.take().unwrap());
+    child.wait().unwrap();
+    let got = rest_of(&lines, Duration::from_secs(10));
+    assert_eq!(got.len(), 2000, "last: {:?}", got.last());
+    assert_eq!(got.last().map(String::as_str), Some("line 2000"));
+}
