@@ -1,10 +1,12 @@
-//! Typed calls: `declare_functions!` gives each kind of the registry that reaches the core
-//! or the snapshot (commands, queries) an enum with one variant per function and its
-//! arguments as named, typed fields (`CommandCall`, `QueryCall`). A call is read from a
-//! `Source` and written to a `Sink` in the declaration's order; this module has the
-//! neutral source every front end shares (`from_values`: the Lua bindings now, an ASCII
-//! server and tests later), whose `ArgError` each front end words itself. The wire
-//! encoding is the `calls` crate's (api knows no transport).
+//! Typed calls: `declare_functions!` gives each kind of the registry an enum with one
+//! variant per function and its arguments as named, typed fields (`CommandCall`,
+//! `QueryCall`, `LocalCall`). A call is read from a `Source` and written to a `Sink` in the
+//! declaration's order; a local's arguments that only a front end has the type of (a Lua
+//! function, a timer, any value) come from a `ValueSource` as that front end's own values.
+//! This module has the neutral source every front end shares (`from_values`: the ASCII
+//! server, the web view and the tests; the Lua bindings read through it too), whose
+//! `ArgError` each front end words itself. The wire encoding is the `calls` crate's (api
+//! knows no transport).
 
 use std::borrow::Cow;
 
@@ -45,12 +47,85 @@ pub trait Sink {
     fn doubles(&mut self, value: &Doubles) -> Result<(), Self::Error>;
 }
 
-/// A typed call of one kind of the registry (`CommandCall`, `QueryCall`).
-pub trait TypedCall<'a>: Sized {
-    /// The kind's function enum (`Command`, `Query`).
+/// A `Source` of the arguments of the functions that run in the script process
+/// (`LocalCall`), some of which only a front end has the type of.
+pub trait ValueSource<'a>: Source<'a> {
+    /// The front end's own value (a Lua value).
+    type Value;
+    /// An argument of type `ty` (`Func`, `Timer`, `Any`, `Memory`) as the front end's value;
+    /// a front end that can tell refuses one that is not a `ty` (a Lua function, a timer).
+    fn value(&mut self, ty: crate::ArgType) -> Result<Self::Value, Self::Error>;
+    /// The values left (`...`), each as the front end's value.
+    fn rest(&mut self) -> Result<Vec<Self::Value>, Self::Error>;
+    /// Whether the next argument is left out (none, or nil): an argument declared
+    /// `or nil` is then `None`, and is taken past.
+    fn absent(&mut self) -> bool;
+}
+
+/// A typed call of one kind of the registry (`CommandCall`, `QueryCall`, `LocalCall`),
+/// read from the sources `S` it can be read from.
+pub trait TypedCall<'a, S: Source<'a>>: Sized {
+    /// The kind's function enum (`Command`, `Query`, `Local`).
     type Func: Copy;
     /// Reads the arguments of `func` from `source`, in the declaration's order.
-    fn read<S: Source<'a>>(func: Self::Func, source: &mut S) -> Result<Self, S::Error>;
+    fn read(func: Self::Func, source: &mut S) -> Result<Self, S::Error>;
+}
+
+/// The type of a `LocalCall`'s field, by the argument's declared type: a marker type per
+/// `ArgType` (named as the declaration names it), and `(T, nil)` for one declared `or nil`.
+/// The registry's macro names them; derives see through a projection, not a macro.
+pub mod field {
+    use std::borrow::Cow;
+
+    /// The field type of an argument declared as `Self`, in a call whose front end's own
+    /// values are `V`.
+    pub trait Field<'a, V> {
+        /// The field's type.
+        type Type;
+    }
+
+    macro_rules! fields {
+        ($( $(#[doc = $doc:literal])* $ty:ident => $field:ty; )*) => { $(
+            $(#[doc = $doc])*
+            pub struct $ty;
+            impl<'a, V> Field<'a, V> for $ty {
+                type Type = $field;
+            }
+        )* };
+    }
+
+    fields! {
+        /// `ArgType::Int`.
+        Int => i64;
+        /// `ArgType::Double`.
+        Double => f64;
+        /// `ArgType::Bool`.
+        Bool => bool;
+        /// `ArgType::Str`.
+        Str => Cow<'a, [u8]>;
+        /// `ArgType::Bytes`.
+        Bytes => Cow<'a, [u8]>;
+        /// `ArgType::Doubles`.
+        Doubles => super::Doubles<'a>;
+        /// `ArgType::Func`: the front end's function.
+        Func => V;
+        /// `ArgType::Timer`: the front end's timer.
+        Timer => V;
+        /// `ArgType::Any`.
+        Any => V;
+        /// `ArgType::Memory`: the front end's table.
+        Memory => V;
+        /// `ArgType::Rest`: the values left.
+        Rest => Vec<V>;
+    }
+
+    /// `or nil` after an argument's type: it may be left out.
+    #[allow(non_camel_case_types)]
+    pub struct nil;
+
+    impl<'a, V, T: Field<'a, V>> Field<'a, V> for (T, nil) {
+        type Type = Option<T::Type>;
+    }
 }
 
 /// A `double*` argument: numbers a front end collected, or 8-byte little-endian numbers
@@ -139,6 +214,10 @@ pub enum Expected {
     BytesOrString,
     /// A sequence of numbers.
     Numbers,
+    /// A function (a `Till` condition, an ASCII agent's parser).
+    Function,
+    /// A timer made by `TimerInit`.
+    Timer,
 }
 
 /// What came instead: enough for a front end to name it.
@@ -163,7 +242,8 @@ pub enum Got {
 }
 
 impl Got {
-    fn of(value: &Value) -> Self {
+    /// What `value` is.
+    pub fn of(value: &Value) -> Self {
         match value {
             Value::Nil => Got::Nil,
             Value::Bool(_) => Got::Bool,
@@ -209,7 +289,7 @@ pub fn check_count(spec: &crate::FunctionSpec, given: usize) -> Result<(), ArgEr
 /// The typed call of `func` from neutral values, in the declaration's order: the one
 /// encoder of every front end. The first argument that does not fit is the error; then
 /// values past the last argument.
-pub fn from_values<'a, C: TypedCall<'a>>(func: C::Func, values: &'a [Value]) -> Result<C, ArgError> {
+pub fn from_values<'a, C: TypedCall<'a, Values<'a>>>(func: C::Func, values: &'a [Value]) -> Result<C, ArgError> {
     let mut source = Values::new(values);
     let call = C::read(func, &mut source)?;
     if values.len() > source.next {
@@ -315,10 +395,34 @@ impl<'a> Source<'a> for Values<'a> {
     }
 }
 
+/// Neutral values stand for themselves: a front end that has neutral values only (the
+/// ASCII server) has no function or timer to pass.
+impl<'a> ValueSource<'a> for Values<'a> {
+    type Value = Value;
+
+    fn value(&mut self, _: crate::ArgType) -> Result<Value, ArgError> {
+        Ok(self.take().1.cloned().unwrap_or(Value::Nil))
+    }
+
+    fn rest(&mut self) -> Result<Vec<Value>, ArgError> {
+        let rest = self.values.get(self.next..).unwrap_or(&[]).to_vec();
+        self.next = self.next.max(self.values.len());
+        Ok(rest)
+    }
+
+    fn absent(&mut self) -> bool {
+        let absent = matches!(self.values.get(self.next), None | Some(Value::Nil));
+        if absent {
+            self.next += 1;
+        }
+        absent
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Command, CommandCall, Query, QueryCall};
+    use crate::{Command, CommandCall, Local, LocalCall, Query, QueryCall};
 
     fn command<'a>(func: Command, values: &'a [Value]) -> Result<CommandCall<'a>, ArgError> {
         from_values(func, values)
@@ -425,6 +529,37 @@ mod tests {
             let values = [Value::Int(0), null, Value::List(Vec::new()), Value::List(Vec::new()), Value::Int(0)];
             assert!(command(Command::MovePVT, &values).is_ok());
         }
+    }
+
+    /// A local's call: the front end's own values where only it has the type, the rest of
+    /// a variadic function, and an argument declared `or nil` left out or nil.
+    #[test]
+    fn local_calls() {
+        fn local(func: Local, values: &[Value]) -> Result<LocalCall<'_, Value>, ArgError> {
+            from_values(func, values)
+        }
+        let eq = [Value::Int(1), Value::Str(Vec::new())];
+        assert_eq!(
+            local(Local::expect_eq, &eq),
+            Ok(LocalCall::expect_eq { actual: Value::Int(1), expected: Value::Str(Vec::new()), message: None })
+        );
+        let nil = [Value::Bool(true), Value::Nil];
+        assert_eq!(
+            local(Local::expect_true, &nil),
+            Ok(LocalCall::expect_true { value: Value::Bool(true), message: None })
+        );
+        let broadcast = [Value::Str(b"hi".to_vec()), Value::Int(1)];
+        assert_eq!(
+            local(Local::ASCII_ServerBroadcast, &broadcast),
+            Ok(LocalCall::ASCII_ServerBroadcast { message: Cow::Borrowed(b"hi"), length: Some(1) })
+        );
+        let setup = [Value::Int(0), Value::Int(1), Value::Int(2)];
+        assert_eq!(
+            local(Local::SetupGroup, &setup),
+            Ok(LocalCall::SetupGroup { group_id: 0, axis_ids: vec![Value::Int(1), Value::Int(2)] })
+        );
+        assert_eq!(local(Local::Sleep, &[Value::Nil]), Err(refused(0, Expected::Integer, Got::Nil)));
+        assert_eq!(local(Local::Sleep, &[Value::Int(1), Value::Int(2)]), Err(ArgError::TooMany { takes: 1, given: 2 }));
     }
 
     /// Tables in a buffer and collected numbers compare by their numbers, NaN too.

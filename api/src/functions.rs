@@ -712,7 +712,7 @@ declare_functions! {
 }
 
 declare_functions! {
-    Local, LOCALS;
+    Local, LOCALS => LocalCall<'a, V>;
 
     /// Suspends the task for `ms` milliseconds of controller time.
     ["HMPL 2.18"] fn Sleep(ms: Int);
@@ -950,7 +950,7 @@ declare_functions! {
     /// Sends `message` (its first `length` bytes; all of it when `length` is nil) as a line
     /// to every client of the User ASCII agent. 0; 0x138D for more than 128 bytes; 0x1452
     /// when no agent runs.
-    ["HMPL 22.2.2"] fn ASCII_ServerBroadcast(message: Str, length: Int) -> Int;
+    ["HMPL 22.2.2"] fn ASCII_ServerBroadcast(message: Str, length: Int or nil) -> Int;
     // DXMC 8.3 FreePort on serial port 1, the controller's pseudo-terminal (`[serial]` in
     // the machine file): start byte (none, 0..0xFF or a 1-char string), end (none, a byte,
     // a 1-char string or CR_LF), at most 256 data bytes a frame. Codes: those of
@@ -1012,9 +1012,9 @@ declare_functions! {
     // prints `file:line: expect_... failed: ...` and the program goes on; a program with a
     // failed expectation fails when it ends (docs/decisions.md). Each returns whether it held.
     /// Expects `actual == expected` as Lua compares them (3 equals 3.0; a table only itself).
-    ["luamotion test"] fn expect_eq(actual: Any, expected: Any, message: Str) -> Bool;
+    ["luamotion test"] fn expect_eq(actual: Any, expected: Any, message: Str or nil) -> Bool;
     /// Expects `|actual - expected| <= tolerance` (a NaN never is): `expect_near(GetPosFb(0), 100, 1e-3)`.
-    ["luamotion test"] fn expect_near(actual: Double, expected: Double, tolerance: Double, message: Str) -> Bool;
+    ["luamotion test"] fn expect_near(actual: Double, expected: Double, tolerance: Double, message: Str or nil) -> Bool;
     /// Expects a true value (not false, nil or 0, as `Till` reads a condition).
-    ["luamotion test"] fn expect_true(value: Any, message: Str) -> Bool;
+    ["luamotion test"] fn expect_true(value: Any, message: Str or nil) -> Bool;
 }

@@ -20,5 +20,5 @@ pub mod strings;
 pub mod system_vars;
 
 pub use errors::{AxisError, ErrorCode, GroupError, SdoAbort, SystemError};
-pub use functions::{Command, CommandCall, Local, Query, QueryCall};
+pub use functions::{Command, CommandCall, Local, LocalCall, Query, QueryCall};
 pub use registry::{ArgSpec, ArgType, Func, FunctionSpec, Kind, Quantity, Refusal, Role, ValueType};

@@ -1,7 +1,7 @@
 //! HMPL ch. 4 math as pure functions of numbers, shared by the Lua bindings and the Native
 //! ASCII server: C's libm with the manual's overflow rule.
 
-use crate::Local;
+use crate::{Local, LocalCall};
 
 /// HMPL 4.12-4.14: a result too large for a double is the largest double (with its sign),
 /// where C gives HUGE_VAL; infinite inputs and poles stay infinite.
@@ -59,60 +59,54 @@ pub fn is_math(local: Local) -> bool {
     )
 }
 
-/// The ch. 4 function `local` of `args`; `None` for another function or another number of
-/// arguments. `abs` and `ldexp`'s exponent take integers: the caller checks they are.
-pub fn evaluate(local: Local, args: &[f64]) -> Option<f64> {
-    let one = |f: fn(f64) -> f64| match args {
-        [x] => Some(f(*x)),
-        _ => None,
-    };
-    let two = |f: fn(f64, f64) -> f64| match args {
-        [x, y] => Some(f(*x, *y)),
-        _ => None,
-    };
-    match local {
-        Local::sin => one(f64::sin),
-        Local::cos => one(f64::cos),
-        Local::tan => one(f64::tan),
-        Local::asin => one(f64::asin),
-        Local::acos => one(f64::acos),
-        Local::atan => one(f64::atan),
-        Local::sqrt => one(f64::sqrt),
-        Local::abs | Local::fabs => one(f64::abs),
-        Local::ceil => one(f64::ceil),
-        Local::floor => one(f64::floor),
-        Local::exp => one(exp),
-        Local::log => one(f64::ln),
-        Local::log10 => one(f64::log10),
-        Local::cbrt => one(f64::cbrt),
-        Local::atan2 => two(f64::atan2),
-        Local::pow => two(pow),
-        Local::hypot => two(f64::hypot),
-        Local::ldexp => two(|x, y| ldexp(x, y as i64)),
-        _ => None,
-    }
+/// The ch. 4 function `call` computes, `None` for a call of another function. `abs` is of
+/// an integer, as a double: a front end words an `abs` that does not fit an integer itself.
+pub fn evaluate<V>(call: &LocalCall<'_, V>) -> Option<f64> {
+    Some(match *call {
+        LocalCall::sin { x } => x.sin(),
+        LocalCall::cos { x } => x.cos(),
+        LocalCall::tan { x } => x.tan(),
+        LocalCall::asin { x } => x.asin(),
+        LocalCall::acos { x } => x.acos(),
+        LocalCall::atan { x } => x.atan(),
+        LocalCall::sqrt { x } => x.sqrt(),
+        LocalCall::abs { x } => (x as f64).abs(),
+        LocalCall::fabs { x } => x.abs(),
+        LocalCall::ceil { x } => x.ceil(),
+        LocalCall::floor { x } => x.floor(),
+        LocalCall::exp { x } => exp(x),
+        LocalCall::log { x } => x.ln(),
+        LocalCall::log10 { x } => x.log10(),
+        LocalCall::cbrt { x } => x.cbrt(),
+        LocalCall::atan2 { y, x } => y.atan2(x),
+        LocalCall::pow { x, y } => pow(x, y),
+        LocalCall::hypot { x, y } => x.hypot(y),
+        LocalCall::ldexp { x, y } => ldexp(x, y),
+        _ => return None,
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::call::{Value, from_values};
 
     /// HMPL ch. 4's printed results through `evaluate`.
     #[test]
     fn chapter_4_rows() {
-        let rows: [(&str, Local, &[f64], f64); 5] = [
-            ("HMPL 4.14 pow(4.73, 12)", Local::pow, &[4.73, 12.0], 125_410_439.217_423),
-            ("HMPL 4.7 atan2(10, -10) = 135 deg", Local::atan2, &[10.0, -10.0], 135f64.to_radians()),
-            ("HMPL 4.12 ldexp(0.95, 4)", Local::ldexp, &[0.95, 4.0], 15.2),
-            ("HMPL 4.13 exp(5)", Local::exp, &[5.0], 148.413159),
-            ("HMPL 4.19 hypot(3, 4)", Local::hypot, &[3.0, 4.0], 5.0),
+        let rows: [(&str, LocalCall<()>, f64); 5] = [
+            ("HMPL 4.14 pow(4.73, 12)", LocalCall::pow { x: 4.73, y: 12.0 }, 125_410_439.217_423),
+            ("HMPL 4.7 atan2(10, -10) = 135 deg", LocalCall::atan2 { y: 10.0, x: -10.0 }, 135f64.to_radians()),
+            ("HMPL 4.12 ldexp(0.95, 4)", LocalCall::ldexp { x: 0.95, y: 4 }, 15.2),
+            ("HMPL 4.13 exp(5)", LocalCall::exp { x: 5.0 }, 148.413159),
+            ("HMPL 4.19 hypot(3, 4)", LocalCall::hypot { x: 3.0, y: 4.0 }, 5.0),
         ];
-        for (row, local, args, want) in rows {
-            let got = evaluate(local, args).unwrap();
+        for (row, call, want) in rows {
+            let got = evaluate(&call).unwrap();
             assert!((got - want).abs() <= 1e-6 * want.abs().max(1.0), "{row}: {got} != {want}");
         }
-        assert_eq!(evaluate(Local::sin, &[1.0, 2.0]), None, "two arguments to sin");
-        assert_eq!(evaluate(Local::StringLen, &[1.0]), None, "not a ch. 4 function");
+        let not_math: LocalCall<()> = LocalCall::StringLen { str: b"x"[..].into() };
+        assert_eq!(evaluate(&not_math), None, "not a ch. 4 function");
         // Every ch. 4 function of the registry, and only those, is evaluated.
         let mut math = 0;
         for spec in crate::registry::all() {
@@ -121,7 +115,9 @@ mod tests {
                 assert_eq!(is_math(local), ch4, "{}", spec.name);
                 if ch4 {
                     math += 1;
-                    assert!(evaluate(local, &vec![0.5; spec.args.len()]).is_some(), "{}", spec.name);
+                    let values: Vec<Value> = spec.args.iter().map(|_| Value::Int(1)).collect();
+                    let call: LocalCall<Value> = from_values(local, &values).unwrap();
+                    assert!(evaluate(&call).is_some(), "{}", spec.name);
                 }
             }
         }

@@ -390,29 +390,72 @@ pub fn find(name: &str) -> Option<&'static FunctionSpec> {
     BY_NAME.get(name).copied()
 }
 
-/// Declares one kind of functions: an enum with a variant per function, and its table.
-/// With `=> CallEnum` (and `<'a>` when an argument borrows: `Str`, `Bytes`, `Doubles`; the
-/// lifetime must be named `'a`), also the typed call: one variant per function with its
-/// arguments as named, typed fields, read from a `call::Source` and written to a
-/// `call::Sink` in the declaration's order.
+/// Declares one kind of functions: an enum with a variant per function, and its table;
+/// with `=> CallEnum`, also the typed call: one variant per function with its arguments as
+/// named, typed fields, read from a `call::Source` in the declaration's order. Commands and
+/// queries (`=> CommandCall<'a>` when an argument borrows: `Str`, `Bytes`, `Doubles`; the
+/// lifetime must be named `'a`) are also written to a `call::Sink`. The locals
+/// (`=> LocalCall<'a, V>`) are read from a `call::ValueSource`, whose own values `V` stand
+/// for the arguments only a front end has the type of (`Func`, `Timer`, `Any`, `Memory`;
+/// `Rest` is a `Vec<V>`); a trailing argument declared `or nil` may be left out (`Option`).
 macro_rules! declare_functions {
     (
+        $enum:ident, $table:ident => $call:ident <$lt:lifetime, $v:ident>;
+        $($fns:tt)*
+    ) => {
+        declare_functions! { @table $enum, $table; $($fns)* }
+        declare_functions! { @local_call $enum => $call <$lt, $v>; $($fns)* }
+    };
+    (
         $enum:ident, $table:ident => $call:ident $(<$lt:lifetime>)?;
+        $($fns:tt)*
+    ) => {
+        declare_functions! { @table $enum, $table; $($fns)* }
+        declare_functions! { @call $enum => $call $(<$lt>)?; $($fns)* }
+    };
+    (
+        @local_call $enum:ident => $call:ident <$lt:lifetime, $v:ident>;
+        $(
+            $(#[doc = $doc:literal])*
+            [$manual:literal $(as $lua:literal)? $(, $ascii:ident)?]
+            fn $name:ident ( $( $arg:ident : $aty:ident $(or $nil:ident)? $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
+        )*
+    ) => {
+        #[doc = concat!("A typed call of a `", stringify!($enum), "`: its arguments as the registry declares them, ")]
+        #[doc = "those only a front end has the type of as its own values `V`."]
+        #[derive(Clone, Debug, PartialEq)]
+        #[allow(non_camel_case_types, non_snake_case, unused_parens)]
+        pub enum $call<$lt, $v> {
+            $(
+                #[doc = concat!("`", stringify!($name), "` (", $manual, ").")]
+                $name { $( #[doc = concat!("`", stringify!($arg), "`.")] $arg: <($crate::call::field::$aty $(, $crate::call::field::$nil)?) as $crate::call::field::Field<$lt, $v>>::Type, )* },
+            )*
+        }
+
+        impl<$lt, $v> $call<$lt, $v> {
+            /// The registry function this is a call of.
+            pub fn func(&self) -> $enum {
+                match self { $( $call::$name { .. } => $enum::$name, )* }
+            }
+        }
+
+        impl<$lt, S: $crate::call::ValueSource<$lt>> $crate::call::TypedCall<$lt, S> for $call<$lt, S::Value> {
+            type Func = $enum;
+            fn read(func: $enum, source: &mut S) -> Result<Self, S::Error> {
+                Ok(match func {
+                    $( $enum::$name => $call::$name { $( $arg: declare_functions!(@read_field source $aty $($nil)?), )* }, )*
+                })
+            }
+        }
+    };
+    (
+        @call $enum:ident => $call:ident $(<$lt:lifetime>)?;
         $(
             $(#[doc = $doc:literal])*
             [$manual:literal $(as $lua:literal)? $(, $ascii:ident)?]
             fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
         )*
     ) => {
-        declare_functions! {
-            $enum, $table;
-            $(
-                $(#[doc = $doc])*
-                [$manual $(as $lua)? $(, $ascii)?]
-                fn $name ( $( $arg : $aty $([$q])? $(as $role)? ),* ) $(-> $ret)? ;
-            )*
-        }
-
         #[doc = concat!("A typed call of a `", stringify!($enum), "`: its arguments as the registry declares them.")]
         #[derive(Clone, Debug, PartialEq)]
         #[allow(non_camel_case_types)]
@@ -450,11 +493,11 @@ macro_rules! declare_functions {
         });
     };
     (
-        $enum:ident, $table:ident;
+        @table $enum:ident, $table:ident;
         $(
             $(#[doc = $doc:literal])*
             [$manual:literal $(as $lua:literal)? $(, $ascii:ident)?]
-            fn $name:ident ( $( $arg:ident : $aty:ident $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
+            fn $name:ident ( $( $arg:ident : $aty:ident $(or $nil:ident)? $([$q:ident])? $(as $role:ident)? ),* $(,)? ) $(-> $ret:tt)? ;
         )*
     ) => {
         #[doc = concat!("The registry's functions of kind `", stringify!($enum), "`, one variant each.")]
@@ -501,21 +544,25 @@ macro_rules! declare_functions {
         )* ];
     };
     (@typed $enum:ident, $call:ident, $lt:lifetime; $func:ident, $source:ident; $body:expr) => {
-        impl<$lt> $crate::call::TypedCall<$lt> for $call<$lt> {
+        impl<$lt, S: $crate::call::Source<$lt>> $crate::call::TypedCall<$lt, S> for $call<$lt> {
             type Func = $enum;
-            fn read<S: $crate::call::Source<$lt>>($func: $enum, $source: &mut S) -> Result<Self, S::Error> {
+            fn read($func: $enum, $source: &mut S) -> Result<Self, S::Error> {
                 Ok($body)
             }
         }
     };
     (@typed $enum:ident, $call:ident; $func:ident, $source:ident; $body:expr) => {
-        impl<'s> $crate::call::TypedCall<'s> for $call {
+        impl<'s, S: $crate::call::Source<'s>> $crate::call::TypedCall<'s, S> for $call {
             type Func = $enum;
-            fn read<S: $crate::call::Source<'s>>($func: $enum, $source: &mut S) -> Result<Self, S::Error> {
+            fn read($func: $enum, $source: &mut S) -> Result<Self, S::Error> {
                 Ok($body)
             }
         }
     };
+    (@read_field $s:ident $aty:ident $nil:ident) => {
+        if $s.absent() { None } else { Some(declare_functions!(@read $s $aty)) }
+    };
+    (@read_field $s:ident $aty:ident) => { declare_functions!(@read $s $aty) };
     (@ty Int) => { i64 };
     (@ty Double) => { f64 };
     (@ty Bool) => { bool };
@@ -528,6 +575,8 @@ macro_rules! declare_functions {
     (@read $s:ident Str) => { $s.str()? };
     (@read $s:ident Bytes) => { $s.bytes()? };
     (@read $s:ident Doubles) => { $s.doubles()? };
+    (@read $s:ident Rest) => { $s.rest()? };
+    (@read $s:ident $front_end:ident) => { $s.value($crate::registry::ArgType::$front_end)? };
     (@write $s:ident $v:ident Int) => { $s.int(*$v)? };
     (@write $s:ident $v:ident Double) => { $s.double(*$v)? };
     (@write $s:ident $v:ident Bool) => { $s.bool(*$v)? };

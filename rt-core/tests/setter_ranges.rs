@@ -7,7 +7,7 @@
 mod rig;
 
 use api::Command;
-use ipc::call::Request;
+use api::call::Value;
 use rt_core::config::FaultReaction;
 use schema::AxisSnapshot;
 
@@ -41,17 +41,11 @@ impl Rig {
         self.0.call(0, command, ints, doubles)
     }
 
-    /// MovePVT(axis, time, pos, vel, n) with the arrays in the blob, as the bindings send it.
+    /// MovePVT(axis, time, pos, vel, n), as the bindings send it.
     fn pvt(&mut self, axis: i64, time: &[f64], pos: &[f64], vel: &[f64]) -> i64 {
-        let mut request = Request::new(Command::MovePVT.id());
-        request.push_int(axis);
-        for array in [time, pos, vel] {
-            let bytes: Vec<u8> = array.iter().flat_map(|d| d.to_le_bytes()).collect();
-            assert!(request.append_blob(&bytes));
-            request.push_int(array.len() as i64);
-        }
-        request.push_int(time.len() as i64);
-        self.send(0, &request)
+        let list = |array: &[f64]| Value::List(array.iter().map(|&d| Value::Double(d)).collect());
+        let values = [Value::Int(axis), list(time), list(pos), list(vel), Value::Int(time.len() as i64)];
+        self.0.call_values(0, Command::MovePVT, &values).0
     }
 
     fn axis(&self, a: usize) -> AxisSnapshot {

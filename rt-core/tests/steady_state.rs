@@ -8,6 +8,8 @@
 //! and axis 7 is compensated by a 2-D spline table over axes 0 and 4 that is read again
 //! from the user table every few cycles (HMPL ch. 14).
 
+mod rig;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::Arc;
@@ -57,12 +59,10 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static ALLOCATOR: Counting = Counting;
 
-/// `command(ints..., doubles...)` as a request.
+/// `command` with its `Int` arguments from `ints` and its `Double` ones from `doubles`,
+/// each where the registry declares it, as a request.
 fn request(command: Command, ints: &[i64], doubles: &[f64]) -> Request {
-    let mut request = Request::new(command.id());
-    ints.iter().for_each(|&i| request.push_int(i));
-    doubles.iter().for_each(|&d| request.push_double(d));
-    request
+    typed(command, &rig::declared(command, ints, doubles))
 }
 
 /// A command with its arguments in the declaration's order (tables and strings included).

@@ -1,8 +1,8 @@
 //! The live web view (`serve --http PORT`): one page embedded in the binary, the
 //! controller's state sent to it as server-sent events 20 times a second, and its
-//! commands. Axis commands are ASCII lines carried out by the Native ASCII agent from its
-//! task slot (docs/decisions.md, "Web view"), so ownership, the controller state and
-//! alarms apply as to any client; DRL program control writes the registers of DXMC A.3
+//! commands. Axis commands are typed calls carried out by the Native ASCII agent from its
+//! task slot as a client's line of them (docs/decisions.md, "Web view"), so ownership, the
+//! controller state and alarms apply as to any client; DRL program control writes the registers of DXMC A.3
 //! through the DRL console, as a Modbus HMI does. The state is read from the published
 //! snapshot by a thread of its own: the RT thread does nothing for the page. Who may read
 //! and command it is `access.rs`'s; connections are bounded in number and in the time
@@ -19,6 +19,7 @@ use std::time::{Duration, Instant};
 
 use access::{Access, Refusal};
 use anyhow::Result;
+use api::CommandCall;
 use api::alarms::Alarm;
 use axum::extract::{ConnectInfo, Form, FromRequest, Path, Query, Request, State};
 use axum::http::{HeaderMap, StatusCode, header};
@@ -347,22 +348,25 @@ struct AxisArgs {
     dist: Option<f64>,
 }
 
-/// One axis command as the line the agent carries out, answered with the agent's text.
+/// One axis command, carried out by the agent as a client's line of it; the answer names
+/// the call by that line.
 async fn axis_command(
     State(app): State<App>,
     Path((id, action)): Path<(u32, String)>,
     Query(args): Query<AxisArgs>,
 ) -> impl IntoResponse {
-    let line = match (action.as_str(), args.dist) {
-        ("enable", _) => format!("Enable({id})"),
-        ("disable", _) => format!("Disable({id})"),
-        ("reset", _) => format!("Reset({id})"),
-        ("stop", _) => format!("Stop({id})"),
-        ("jog", Some(dist)) if dist.is_finite() => format!("MoveRel({id}, {dist:?})"),
+    let axis_id = i64::from(id);
+    let call = match (action.as_str(), args.dist) {
+        ("enable", _) => CommandCall::Enable { axis_id },
+        ("disable", _) => CommandCall::Disable { axis_id },
+        ("reset", _) => CommandCall::Reset { axis_id },
+        ("stop", _) => CommandCall::Stop { axis_id },
+        ("jog", Some(rel_dist)) if rel_dist.is_finite() => CommandCall::MoveRel { axis_id, rel_dist },
         ("jog", _) => return Err((axum::http::StatusCode::BAD_REQUEST, "jog needs a finite ?dist=".to_string())),
         _ => return Err((axum::http::StatusCode::NOT_FOUND, format!("no axis command {action}"))),
     };
-    let answer = app.agent.call(&line).await;
+    let line = drl::ascii::line::text(&call);
+    let answer = app.agent.command(call).await;
     Ok(Json(json!({"call": line, "ok": !answer.starts_with("ERROR"), "answer": answer})))
 }
 
@@ -371,7 +375,8 @@ async fn sim_gpi(State(app): State<App>, Path((pin, level)): Path<(u8, u8)>) -> 
     if level > 1 || !(1..=schema::GPIO_PINS as u8).contains(&pin) {
         return Err((axum::http::StatusCode::BAD_REQUEST, "inputs are 1..8, levels 0 or 1".to_string()));
     }
-    Ok(simulate(&app, format!("SimSetGPI({pin}, {level})"), Input::Gpi { pin, on: level == 1 }).await)
+    let call = CommandCall::SimSetGPI { gpi_idx: pin.into(), on_off: level.into() };
+    Ok(simulate(&app, call, Input::Gpi { pin, on: level == 1 }).await)
 }
 
 /// A digital I/O terminal's input as a switch wired to it sets it (`SimSetSlvGPI`).
@@ -379,22 +384,25 @@ async fn sim_slave_gpi(State(app): State<App>, Path((slave, pin, level)): Path<(
     if level > 1 || pin == 0 {
         return Err((axum::http::StatusCode::BAD_REQUEST, "inputs count from 1, levels are 0 or 1".to_string()));
     }
-    let line = format!("SimSetSlvGPI({slave}, {pin}, {level})");
-    Ok(simulate(&app, line, Input::SlvGpi { slave, pin, on: level == 1 }).await)
+    let call = CommandCall::SimSetSlvGPI { slv_slot_id: slave.into(), gpi_idx: pin.into(), on_off: level.into() };
+    Ok(simulate(&app, call, Input::SlvGpi { slave, pin, on: level == 1 }).await)
 }
 
 /// The word on an analog terminal's input (`SimSetSlvAIRaw`).
 async fn sim_ai(State(app): State<App>, Path((slave, channel, raw)): Path<(u16, u8, u16)>) -> impl IntoResponse {
-    simulate(&app, format!("SimSetSlvAIRaw({slave}, {channel}, {raw})"), Input::Ai { slave, channel, raw }).await
+    let call =
+        CommandCall::SimSetSlvAIRaw { slv_slot_id: slave.into(), ai_idx: channel.into(), ai_raw_val: raw.into() };
+    simulate(&app, call, Input::Ai { slave, channel, raw }).await
 }
 
 /// A simulated input: on the simulation clock queued to land at the next cycle boundary
-/// (and be recorded, docs/replay.md), in real time the agent's call.
-async fn simulate(app: &App, line: String, input: Input) -> Json<Value> {
+/// (and be recorded, docs/replay.md), in real time the agent's `call`.
+async fn simulate(app: &App, call: CommandCall<'static>, input: Input) -> Json<Value> {
+    let line = drl::ascii::line::text(&call);
     let answer = match &app.inputs {
         Some(inputs) if inputs.sim_input(input) => "queued for the next cycle".to_string(),
         Some(_) => "ERROR not taken: a replay's inputs are the record's, or the queue is full".to_string(),
-        None => app.agent.call(&line).await,
+        None => app.agent.command(call).await,
     };
     Json(json!({"call": line, "ok": !answer.starts_with("ERROR"), "answer": answer}))
 }

@@ -8,7 +8,8 @@
 use std::collections::HashMap;
 use std::sync::LazyLock;
 
-use api::call::Value;
+use api::CommandCall;
+use api::call::{Doubles, Sink, Value};
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 
 /// The longest line the server reads, without its newline.
@@ -177,6 +178,52 @@ impl Parser<'_> {
     }
 }
 
+/// The line a typed command is, as a client would send it (`MoveRel(0, 5.0)`): a number
+/// with its point, a string quoted; tables, which no line holds, in braces.
+pub fn text(call: &CommandCall) -> String {
+    let mut args = Text(Vec::new());
+    let Ok(()) = call.write(&mut args);
+    format!("{}({})", call.func().spec().name, args.0.join(", "))
+}
+
+/// The arguments of a call as the line's text, one after the other.
+struct Text(Vec<String>);
+
+impl Sink for Text {
+    type Error = std::convert::Infallible;
+
+    fn int(&mut self, value: i64) -> Result<(), Self::Error> {
+        self.0.push(value.to_string());
+        Ok(())
+    }
+
+    fn double(&mut self, value: f64) -> Result<(), Self::Error> {
+        self.0.push(format!("{value:?}"));
+        Ok(())
+    }
+
+    fn bool(&mut self, value: bool) -> Result<(), Self::Error> {
+        self.0.push(if value { "TRUE" } else { "FALSE" }.to_string());
+        Ok(())
+    }
+
+    fn str(&mut self, value: &[u8]) -> Result<(), Self::Error> {
+        let text = String::from_utf8_lossy(value).replace('\\', "\\\\").replace('"', "\\\"");
+        self.0.push(format!("\"{text}\""));
+        Ok(())
+    }
+
+    fn bytes(&mut self, value: &[u8]) -> Result<(), Self::Error> {
+        self.0.push(format!("{{{}}}", value.iter().map(u8::to_string).collect::<Vec<_>>().join(", ")));
+        Ok(())
+    }
+
+    fn doubles(&mut self, value: &Doubles) -> Result<(), Self::Error> {
+        self.0.push(format!("{{{}}}", value.iter().map(|n| format!("{n:?}")).collect::<Vec<_>>().join(", ")));
+        Ok(())
+    }
+}
+
 /// An integer (decimal or `0x` hex, with a sign) or a finite number.
 fn number(text: &str) -> Option<Value> {
     let (negative, digits) = match text.strip_prefix('-') {
@@ -207,6 +254,19 @@ mod tests {
 
     fn call(name: &str, args: Vec<Value>) -> Result<Call, ParseError> {
         Ok(Call { name: name.into(), args })
+    }
+
+    /// A typed command's text is the line of that call: it parses back to its values.
+    #[test]
+    fn typed_commands_as_lines() {
+        let jog = CommandCall::MoveRel { axis_id: 0, rel_dist: 5.0 };
+        assert_eq!(text(&jog), "MoveRel(0, 5.0)");
+        assert_eq!(parse(text(&jog).as_bytes()), call("MoveRel", vec![Value::Int(0), Value::Double(5.0)]));
+        let task = CommandCall::StartTaskFunc { task_id: 1, func_name: br#"a"b\c"#[..].into() };
+        assert_eq!(
+            parse(text(&task).as_bytes()),
+            call("StartTaskFunc", vec![Value::Int(1), Value::Str(br#"a"b\c"#.to_vec())])
+        );
     }
 
     #[test]

@@ -14,12 +14,11 @@ use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use api::alarms::{Alarm, Event};
 use api::call::{ArgError, Expected, Got, Value};
 use api::event_rate::Throttle;
 use api::strings;
-use api::{ArgType, CommandCall, ErrorCode, Func, FunctionSpec, Local, QueryCall, SdoAbort, SystemError, ValueType};
-use calls::{query, user_table, wire};
+use api::{CommandCall, ErrorCode, Func, FunctionSpec, LocalCall, QueryCall, SystemError, ValueType};
+use calls::{query, reply, user_table, wire};
 use ipc::call::Request as WireRequest;
 use ipc::event_record::{EventKind, EventRecord};
 use ipc::events::EventSender;
@@ -43,7 +42,14 @@ const REFUSAL_WRITE: Duration = Duration::from_millis(500);
 /// thread behind, to end with the process.
 const AGENT_END: Duration = Duration::from_secs(1);
 
-type Job = (Call, oneshot::Sender<String>);
+/// What the agent thread carries out: a client's line, or another front end's typed
+/// command (the web view's).
+enum Work {
+    Line(Call),
+    Command(CommandCall<'static>),
+}
+
+type Job = (Work, oneshot::Sender<String>);
 
 /// A running Native ASCII server and its agent thread; both end when it is dropped.
 pub struct Server {
@@ -133,19 +139,17 @@ impl Drop for AgentThread {
     }
 }
 
-/// A handle on the agent thread: a call given as an ASCII line is carried out as a
-/// client's line would be, and answered with the same text.
+/// A handle on the agent thread: a typed command is carried out as a client's line of it
+/// would be (the ASCII flag, the agent's task slot, and in the core ownership and the
+/// controller state), and answered with the same text.
 #[derive(Clone)]
 pub struct Agent(SyncSender<Job>);
 
 impl Agent {
-    /// Carries out one line (`Enable(0)`, `MoveRel(0, 5)`) and answers it: the return
+    /// Carries out `call` (`Enable(0)`, `MoveRel(0, 5.0)`) and answers it: the return
     /// value(s) as text, or `ERROR ...`.
-    pub async fn call(&self, text: &str) -> String {
-        match line::parse(text.as_bytes()) {
-            Ok(call) => ask(&self.0, call).await,
-            Err(e) => format!("ERROR {e}"),
-        }
+    pub async fn command(&self, call: CommandCall<'static>) -> String {
+        ask(&self.0, Work::Command(call)).await
     }
 }
 
@@ -209,7 +213,7 @@ async fn connection(mut stream: TcpStream, jobs: &SyncSender<Job>, idle: Duratio
             let parsed = (!std::mem::take(&mut overlong)).then(|| line::parse(&line));
             line.clear();
             let answer = match parsed {
-                Some(Ok(call)) => ask(jobs, call).await,
+                Some(Ok(call)) => ask(jobs, Work::Line(call)).await,
                 None | Some(Err(line::ParseError::Empty)) => continue,
                 Some(Err(e)) => format!("ERROR {e}"),
             };
@@ -223,10 +227,10 @@ async fn connection(mut stream: TcpStream, jobs: &SyncSender<Job>, idle: Duratio
 }
 
 /// The agent thread's answer to a call.
-async fn ask(jobs: &SyncSender<Job>, call: Call) -> String {
+async fn ask(jobs: &SyncSender<Job>, work: Work) -> String {
     let (tx, rx) = oneshot::channel();
     // A full queue means the agent is far behind (a command the core holds, like MoveHome).
-    if jobs.try_send((call, tx)).is_err() {
+    if jobs.try_send((work, tx)).is_err() {
         return "ERROR server busy, try again".into();
     }
     rx.await.unwrap_or_else(|_| "ERROR the controller is gone".into())
@@ -252,8 +256,17 @@ fn agent(ns: Namespace, task: u8, data_dir: PathBuf, inbox: Receiver<Job>, ready
         Ok(AgentSlot { ns: ns.clone(), data_dir, endpoint, shared, events, throttle: Throttle::default() })
     });
     let Some(mut slot) = crate::listener::opened(&ready, opened) else { return };
-    while let Ok((call, answer)) = inbox.recv() {
-        let _ = answer.send(carry_out(&mut slot, &call));
+    while let Ok((work, answer)) = inbox.recv() {
+        let answer_text = match &work {
+            Work::Line(call) => carry_out(&mut slot, call),
+            Work::Command(call) => {
+                let spec = call.func().spec();
+                admit(&mut slot, spec)
+                    .and_then(|()| command_answer(&mut slot.endpoint, spec, call))
+                    .unwrap_or_else(|e| e)
+            }
+        };
+        let _ = answer.send(answer_text);
     }
 }
 
@@ -262,10 +275,9 @@ fn carry_out(slot: &mut AgentSlot, call: &Call) -> String {
     let Some(spec) = api::registry::find(&call.name) else {
         return format!("ERROR unknown function {}", call.name);
     };
-    if !spec.ascii {
-        return format!("ERROR {} is not available over ASCII", spec.name);
+    if let Err(refused) = admit(slot, spec) {
+        return refused;
     }
-    slot.endpoint.slot().beat();
     let endpoint = &mut slot.endpoint;
     let result = match spec.func {
         Func::Command(command) => api::call::from_values::<CommandCall>(command, &call.args)
@@ -278,35 +290,44 @@ fn carry_out(slot: &mut AgentSlot, call: &Call) -> String {
                 Ok(std::iter::once(first).chain(second).map(query_text).collect::<Vec<_>>().join(" "))
             })
         }
-        Func::Local(local) => local_value(slot, spec, local, &call.args),
+        Func::Local(local) => api::call::from_values::<LocalCall<Value>>(local, &call.args)
+            .map_err(|e| argument_error(spec, e))
+            .and_then(|typed| local_value(slot, spec, typed)),
     };
     result.unwrap_or_else(|e| e)
+}
+
+/// A call of `spec` is taken only when the manual flags it ASCII; each taken call is the
+/// slot's heartbeat.
+fn admit(slot: &mut AgentSlot, spec: &FunctionSpec) -> Result<(), String> {
+    if !spec.ascii {
+        return Err(format!("ERROR {} is not available over ASCII", spec.name));
+    }
+    slot.endpoint.slot().beat();
+    Ok(())
 }
 
 fn command_answer(endpoint: &mut TaskEndpoint, spec: &FunctionSpec, call: &CommandCall) -> Result<String, String> {
     let mut request = WireRequest::new(call.func().id());
     wire::encode(call, &mut request).map_err(|e| format!("ERROR {}: {e}", spec.name))?;
-    let reply = endpoint.call(&mut request).map_err(|e: IpcError| format!("ERROR {e}"))?;
-    if reply.rc != 0 {
-        return Err(format!("ERROR {}", explain(reply.rc)));
+    let answer = endpoint.call(&mut request).map_err(|e: IpcError| format!("ERROR {e}"))?;
+    if answer.rc != 0 {
+        return Err(format!("ERROR {}", reply::explain(answer.rc)));
     }
-    let values = spec.returns.iter().enumerate().map(|(i, ty)| match ty {
-        ValueType::Double => f64::from_bits(reply.values[i]).to_string(),
-        _ => (reply.values[i] as i64).to_string(),
+    let values = reply::decode(call.func(), &answer).into_iter().map(|value| match value {
+        reply::Value::Int(i) => i.to_string(),
+        reply::Value::Double(d) => d.to_string(),
+        // HMPL's TRUE and FALSE.
+        reply::Value::Bool(b) => (b as i32).to_string(),
+        reply::Value::Bytes(bytes) => hex(bytes),
+        reply::Value::Doubles(numbers) => numbers.iter().map(f64::to_string).collect::<Vec<_>>().join(" "),
     });
     Ok(values.collect::<Vec<_>>().join(" "))
 }
 
-/// A nonzero reply code in words: an HMPL error code, an SDO abort or an alarm.
-fn explain(rc: u32) -> String {
-    if let Some(code) = ErrorCode::from_code(rc) {
-        return code.to_string();
-    }
-    if let Ok(abort) = SdoAbort::try_from(rc) {
-        return abort.to_string();
-    }
-    let alarm = Alarm(rc);
-    format!("{alarm} alarm: {}", Event::from(alarm.event_code()).meaning())
+/// A byte buffer as an answer shows it: two hex digits a byte.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ")
 }
 
 fn query_text(value: query::Value) -> String {
@@ -315,9 +336,7 @@ fn query_text(value: query::Value) -> String {
         query::Value::Double(d) => d.to_string(),
         // HMPL's TRUE and FALSE.
         query::Value::Bool(b) => (b as i32).to_string(),
-        query::Value::Bytes { data, len } => {
-            data[..len as usize].iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ")
-        }
+        query::Value::Bytes { data, len } => hex(&data[..len as usize]),
     }
 }
 
@@ -325,76 +344,52 @@ fn query_text(value: query::Value) -> String {
 /// with the same code: the user table's values (in shared memory), ch. 3's pure string
 /// functions and ch. 4's math, the events and the scope gate; the user table's file is a
 /// task's.
-fn local_value(slot: &mut AgentSlot, spec: &FunctionSpec, local: Local, args: &[Value]) -> Result<String, String> {
-    use api::call::Source;
-    let mut source = api::call::Values::new(args);
+fn local_value(slot: &mut AgentSlot, spec: &FunctionSpec, call: LocalCall<'_, Value>) -> Result<String, String> {
     let code = |e: SystemError| format!("ERROR {}", ErrorCode::System(e));
-    let bad = |e| argument_error(spec, e);
-    // Before anything is changed.
-    check_count(spec, args)?;
-    let result = match local {
-        Local::GetTableValue => {
-            let index = source.int().map_err(bad)?;
+    let result = match call {
+        LocalCall::GetTableValue { index } => {
             let value = usize::try_from(index).ok().and_then(|i| slot.shared.user_table(i));
             value.ok_or_else(|| code(SystemError::HmplArgOutOfRange))?.to_string()
         }
-        Local::SetTableValue => {
-            let (index, value) = (source.int().map_err(bad)?, source.double().map_err(bad)?);
+        LocalCall::SetTableValue { index, value } => {
             if !usize::try_from(index).is_ok_and(|i| slot.shared.set_user_table(i, value)) {
                 return Err(code(SystemError::HmplArgOutOfRange));
             }
             "0".into()
         }
         // HMPL ch. 3.
-        Local::StringLen => strings::len(&source.str().map_err(bad)?).to_string(),
-        Local::IsStringEqual => {
-            let (a, b) = (source.str().map_err(bad)?, source.str().map_err(bad)?);
-            i32::from(strings::equal(&a, &b)).to_string()
+        LocalCall::StringLen { str } => strings::len(&str).to_string(),
+        LocalCall::IsStringEqual { str1, str2 } => i32::from(strings::equal(&str1, &str2)).to_string(),
+        LocalCall::StrFindCharEx { str, char_set, complement_set } => {
+            strings::find_char_ex(&str, &char_set, complement_set).to_string()
         }
-        Local::StrFindCharEx => {
-            let (s, set) = (source.str().map_err(bad)?, source.str().map_err(bad)?);
-            strings::find_char_ex(&s, &set, source.bool().map_err(bad)?).to_string()
-        }
-        Local::StrFindStr => {
-            let (s, sub) = (source.str().map_err(bad)?, source.str().map_err(bad)?);
-            strings::find_str(&s, &sub).to_string()
-        }
-        Local::StringToDouble => strings::to_double(&source.str().map_err(bad)?).to_string(),
+        LocalCall::StrFindStr { str1, str2 } => strings::find_str(&str1, &str2).to_string(),
+        LocalCall::StringToDouble { str } => strings::to_double(&str).to_string(),
         // HMPL ch. 4: pure functions of numbers, the same as a script's.
-        _ if api::libm::is_math(local) => {
-            let numbers = spec
-                .args
-                .iter()
-                .map(|arg| match arg.ty {
-                    ArgType::Int => source.int().map(|i| i as f64),
-                    _ => source.double(),
-                })
-                .collect::<Result<Vec<f64>, _>>()
-                .map_err(bad)?;
-            let value = api::libm::evaluate(local, &numbers)
-                .ok_or_else(|| format!("ERROR {} takes {} argument(s)", spec.name, spec.args.len()))?;
+        math if api::libm::is_math(math.func()) => {
+            let value = api::libm::evaluate(&math).expect("a ch. 4 function");
             match spec.returns.first() {
                 Some(ValueType::Int) => (value as i64).to_string(),
                 _ => value.to_string(),
             }
         }
         // HMPL 2.19: as from a task, at a script's rate.
-        Local::SendEvent => {
-            let Ok(id) = u16::try_from(source.int().map_err(bad)?) else {
+        LocalCall::SendEvent { evt_id } => {
+            let Ok(id) = u16::try_from(evt_id) else {
                 return Err(code(SystemError::HmplArgOutOfRange));
             };
             slot.wait_for_event_token();
             slot.send_event(id.into())?
         }
         // HMPL 2.21: the agent thread gives the processor away for a moment.
-        Local::RunScheduler => {
+        LocalCall::RunScheduler {} => {
             std::thread::yield_now();
             String::new()
         }
         // HMPL 2.17: the scope ring's gate and the event that says so (docs/decisions.md
         // "SetHMIScope").
-        Local::SetHMIScope => {
-            let (event, open) = match source.int().map_err(bad)? {
+        LocalCall::SetHMIScope { start } => {
+            let (event, open) = match start {
                 1 => (0xB2C8, true),
                 0 => (0xB2C9, false),
                 _ => return Err(code(SystemError::HmplArgOutOfRange)),
@@ -403,10 +398,13 @@ fn local_value(slot: &mut AgentSlot, spec: &FunctionSpec, local: Local, args: &[
             slot.send_event(event)?
         }
         // HMPL 11.6/11.7: the controller's one file, as a script saves and loads it.
-        Local::SaveUserTable | Local::LoadUserTable => {
-            let (start, num) = (source.int().map_err(bad)?, source.int().map_err(bad)?);
-            let range = slot.shared.user_table_range(start, num).ok_or_else(|| code(SystemError::HmplArgOutOfRange))?;
-            let result = user_table::save_or_load(local == Local::SaveUserTable, &slot.data_dir, &slot.shared, range);
+        LocalCall::SaveUserTable { start_idx, num_data } | LocalCall::LoadUserTable { start_idx, num_data } => {
+            let range = slot
+                .shared
+                .user_table_range(start_idx, num_data)
+                .ok_or_else(|| code(SystemError::HmplArgOutOfRange))?;
+            let save = spec.func == Func::Local(api::Local::SaveUserTable);
+            let result = user_table::save_or_load(save, &slot.data_dir, &slot.shared, range);
             if let Err((error, why)) = result {
                 tracing::warn!("{} over ASCII: {why}", spec.name);
                 return Err(code(error));
@@ -416,14 +414,6 @@ fn local_value(slot: &mut AgentSlot, spec: &FunctionSpec, local: Local, args: &[
         _ => return Err(format!("ERROR {} runs in a script only", spec.name)),
     };
     Ok(result)
-}
-
-/// A call with more arguments than its function takes is refused.
-fn check_count(spec: &FunctionSpec, args: &[Value]) -> Result<(), String> {
-    if args.len() > spec.args.len() {
-        return Err(argument_error(spec, ArgError::TooMany { takes: spec.args.len(), given: args.len() }));
-    }
-    Ok(())
 }
 
 impl AgentSlot {
@@ -463,6 +453,8 @@ fn argument_error(spec: &FunctionSpec, error: ArgError) -> String {
         Expected::BoolOrNumber => "a number",
         Expected::Utf8String | Expected::String => "a string",
         Expected::ByteTable | Expected::BytesOrString | Expected::Numbers => "a table",
+        Expected::Function => "a function",
+        Expected::Timer => "a timer",
     };
     let got = match got {
         Got::Missing | Got::Nil => "nothing".to_string(),

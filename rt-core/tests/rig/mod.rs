@@ -3,7 +3,8 @@
 
 #![allow(dead_code)]
 
-use api::Command;
+use api::call::Value;
+use api::{ArgType, Command};
 use devices::ecat::Network;
 use ipc::call::{Reply, Request};
 use ipc::task_table::TaskTable;
@@ -79,17 +80,15 @@ impl Rig {
         reply.values[0] as i64
     }
 
-    /// `command(ints..., doubles...)` from `task`: its return value.
+    /// `command` from `task` with its `Int` and `Bool` arguments from `ints` and its
+    /// `Double` ones from `doubles`, each where the registry declares it: its return value.
     pub fn call(&mut self, task: u8, command: Command, ints: &[i64], doubles: &[f64]) -> i64 {
-        let mut request = Request::new(command.id());
-        ints.iter().for_each(|&i| request.push_int(i));
-        doubles.iter().for_each(|&d| request.push_double(d));
-        self.send(task, &request)
+        self.call_values(task, command, &declared(command, ints, doubles)).0
     }
 
     /// `command(values...)` from `task`, the arguments in the declaration's order: its
     /// return value and the reply.
-    pub fn call_values(&mut self, task: u8, command: Command, values: &[api::call::Value]) -> (i64, Reply) {
+    pub fn call_values(&mut self, task: u8, command: Command, values: &[Value]) -> (i64, Reply) {
         let call: api::CommandCall = api::call::from_values(command, values).expect("arguments as declared");
         let mut request = Request::new(command.id());
         calls::wire::encode(&call, &mut request).unwrap();
@@ -109,4 +108,24 @@ impl Rig {
     pub fn moving(&self, axis: usize) -> bool {
         self.machine.kernel.axes()[axis].is_moving()
     }
+}
+
+/// The values of a call of `command` whose `Int` and `Bool` arguments are `ints` and whose
+/// `Double` ones are `doubles`, each in the place the registry declares it (a test names
+/// numbers by their type, the declaration decides where they go).
+pub fn declared(command: Command, ints: &[i64], doubles: &[f64]) -> Vec<Value> {
+    let (mut ints, mut doubles) = (ints.iter(), doubles.iter());
+    let spec = command.spec();
+    let values: Vec<Value> = spec
+        .args
+        .iter()
+        .map(|arg| match arg.ty {
+            ArgType::Int | ArgType::Bool => ints.next().map(|&i| Value::Int(i)),
+            ArgType::Double => doubles.next().map(|&d| Value::Double(d)),
+            other => panic!("{}: a {other:?} argument is passed with call_values", spec.name),
+        })
+        .map(|value| value.unwrap_or_else(|| panic!("{}: too few arguments", spec.name)))
+        .collect();
+    assert!(ints.next().is_none() && doubles.next().is_none(), "{}: too many arguments", spec.name);
+    values
 }

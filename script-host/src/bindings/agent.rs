@@ -10,16 +10,15 @@ use std::cell::RefCell;
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::os::fd::AsRawFd;
-use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use api::{Local, SystemError};
-use mlua::{Function, Lua, Value};
+use api::{LocalCall, SystemError};
+use mlua::{Function, IntoLuaMulti, Lua, MultiValue, Value};
 use schema::shared::BROADCAST_BYTES;
 use schema::{Snapshot, TaskState};
 
 use super::locals::system_code;
-use super::{Host, binding, error_here, int_arg, lua_string_arg, type_name};
+use super::{Host, LuaArg, error_here};
 
 /// The address the agent listens on unless the controller says otherwise (HMPL 22.1).
 pub const DEFAULT_ADDRESS: &str = "127.0.0.1:4000";
@@ -65,18 +64,12 @@ thread_local! {
     static STARTED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    match local {
-        Local::START_ASCII_AGENT => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let Some(Value::Function(parser)) = args.front() else {
-                let got = args.front().map_or("nil".to_string(), type_name);
-                return Err(error_here(
-                    lua,
-                    format!("bad argument #1 to 'START_ASCII_AGENT' (function expected, got {got})"),
-                ));
-            };
+/// The functions of `Local` that belong here.
+pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
+    host.beat();
+    match call {
+        LocalCall::START_ASCII_AGENT { parser } => {
+            let Value::Function(parser) = parser.value else { unreachable!("the source checked it") };
             let pid = std::process::id();
             let claimed = {
                 let mut endpoint = host.endpoint.borrow_mut();
@@ -85,11 +78,11 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 host.shared.claim_ascii_agent(host.task(), pid, stale)
             };
             if claimed.is_err() {
-                return Ok(system_code(SystemError::HmplAsciiAgentRunning));
+                return system_code(SystemError::HmplAsciiAgentRunning).into_lua_multi(lua);
             }
-            lua.set_named_registry_value(PARSER, parser.clone())?;
+            lua.set_named_registry_value(PARSER, parser)?;
             if STARTED.get() {
-                return Ok(0);
+                return 0.into_lua_multi(lua);
             }
             let listener = TcpListener::bind(&host.user_ascii).and_then(|l| l.set_nonblocking(true).map(|()| l));
             let listener = listener.map_err(|e| {
@@ -103,34 +96,30 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
             let cursor = host.shared.broadcast_cursor();
             AGENT.set(Some(Agent { listener, clients: Vec::new(), cursor, served_at: Instant::now() }));
             STARTED.set(true);
-            Ok(0)
-        }),
-        Local::ASCII_ServerBroadcast => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let message = lua_string_arg(lua, spec, &args, 0)?;
-            let bytes = message.as_bytes();
-            let length = match args.get(1) {
-                None | Some(Value::Nil) => bytes.len(),
-                Some(_) => {
-                    let n = int_arg(lua, spec, &args, 1)?;
+            0.into_lua_multi(lua)
+        }
+        LocalCall::ASCII_ServerBroadcast { message: bytes, length } => {
+            let length = match length {
+                None => bytes.len(),
+                Some(n) => {
                     usize::try_from(n).map_err(|_| error_here(lua, format!("ASCII_ServerBroadcast: length {n} < 0")))?
                 }
             };
             let message = &bytes[..length.min(bytes.len())];
             if message.len() > BROADCAST_BYTES {
-                return Ok(system_code(SystemError::HmplStrTooLong));
+                return system_code(SystemError::HmplStrTooLong).into_lua_multi(lua);
             }
             let agent_runs = host
                 .shared
                 .ascii_agent()
                 .is_some_and(|(task, pid)| runs(host.endpoint.borrow_mut().snapshot(), task, pid));
             if !agent_runs {
-                return Ok(system_code(SystemError::HmplClientNotConnected));
+                return system_code(SystemError::HmplClientNotConnected).into_lua_multi(lua);
             }
             host.shared.broadcast(message);
-            Ok(0)
-        }),
-        _ => unreachable!("not an agent function: {local:?}"),
+            0.into_lua_multi(lua)
+        }
+        other => unreachable!("not an agent function: {:?}", other.func()),
     }
 }
 

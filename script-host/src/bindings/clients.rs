@@ -11,11 +11,10 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::future::Future;
 use std::net::{IpAddr, SocketAddr};
-use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use api::{ErrorCode, FunctionSpec, Local, SystemError};
-use mlua::{Function, Lua, MultiValue};
+use api::{ErrorCode, Local, LocalCall, SystemError};
+use mlua::{IntoLuaMulti, Lua, MultiValue};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio::runtime::Runtime;
@@ -23,7 +22,7 @@ use tokio_modbus::client::{Context, Reader, Writer};
 use tokio_modbus::prelude::Client;
 
 use super::clients_sim::{Outcome, Sim};
-use super::{Host, binding, bytes_table, doubles_arg, error_here, int_arg, lua_string_arg};
+use super::{Host, LuaArg, bytes_table, error_here};
 
 /// How long a connect may take (HMPL 22.2.3, 22.3.1: the manual gives no figure).
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
@@ -138,10 +137,6 @@ fn code_only(function: Local, rc: i64) -> Outcome {
     Outcome { function, rc, value: Vec::new(), socket: 0 }
 }
 
-fn text_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
-    Ok(lua_string_arg(lua, spec, args, i)?.to_string_lossy())
-}
-
 /// `"192.168.0.2"` with `port`, or `"192.168.0.2:1502"`: IP addresses only (no name lookup,
 /// which could block without a bound).
 fn socket_addr(ip: &str, port: Option<&str>) -> Option<SocketAddr> {
@@ -164,21 +159,21 @@ fn modbus_server(ip: &str) -> Option<(SocketAddr, u8)> {
 }
 
 /// The functions of `Local` that belong here.
-pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    match local {
-        Local::ASCII_ClientConnect => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let (ip, port) = (text_arg(lua, spec, &args, 0)?, text_arg(lua, spec, &args, 1)?);
+pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
+    let local = call.func();
+    host.beat();
+    match call {
+        LocalCall::ASCII_ClientConnect { ip, port } => {
+            let (ip, port) = (String::from_utf8_lossy(&ip), String::from_utf8_lossy(&port));
             let connected = |rc, socket| Outcome { function: local, rc, value: Vec::new(), socket };
-            let o = outcome(lua, &host, local, |c| {
+            let o = outcome(lua, host, local, |c| {
                 let Some(addr) = socket_addr(&ip, Some(&port)) else {
                     return connected(code(SystemError::AsciiConnectFailed), 0);
                 };
                 if c.ascii.len() >= MAX_SOCKETS {
                     return connected(code(SystemError::AsciiConnectFailed), 0);
                 }
-                match wait(&host, &c.runtime, CONNECT_TIMEOUT, TcpStream::connect(addr)) {
+                match wait(host, &c.runtime, CONNECT_TIMEOUT, TcpStream::connect(addr)) {
                     None => connected(code(SystemError::AsciiConnectTimeout), 0),
                     Some(Err(_)) => connected(code(SystemError::AsciiConnectFailed), 0),
                     Some(Ok(stream)) => {
@@ -188,17 +183,15 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     }
                 }
             })?;
-            Ok((o.rc, o.socket))
-        }),
-        Local::ASCII_ClientRecv => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            let o = outcome(lua, &host, local, |c| {
+            (o.rc, o.socket).into_lua_multi(lua)
+        }
+        LocalCall::ASCII_ClientRecv { socket_id: id, length } => {
+            let o = outcome(lua, host, local, |c| {
                 let Some(stream) = c.ascii.get_mut(&id).filter(|_| (1..=MAX_ASCII_LENGTH).contains(&length)) else {
                     return code_only(local, code(SystemError::AsciiRecvFail));
                 };
                 let mut buffer = vec![0; length as usize];
-                match wait(&host, &c.runtime, IO_TIMEOUT, stream.read(&mut buffer)) {
+                match wait(host, &c.runtime, IO_TIMEOUT, stream.read(&mut buffer)) {
                     None => code_only(local, code(SystemError::AsciiRecvTimeout)),
                     // 0 bytes: the server closed the connection.
                     Some(Ok(0) | Err(_)) => code_only(local, code(SystemError::AsciiRecvFail)),
@@ -208,14 +201,10 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     }
                 }
             })?;
-            Ok((o.rc, lua.create_string(o.value)?))
-        }),
-        Local::ASCII_ClientSend => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let (id, length) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            let text = lua_string_arg(lua, spec, &args, 2)?;
-            let bytes = text.as_bytes();
-            let o = outcome(lua, &host, local, |c| {
+            (o.rc, lua.create_string(o.value)?).into_lua_multi(lua)
+        }
+        LocalCall::ASCII_ClientSend { socket_id: id, length, buffer: bytes } => {
+            let o = outcome(lua, host, local, |c| {
                 let Some(stream) = c.ascii.get_mut(&id).filter(|_| (0..=MAX_ASCII_LENGTH).contains(&length)) else {
                     return code_only(local, code(SystemError::AsciiSendFail));
                 };
@@ -223,24 +212,22 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                 let bytes = &bytes[..bytes.len().min(length as usize)];
                 code_only(
                     local,
-                    match wait(&host, &c.runtime, IO_TIMEOUT, stream.write_all(bytes)) {
+                    match wait(host, &c.runtime, IO_TIMEOUT, stream.write_all(bytes)) {
                         None => code(SystemError::AsciiSendTimeout),
                         Some(Err(_)) => code(SystemError::AsciiSendFail),
                         Some(Ok(())) => 0,
                     },
                 )
             })?;
-            Ok(o.rc)
-        }),
-        Local::ASCII_ClientDisconnect => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let id = int_arg(lua, spec, &args, 0)?;
-            let o = outcome(lua, &host, local, |c| {
+            o.rc.into_lua_multi(lua)
+        }
+        LocalCall::ASCII_ClientDisconnect { socket_id: id } => {
+            let o = outcome(lua, host, local, |c| {
                 code_only(
                     local,
                     match c.ascii.remove(&id) {
                         None => code(SystemError::HmplArgOutOfRange),
-                        Some(mut stream) => match wait(&host, &c.runtime, IO_TIMEOUT, stream.shutdown()) {
+                        Some(mut stream) => match wait(host, &c.runtime, IO_TIMEOUT, stream.shutdown()) {
                             None => code(SystemError::AsciiDisconnectTimeout),
                             // A peer that left already is disconnected too.
                             Some(_) => 0,
@@ -248,13 +235,12 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     },
                 )
             })?;
-            Ok(o.rc)
-        }),
-        Local::Modbus_ClientConnect => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let ip = text_arg(lua, spec, &args, 0)?;
+            o.rc.into_lua_multi(lua)
+        }
+        LocalCall::Modbus_ClientConnect { ip } => {
+            let ip = String::from_utf8_lossy(&ip);
             let connected = |rc, socket| Outcome { function: local, rc, value: Vec::new(), socket };
-            let o = outcome(lua, &host, local, |c| {
+            let o = outcome(lua, host, local, |c| {
                 let Some((addr, unit)) = modbus_server(&ip) else {
                     return connected(code(SystemError::ModbusConnectFailed), 0);
                 };
@@ -262,7 +248,7 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     return connected(code(SystemError::ModbusConnectFailed), 0);
                 }
                 let connect = tokio_modbus::client::tcp::connect_slave(addr, tokio_modbus::Slave(unit));
-                match wait(&host, &c.runtime, CONNECT_TIMEOUT, connect) {
+                match wait(host, &c.runtime, CONNECT_TIMEOUT, connect) {
                     None => connected(code(SystemError::ModbusConnectTimeout), 0),
                     Some(Err(_)) => connected(code(SystemError::ModbusConnectFailed), 0),
                     Some(Ok(context)) => {
@@ -272,37 +258,32 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     }
                 }
             })?;
-            Ok((o.rc, o.socket))
-        }),
-        Local::Modbus_ClientDisconnect => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let id = int_arg(lua, spec, &args, 0)?;
-            let o = outcome(lua, &host, local, |c| {
+            (o.rc, o.socket).into_lua_multi(lua)
+        }
+        LocalCall::Modbus_ClientDisconnect { socket_id: id } => {
+            let o = outcome(lua, host, local, |c| {
                 code_only(
                     local,
                     match c.modbus.remove(&id) {
                         None => code(SystemError::HmplArgOutOfRange),
-                        Some(mut context) => match wait(&host, &c.runtime, IO_TIMEOUT, context.disconnect()) {
+                        Some(mut context) => match wait(host, &c.runtime, IO_TIMEOUT, context.disconnect()) {
                             None => code(SystemError::ModbusDisconnectTimeout),
                             Some(_) => 0,
                         },
                     },
                 )
             })?;
-            Ok(o.rc)
-        }),
-        Local::Modbus_ClientRead_HoldReg
-        | Local::Modbus_ClientRead_InputReg
-        | Local::Modbus_ClientRead_Coils
-        | Local::Modbus_ClientRead_Inputs => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let id = int_arg(lua, spec, &args, 0)?;
-            let (start, count) = (int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
+            o.rc.into_lua_multi(lua)
+        }
+        LocalCall::Modbus_ClientRead_HoldReg { socket_id: id, start_addr: start, num_regs: count }
+        | LocalCall::Modbus_ClientRead_InputReg { socket_id: id, start_addr: start, num_regs: count }
+        | LocalCall::Modbus_ClientRead_Coils { socket_id: id, start_addr: start, num_coils: count }
+        | LocalCall::Modbus_ClientRead_Inputs { socket_id: id, start_addr: start, num_inputs: count } => {
             let limit = match local {
                 Local::Modbus_ClientRead_HoldReg | Local::Modbus_ClientRead_InputReg => 125,
                 _ => 2000,
             };
-            let o = outcome(lua, &host, local, |c| {
+            let o = outcome(lua, host, local, |c| {
                 let Some(request) = request(start, count, limit) else {
                     return code_only(local, code(SystemError::ModbusDatalengthErr));
                 };
@@ -318,18 +299,16 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                         _ => bits(context.read_discrete_inputs(start, count).await??),
                     })
                 };
-                job_result(local, wait(&host, &c.runtime, IO_TIMEOUT, job))
+                job_result(local, wait(host, &c.runtime, IO_TIMEOUT, job))
             })?;
-            Ok((o.rc, bytes_table(lua, &o.value)?, o.value.len() as i64))
-        }),
-        Local::Modbus_ClientWrite_HoldReg | Local::Modbus_ClientWrite_Coils => {
-            binding(lua, spec, move |lua, args| {
-                host.beat();
-                let id = int_arg(lua, spec, &args, 0)?;
-                let (start, count) = (int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
-                let data = doubles_arg(lua, spec, &args, 3)?;
+            (o.rc, bytes_table(lua, &o.value)?, o.value.len() as i64).into_lua_multi(lua)
+        }
+        LocalCall::Modbus_ClientWrite_HoldReg { socket_id: id, start_addr: start, num_regs: count, write_data }
+        | LocalCall::Modbus_ClientWrite_Coils { socket_id: id, start_addr: start, num_coils: count, write_data } => {
+            {
+                let data: Vec<f64> = write_data.iter().collect();
                 let registers = local == Local::Modbus_ClientWrite_HoldReg;
-                let o = outcome(lua, &host, local, |c| {
+                let o = outcome(lua, host, local, |c| {
                     let limit = if registers { 123 } else { 1968 };
                     let Some((start, count)) = request(start, count, limit) else {
                         return code_only(local, code(SystemError::ModbusDatalengthErr));
@@ -352,12 +331,12 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                         // The server's reply to FC 15/16: start address and count, big-endian.
                         Ok([start.to_be_bytes(), count.to_be_bytes()].concat())
                     };
-                    job_result(local, wait(&host, &c.runtime, IO_TIMEOUT, job))
+                    job_result(local, wait(host, &c.runtime, IO_TIMEOUT, job))
                 })?;
-                Ok((o.rc, bytes_table(lua, &o.value)?, o.value.len() as i64))
-            })
+                (o.rc, bytes_table(lua, &o.value)?, o.value.len() as i64).into_lua_multi(lua)
+            }
         }
-        _ => unreachable!("{} is not a client function", spec.name),
+        _ => unreachable!("{} is not a client function", local.spec().name),
     }
 }
 

@@ -3,13 +3,13 @@
 //! program goes on, so one run shows every failure of a file; the program fails when it
 //! ends (docs/decisions.md, "luamotion test").
 
+use std::borrow::Cow;
 use std::cell::Cell;
-use std::rc::Rc;
 
-use api::{FunctionSpec, Local};
-use mlua::{Function, Lua, MultiValue, Value};
+use api::{FunctionSpec, LocalCall};
+use mlua::{IntoLuaMulti, Lua, MultiValue, Value};
 
-use super::{Host, binding, double_arg, lua_string_arg, write_output};
+use super::{Host, LuaArg, write_output};
 
 /// The expectations a program checked, and how many of them failed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -40,12 +40,9 @@ fn record(
     held
 }
 
-/// The optional message, argument `i`.
-fn message_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Option<String>> {
-    match args.get(i) {
-        None | Some(Value::Nil) => Ok(None),
-        Some(_) => Ok(Some(lua_string_arg(lua, spec, args, i)?.to_string_lossy())),
-    }
+/// The optional message as text.
+fn message(message: Option<Cow<[u8]>>) -> Option<String> {
+    message.map(|m| String::from_utf8_lossy(&m).into_owned())
 }
 
 /// A value as a failure shows it: strings quoted, floats with their point (`100.0`).
@@ -60,38 +57,30 @@ fn shown(v: &Value) -> String {
     }
 }
 
-pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    match local {
-        Local::expect_eq => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let actual = args.front().cloned().unwrap_or(Value::Nil);
-            let expected = args.get(1).cloned().unwrap_or(Value::Nil);
-            let message = message_arg(lua, spec, &args, 2)?;
+/// The functions of `Local` that belong here.
+pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
+    let spec = call.func().spec();
+    host.beat();
+    match call {
+        LocalCall::expect_eq { actual, expected, message: text } => {
+            let (actual, expected) = (actual.value, expected.value);
             let held = actual.equals(&expected)?;
             let why = || format!("got {}, expected {}", shown(&actual), shown(&expected));
-            Ok(record(lua, &host.tally, spec, held, why, message))
-        }),
-        Local::expect_near => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let actual = double_arg(lua, spec, &args, 0)?;
-            let expected = double_arg(lua, spec, &args, 1)?;
-            let tolerance = double_arg(lua, spec, &args, 2)?;
-            let message = message_arg(lua, spec, &args, 3)?;
+            record(lua, &host.tally, spec, held, why, message(text)).into_lua_multi(lua)
+        }
+        LocalCall::expect_near { actual, expected, tolerance, message: text } => {
             // Written so that a NaN anywhere fails.
             let held = (actual - expected).abs() <= tolerance;
             let why =
                 || format!("got {actual:?}, expected {expected:?} ± {tolerance:?} (off by {:?})", actual - expected);
-            Ok(record(lua, &host.tally, spec, held, why, message))
-        }),
-        Local::expect_true => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let value = args.front().cloned().unwrap_or(Value::Nil);
-            let message = message_arg(lua, spec, &args, 1)?;
-            let held = super::locals::is_true(&value);
-            Ok(record(lua, &host.tally, spec, held, || format!("got {}", shown(&value)), message))
-        }),
-        other => unreachable!("{} is no expectation", other.spec().name),
+            record(lua, &host.tally, spec, held, why, message(text)).into_lua_multi(lua)
+        }
+        LocalCall::expect_true { value, message: text } => {
+            let held = super::locals::is_true(&value.value);
+            let why = || format!("got {}", shown(&value.value));
+            record(lua, &host.tally, spec, held, why, message(text)).into_lua_multi(lua)
+        }
+        other => unreachable!("{} is no expectation", other.func().spec().name),
     }
 }
 

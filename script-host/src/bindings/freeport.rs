@@ -7,15 +7,14 @@ use std::cell::RefCell;
 use std::collections::{BTreeMap, VecDeque};
 use std::io::{ErrorKind, Read, Write};
 use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream};
-use std::rc::Rc;
 use std::time::Duration;
 
-use api::Local;
-use mlua::{Function, Lua, MultiValue, Value};
+use api::LocalCall;
+use mlua::{Lua, MultiValue, Value};
 use serial::framing::{Deframer, Framing, Received};
 
 use super::freeport_sim::{Event, Sim};
-use super::{Host, binding, int_arg, lua_string_arg};
+use super::{Host, LuaArg};
 
 /// DXMC 8.3 FreePort: "0 = success, other = error"; the manual numbers no errors, these
 /// are luamotion's (docs/decisions.md).
@@ -302,8 +301,8 @@ fn close(id: i64) -> Code {
 
 /// A start byte (at most one: nil, 0..0xFF or a 1-character string) or end bytes (nil, a
 /// byte, `CR_LF` or a string of at most 2).
-pub(super) fn delimiter(value: Option<&Value>, most: usize) -> Option<Vec<u8>> {
-    match value.unwrap_or(&Value::Nil) {
+pub(super) fn delimiter(value: &Value, most: usize) -> Option<Vec<u8>> {
+    match value {
         Value::Nil => Some(Vec::new()),
         Value::Integer(n) => u8::try_from(*n).ok().map(|b| vec![b]),
         Value::Number(n) if n.fract() == 0.0 && (0.0..=255.0).contains(n) => Some(vec![*n as u8]),
@@ -312,9 +311,9 @@ pub(super) fn delimiter(value: Option<&Value>, most: usize) -> Option<Vec<u8>> {
     }
 }
 
-fn framing(args: &MultiValue, start_at: usize) -> Option<Framing> {
-    let start = delimiter(args.get(start_at), 1)?;
-    let end = delimiter(args.get(start_at + 1), 2)?;
+fn framing(start: &LuaArg, end: &LuaArg) -> Option<Framing> {
+    let start = delimiter(&start.value, 1)?;
+    let end = delimiter(&end.value, 2)?;
     Some(Framing { start: start.first().copied(), end })
 }
 
@@ -392,104 +391,87 @@ fn code(c: Code) -> i64 {
     c as i64
 }
 
-pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    binding(lua, spec, move |lua, args| {
-        // Every call beats, so a task polling Rx in a loop is alive for the watchdog.
-        host.beat();
-        let mut results = MultiValue::new();
-        let status = match local {
-            Local::EthOpenAsServer => {
-                let id = int_arg(lua, spec, &args, 0)?;
-                let (Some(port), Some(framing)) = (port(int_arg(lua, spec, &args, 1)?), framing(&args, 2)) else {
-                    return Ok(MultiValue::from_vec(vec![Value::Integer(code(Code::BadArgument))]));
-                };
-                open(&host, id, |replaying| {
-                    if replaying {
-                        return Ok(Session::new(None, None, framing));
-                    }
-                    let address = SocketAddr::new(host.freeport_bind, port);
-                    let listener = TcpListener::bind(address).map_err(|_| Code::OpenFailed)?;
-                    listener.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
-                    Ok(Session::new(Some(listener), None, framing))
-                })
-            }
-            Local::EthOpenAsClient => {
-                let id = int_arg(lua, spec, &args, 0)?;
-                let ip = lua_string_arg(lua, spec, &args, 1)?.to_str().ok().and_then(|s| s.parse::<IpAddr>().ok());
-                let (Some(ip), Some(port), Some(framing)) =
-                    (ip, port(int_arg(lua, spec, &args, 2)?), framing(&args, 3))
-                else {
-                    return Ok(MultiValue::from_vec(vec![Value::Integer(code(Code::BadArgument))]));
-                };
-                open(&host, id, |replaying| {
-                    let mut session = Session::new(None, None, framing);
-                    // On the simulation clock the program sees the peer at once.
-                    session.connected = true;
-                    if !replaying {
-                        let stream = TcpStream::connect_timeout(&SocketAddr::new(ip, port), CONNECT_TIMEOUT)
-                            .map_err(|_| Code::OpenFailed)?;
-                        stream.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
-                        session.peer = Some(stream);
-                    }
-                    Ok(session)
-                })
-            }
-            Local::EthTx => {
-                let id = int_arg(lua, spec, &args, 0)?;
-                let msg = args.get(1).cloned().unwrap_or(Value::Nil);
-                let status = match message_bytes(&msg) {
-                    None => Code::BadArgument,
-                    Some(bytes) if bytes.len() > MAX_DATA => Code::TooLong,
-                    Some(bytes) => with_session(&host, id, |s, turn| s.send(&bytes, turn)).unwrap_or_else(|c| c),
-                };
-                results.push_back(msg);
-                status
-            }
-            Local::EthRx => {
-                let id = int_arg(lua, spec, &args, 0)?;
-                let frame = with_session(&host, id, Session::next_frame);
-                let (status, data) = frame.unwrap_or_else(|c| (c, Vec::new()));
-                results.push_back(Value::String(lua.create_string(&data)?));
-                results.push_back(Value::Integer(data.len() as i64));
-                status
-            }
-            Local::EthClose => {
-                let id = int_arg(lua, spec, &args, 0)?;
-                close(id)
-            }
-            Local::EthCloseAll => {
-                for id in SESSIONS.with_borrow(|s| s.keys().copied().collect::<Vec<_>>()) {
-                    close(id);
+/// The functions of `Local` that belong here.
+pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
+    // Every call beats, so a task polling Rx in a loop is alive for the watchdog.
+    host.beat();
+    let mut results = MultiValue::new();
+    let status = match call {
+        LocalCall::EthOpenAsServer { SessionID: id, Port: port_number, SByte: start, EByte: end } => {
+            let (Some(port), Some(framing)) = (port(port_number), framing(&start, &end)) else {
+                return Ok(MultiValue::from_vec(vec![Value::Integer(code(Code::BadArgument))]));
+            };
+            open(host, id, |replaying| {
+                if replaying {
+                    return Ok(Session::new(None, None, framing));
                 }
-                Code::Ok
+                let address = SocketAddr::new(host.freeport_bind, port);
+                let listener = TcpListener::bind(address).map_err(|_| Code::OpenFailed)?;
+                listener.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
+                Ok(Session::new(Some(listener), None, framing))
+            })
+        }
+        LocalCall::EthOpenAsClient { SessionID: id, IPAddr: ip, Port: port_number, SByte: start, EByte: end } => {
+            let ip = std::str::from_utf8(&ip).ok().and_then(|s| s.parse::<IpAddr>().ok());
+            let (Some(ip), Some(port), Some(framing)) = (ip, port(port_number), framing(&start, &end)) else {
+                return Ok(MultiValue::from_vec(vec![Value::Integer(code(Code::BadArgument))]));
+            };
+            open(host, id, |replaying| {
+                let mut session = Session::new(None, None, framing);
+                // On the simulation clock the program sees the peer at once.
+                session.connected = true;
+                if !replaying {
+                    let stream = TcpStream::connect_timeout(&SocketAddr::new(ip, port), CONNECT_TIMEOUT)
+                        .map_err(|_| Code::OpenFailed)?;
+                    stream.set_nonblocking(true).map_err(|_| Code::OpenFailed)?;
+                    session.peer = Some(stream);
+                }
+                Ok(session)
+            })
+        }
+        LocalCall::EthTx { SessionID: id, Msg: msg } => {
+            let msg = msg.value;
+            let status = match message_bytes(&msg) {
+                None => Code::BadArgument,
+                Some(bytes) if bytes.len() > MAX_DATA => Code::TooLong,
+                Some(bytes) => with_session(host, id, |s, turn| s.send(&bytes, turn)).unwrap_or_else(|c| c),
+            };
+            results.push_back(msg);
+            status
+        }
+        LocalCall::EthRx { SessionID: id } => {
+            let frame = with_session(host, id, Session::next_frame);
+            let (status, data) = frame.unwrap_or_else(|c| (c, Vec::new()));
+            results.push_back(Value::String(lua.create_string(&data)?));
+            results.push_back(Value::Integer(data.len() as i64));
+            status
+        }
+        LocalCall::EthClose { SessionID: id } => close(id),
+        LocalCall::EthCloseAll {} => {
+            for id in SESSIONS.with_borrow(|s| s.keys().copied().collect::<Vec<_>>()) {
+                close(id);
             }
-            Local::EthBuffClear => {
-                let id = int_arg(lua, spec, &args, 0)?;
-                with_session(&host, id, |s, turn| {
-                    s.poll(turn);
-                    s.received.clear();
-                    Code::Ok
-                })
-                .unwrap_or_else(|c| c)
-            }
-            Local::EthGetSessions => {
-                let ids: Vec<i64> = SESSIONS.with_borrow(|s| s.keys().copied().collect());
-                results.push_back(Value::Table(lua.create_sequence_from(ids)?));
-                Code::Ok
-            }
-            Local::EthConnectCheck => {
-                let id = int_arg(lua, spec, &args, 0)?;
-                with_session(&host, id, |s, turn| {
-                    let sim = turn.is_some();
-                    s.poll(turn);
-                    if s.has_peer(sim) { Code::Ok } else { Code::NotConnected }
-                })
-                .unwrap_or_else(|c| c)
-            }
-            other => unreachable!("{other:?} is not a FreePort function"),
-        };
-        results.push_front(Value::Integer(code(status)));
-        Ok(results)
-    })
+            Code::Ok
+        }
+        LocalCall::EthBuffClear { SessionID: id } => with_session(host, id, |s, turn| {
+            s.poll(turn);
+            s.received.clear();
+            Code::Ok
+        })
+        .unwrap_or_else(|c| c),
+        LocalCall::EthGetSessions {} => {
+            let ids: Vec<i64> = SESSIONS.with_borrow(|s| s.keys().copied().collect());
+            results.push_back(Value::Table(lua.create_sequence_from(ids)?));
+            Code::Ok
+        }
+        LocalCall::EthConnectCheck { SessionID: id } => with_session(host, id, |s, turn| {
+            let sim = turn.is_some();
+            s.poll(turn);
+            if s.has_peer(sim) { Code::Ok } else { Code::NotConnected }
+        })
+        .unwrap_or_else(|c| c),
+        other => unreachable!("{:?} is not a FreePort function", other.func()),
+    };
+    results.push_front(Value::Integer(code(status)));
+    Ok(results)
 }

@@ -3,19 +3,18 @@
 //! controller variables by HCV id (ch. 17.3). Out-parameters come back after the C return
 //! value; arguments are never changed (docs/decisions.md, "Out-parameters").
 
-use std::rc::Rc;
 use std::sync::OnceLock;
 
 use api::call::{self, Value as Neutral};
 use api::hcv::{self, Hcv, SystemHcv};
-use api::{CommandCall, ErrorCode, Local, QueryCall, SystemError, strings};
+use api::{CommandCall, ErrorCode, Local, LocalCall, QueryCall, SystemError, strings};
 use calls::query;
 use ipc::event_record::EventKind;
 use ipc::task_table::RunState;
-use mlua::{Function, Lua, MultiValue, Table, Value};
+use mlua::{IntoLuaMulti, Lua, MultiValue, Table, Value};
 use schema::shared::{TestValue, TestVar};
 
-use super::{Host, binding, bool_arg, double_arg, error_here, int_arg, lua_string_arg, round_trip, type_name};
+use super::{Host, LuaArg, error_here, round_trip, type_name};
 
 /// HMPL 3.1: `HMPL_STR_MAX_LEN`.
 const STR_MAX_LEN: usize = 512;
@@ -24,204 +23,145 @@ fn system_code(e: SystemError) -> i64 {
     ErrorCode::System(e).code() as i64
 }
 
-pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    let math1 = |f: fn(f64) -> f64| binding(lua, spec, move |lua, args| Ok(f(number(lua, spec, &args, 0)?)));
-    let math2 = |f: fn(f64, f64) -> f64| {
-        binding(lua, spec, move |lua, args| Ok(f(number(lua, spec, &args, 0)?, number(lua, spec, &args, 1)?)))
-    };
-    match local {
+/// The functions of `Local` that belong here.
+pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
+    let spec = call.func().spec();
+    match call {
         // HMPL ch. 2.
-        Local::GetFirmwareVer => text_out(lua, spec, host, || Some(env!("CARGO_PKG_VERSION").as_bytes().to_vec())),
-        Local::GetFirmwareDate => text_out(lua, spec, host, || firmware_date().map(String::into_bytes)),
-        Local::GetModelNum | Local::GetSerialNum => {
-            let shared = host.clone();
-            text_out(lua, spec, host, move || {
-                let (model, serial) = shared.shared.identity();
-                Some(if local == Local::GetModelNum { model } else { serial }).filter(|t| !t.is_empty())
-            })
+        LocalCall::GetFirmwareVer {} => text_out(lua, host, Some(env!("CARGO_PKG_VERSION").as_bytes().to_vec())),
+        LocalCall::GetFirmwareDate {} => text_out(lua, host, firmware_date().map(String::into_bytes)),
+        LocalCall::GetModelNum {} | LocalCall::GetSerialNum {} => {
+            let (model, serial) = host.shared.identity();
+            let text = if spec.func == api::Func::Local(Local::GetModelNum) { model } else { serial };
+            text_out(lua, host, Some(text).filter(|t| !t.is_empty()))
         }
-        Local::GetFirmwareHash => binding(lua, spec, move |_, _| {
+        LocalCall::GetFirmwareHash {} => {
             host.beat();
-            Ok(match firmware_hash(&host) {
+            match firmware_hash(host) {
                 Some(hash) => (0, hash as i64),
                 None => (system_code(SystemError::HmplExecFailed), 0),
-            })
-        }),
-        Local::SetHMIScope => binding(lua, spec, move |lua, args| {
+            }
+            .into_lua_multi(lua)
+        }
+        LocalCall::SetHMIScope { start } => {
             host.beat();
-            let (code, open) = match int_arg(lua, spec, &args, 0)? {
+            let (code, open) = match start {
                 1 => (0xB2C8, true),
                 0 => (0xB2C9, false),
-                _ => return Ok(system_code(SystemError::HmplArgOutOfRange)),
+                _ => return system_code(SystemError::HmplArgOutOfRange).into_lua_multi(lua),
             };
             // The scope ring's gate (docs/decisions.md "SetHMIScope"); opened per call,
             // which is rare.
             match ipc::scope::ScopeRing::open(&host.ns) {
                 Ok(ring) => ring.set_gate(open),
-                Err(_) => return Ok(system_code(SystemError::HmplExecFailed)),
+                Err(_) => return system_code(SystemError::HmplExecFailed).into_lua_multi(lua),
             }
-            Ok(host.send_event(EventKind::Event, code, ""))
-        }),
-        // HMPL ch. 3: strings.
-        Local::StringPrint => binding(lua, spec, move |lua, args| {
-            let formatted = super::locals::format(lua, spec, &args)?;
-            let text = match formatted {
+            host.send_event(EventKind::Event, code, "").into_lua_multi(lua)
+        }
+        // HMPL ch. 3: strings, read as C reads them, up to their first NUL.
+        LocalCall::StringPrint { format, args } => {
+            let text = match super::locals::format(spec, &format, &args) {
                 Ok(f) if f.cut == 0 && f.text.len() <= STR_MAX_LEN => f.text,
                 Ok(_) => {
                     eprintln!("warning: StringPrint: the text is longer than HMPL_STR_MAX_LEN (512) (0x138D)");
-                    return Ok((-1, lua.create_string("")?));
+                    return (-1, lua.create_string("")?).into_lua_multi(lua);
                 }
-                Err(()) => return Ok((-1, lua.create_string("")?)),
+                Err(()) => return (-1, lua.create_string("")?).into_lua_multi(lua),
             };
-            Ok((text.len() as i64, lua.create_string(&text)?))
-        }),
-        Local::StringLen => binding(lua, spec, move |lua, args| Ok(strings::len(&c_str(lua, spec, &args, 0)?))),
-        Local::IsStringEqual => binding(lua, spec, move |lua, args| {
-            Ok(strings::equal(&c_str(lua, spec, &args, 0)?, &c_str(lua, spec, &args, 1)?))
-        }),
-        Local::StrFindChar => binding(lua, spec, move |lua, args| {
-            let s = c_str(lua, spec, &args, 0)?;
-            let c = character(lua, &args)?;
-            // As C's strchr: the terminator is found too.
-            Ok(if c == 0 { s.len() as i64 } else { strings::offset(s.iter().position(|&b| b == c)) })
-        }),
-        Local::StrFindCharEx => binding(lua, spec, move |lua, args| {
-            let s = c_str(lua, spec, &args, 0)?;
-            let set = c_str(lua, spec, &args, 1)?;
-            let complement = bool_arg(lua, spec, &args, 2)?;
-            Ok(strings::find_char_ex(&s, &set, complement))
-        }),
-        Local::StrFindStr => binding(lua, spec, move |lua, args| {
-            let (s, sub) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
-            Ok(strings::find_str(&s, &sub))
-        }),
-        Local::StringCopy => binding(lua, spec, move |lua, args| {
-            let source = c_str(lua, spec, &args, 0)?;
-            string_result(lua, Vec::new(), Ok(&source))
-        }),
-        Local::StringCopyEx => binding(lua, spec, move |lua, args| {
-            let source = c_str(lua, spec, &args, 0)?;
-            let part = substring(&source, int_arg(lua, spec, &args, 1)?, int_arg(lua, spec, &args, 2)?);
-            string_result(lua, Vec::new(), part)
-        }),
-        Local::StringCat => binding(lua, spec, move |lua, args| {
-            let (destination, source) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
-            string_result(lua, destination, Ok(&source))
-        }),
-        Local::StringCatEx => binding(lua, spec, move |lua, args| {
-            let (destination, source) = (c_str(lua, spec, &args, 0)?, c_str(lua, spec, &args, 1)?);
-            let part = substring(&source, int_arg(lua, spec, &args, 2)?, int_arg(lua, spec, &args, 3)?);
-            string_result(lua, destination, part)
-        }),
-        Local::StringToDouble => {
-            binding(lua, spec, move |lua, args| Ok(strings::to_double(&c_str(lua, spec, &args, 0)?)))
+            (text.len() as i64, lua.create_string(&text)?).into_lua_multi(lua)
         }
+        LocalCall::StringLen { str } => strings::len(&str).into_lua_multi(lua),
+        LocalCall::IsStringEqual { str1, str2 } => strings::equal(&str1, &str2).into_lua_multi(lua),
+        LocalCall::StrFindChar { str, character: c } => {
+            let s = strings::c_str(&str);
+            let c = character(lua, &c)?;
+            // As C's strchr: the terminator is found too.
+            (if c == 0 { s.len() as i64 } else { strings::offset(s.iter().position(|&b| b == c)) }).into_lua_multi(lua)
+        }
+        LocalCall::StrFindCharEx { str, char_set, complement_set } => {
+            strings::find_char_ex(&str, &char_set, complement_set).into_lua_multi(lua)
+        }
+        LocalCall::StrFindStr { str1, str2 } => strings::find_str(&str1, &str2).into_lua_multi(lua),
+        LocalCall::StringCopy { source } => string_result(lua, Vec::new(), Ok(strings::c_str(&source))),
+        LocalCall::StringCopyEx { source, start_pos, copy_len } => {
+            string_result(lua, Vec::new(), substring(strings::c_str(&source), start_pos, copy_len))
+        }
+        LocalCall::StringCat { destination, source } => {
+            string_result(lua, strings::c_str(&destination).to_vec(), Ok(strings::c_str(&source)))
+        }
+        LocalCall::StringCatEx { destination, source, start_pos, copy_len } => {
+            let part = substring(strings::c_str(&source), start_pos, copy_len);
+            string_result(lua, strings::c_str(&destination).to_vec(), part)
+        }
+        LocalCall::StringToDouble { str } => strings::to_double(&str).into_lua_multi(lua),
         // HMPL ch. 3: memory, on tables that stand for C arrays.
-        Local::MemoryCopy => binding(lua, spec, move |lua, args| {
-            let mut destination = memory(lua, spec.name, &args, 0)?;
-            let source = memory(lua, spec.name, &args, 1)?;
-            let n = int_arg(lua, spec, &args, 2)?;
-            let rc = match byte_count(n, [destination.bytes.len(), source.bytes.len()]) {
+        LocalCall::MemoryCopy { destination, source, byte_num } => {
+            let mut destination = memory(lua, spec.name, &destination)?;
+            let source = memory(lua, spec.name, &source)?;
+            let rc = match byte_count(byte_num, [destination.bytes.len(), source.bytes.len()]) {
                 Ok(n) => {
                     destination.bytes[..n].copy_from_slice(&source.bytes[..n]);
                     0
                 }
                 Err(code) => code,
             };
-            Ok((rc, destination.to_lua(lua)?))
-        }),
-        Local::MemorySet => binding(lua, spec, move |lua, args| {
-            let mut destination = memory(lua, spec.name, &args, 0)?;
-            // As C's memset: the value is converted to an unsigned char.
-            let value = int_arg(lua, spec, &args, 1)? as u8;
-            let n = int_arg(lua, spec, &args, 2)?;
-            let rc = match byte_count(n, [destination.bytes.len()]) {
+            (rc, destination.to_lua(lua)?).into_lua_multi(lua)
+        }
+        LocalCall::MemorySet { destination, value, byte_num } => {
+            let mut destination = memory(lua, spec.name, &destination)?;
+            let rc = match byte_count(byte_num, [destination.bytes.len()]) {
                 Ok(n) => {
-                    destination.bytes[..n].fill(value);
+                    // As C's memset: the value is converted to an unsigned char.
+                    destination.bytes[..n].fill(value as u8);
                     0
                 }
                 Err(code) => code,
             };
-            Ok((rc, destination.to_lua(lua)?))
-        }),
-        Local::IsMemoryEqual => binding(lua, spec, move |lua, args| {
-            let (a, b) = (memory(lua, spec.name, &args, 0)?, memory(lua, spec.name, &args, 1)?);
-            let n = int_arg(lua, spec, &args, 2)?;
-            Ok(byte_count(n, [a.bytes.len(), b.bytes.len()]).is_ok_and(|n| a.bytes[..n] == b.bytes[..n]))
-        }),
+            (rc, destination.to_lua(lua)?).into_lua_multi(lua)
+        }
+        LocalCall::IsMemoryEqual { memory_ptr1, memory_ptr2, byte_num } => {
+            let (a, b) = (memory(lua, spec.name, &memory_ptr1)?, memory(lua, spec.name, &memory_ptr2)?);
+            byte_count(byte_num, [a.bytes.len(), b.bytes.len()])
+                .is_ok_and(|n| a.bytes[..n] == b.bytes[..n])
+                .into_lua_multi(lua)
+        }
         // HMPL ch. 4: the C library's functions (Lua's math library calls the same ones, but
-        // takes strings and extra arguments).
-        Local::sin => math1(f64::sin),
-        Local::cos => math1(f64::cos),
-        Local::tan => math1(f64::tan),
-        Local::asin => math1(f64::asin),
-        Local::acos => math1(f64::acos),
-        Local::sqrt => math1(f64::sqrt),
-        Local::atan => math1(f64::atan),
-        Local::atan2 => math2(f64::atan2),
-        Local::abs => binding(lua, spec, move |lua, args| {
-            let x = int_arg(lua, spec, &args, 0)?;
-            x.checked_abs().ok_or_else(|| error_here(lua, format!("abs: |{x}| does not fit an integer")))
-        }),
-        Local::fabs => math1(f64::abs),
-        Local::ceil => math1(f64::ceil),
-        Local::floor => math1(f64::floor),
-        Local::ldexp => binding(lua, spec, move |lua, args| {
-            let (x, y) = (double_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            Ok(api::libm::ldexp(x, y))
-        }),
-        Local::exp => math1(api::libm::exp),
-        Local::pow => math2(api::libm::pow),
-        Local::log => math1(f64::ln),
-        Local::log10 => math1(f64::log10),
-        Local::cbrt => math1(f64::cbrt),
-        Local::hypot => math2(f64::hypot),
+        // takes strings and extra arguments); `abs` takes an integer and must fit one.
+        LocalCall::abs { x } => x
+            .checked_abs()
+            .ok_or_else(|| error_here(lua, format!("abs: |{x}| does not fit an integer")))?
+            .into_lua_multi(lua),
+        math if api::libm::is_math(math.func()) => {
+            api::libm::evaluate(&math).expect("a ch. 4 function").into_lua_multi(lua)
+        }
         // HMPL 17.3.
-        Local::GetConfigVar => binding(lua, spec, move |lua, args| {
+        LocalCall::GetConfigVar { hcv_id } => {
             host.beat();
-            let id = int_arg(lua, spec, &args, 0)?;
-            Ok(match get_config_var(&host, id) {
+            match get_config_var(host, hcv_id) {
                 Ok(value) => (value, 0),
                 Err(why) => {
-                    eprintln!("warning: GetConfigVar(0x{:08X}): {why}", id as u32);
+                    eprintln!("warning: GetConfigVar(0x{:08X}): {why}", hcv_id as u32);
                     (0.0, -1)
                 }
-            })
-        }),
-        Local::SetConfigVar => binding(lua, spec, move |lua, args| {
+            }
+            .into_lua_multi(lua)
+        }
+        LocalCall::SetConfigVar { hcv_id, value } => {
             host.beat();
-            let (id, value) = (int_arg(lua, spec, &args, 0)?, double_arg(lua, spec, &args, 1)?);
-            set_config_var(lua, &host, id, value)
-        }),
-        other => unreachable!("{other:?} is not a library function"),
-    }
-}
-
-/// Argument `i` of a math function: a number as it is (the fast path of a hot loop), else
-/// read as every other function's argument, for the same error.
-fn number(lua: &Lua, spec: &api::FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<f64> {
-    match args.get(i) {
-        Some(Value::Number(x)) => Ok(*x),
-        Some(Value::Integer(n)) => Ok(*n as f64),
-        _ => double_arg(lua, spec, args, i),
+            set_config_var(lua, host, hcv_id, value)?.into_lua_multi(lua)
+        }
+        other => unreachable!("{:?} is not a library function", other.func()),
     }
 }
 
 /// A ch. 2 function that gives a string: `rc, text`, "N/A" when it cannot be had.
-fn text_out(
-    lua: &Lua,
-    spec: &'static api::FunctionSpec,
-    host: Rc<Host>,
-    text: impl Fn() -> Option<Vec<u8>> + 'static,
-) -> mlua::Result<Function> {
-    binding(lua, spec, move |lua, _| {
-        host.beat();
-        Ok(match text() {
-            Some(text) => (0, lua.create_string(&text)?),
-            None => (system_code(SystemError::HmplExecFailed), lua.create_string("N/A")?),
-        })
-    })
+fn text_out(lua: &Lua, host: &Host, text: Option<Vec<u8>>) -> mlua::Result<MultiValue> {
+    host.beat();
+    match text {
+        Some(text) => (0, lua.create_string(&text)?),
+        None => (system_code(SystemError::HmplExecFailed), lua.create_string("N/A")?),
+    }
+    .into_lua_multi(lua)
 }
 
 /// HMPL 2.12: the luamotion executable's modification time, UTC.
@@ -274,27 +214,23 @@ fn utc_date(secs: u64) -> String {
     format!("{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02}", rem / 3600, rem % 3600 / 60, rem % 60)
 }
 
-/// A `char*` argument as C reads it: up to its first NUL.
-fn c_str(lua: &Lua, spec: &api::FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<u8>> {
-    let s = lua_string_arg(lua, spec, args, i)?;
-    Ok(strings::c_str(&s.as_bytes()).to_vec())
-}
-
 /// `StrFindChar`'s character: a one-character string or a byte code 0..255.
-fn character(lua: &Lua, args: &MultiValue) -> mlua::Result<u8> {
-    match args.get(1) {
-        Some(Value::String(s)) if s.as_bytes().len() == 1 => Ok(s.as_bytes()[0]),
-        Some(Value::Integer(c)) if (0..=255).contains(c) => Ok(*c as u8),
-        Some(Value::Number(c)) if c.fract() == 0.0 && (0.0..=255.0).contains(c) => Ok(*c as u8),
+fn character(lua: &Lua, arg: &LuaArg) -> mlua::Result<u8> {
+    match &arg.value {
+        Value::String(s) if s.as_bytes().len() == 1 => Ok(s.as_bytes()[0]),
+        Value::Integer(c) if (0..=255).contains(c) => Ok(*c as u8),
+        Value::Number(c) if c.fract() == 0.0 && (0.0..=255.0).contains(c) => Ok(*c as u8),
         other => {
-            let got = other.cloned().unwrap_or(Value::Nil);
-            let what = match &got {
+            let what = match other {
                 Value::String(_) => "string of another length".to_string(),
                 v => type_name(v),
             };
             Err(error_here(
                 lua,
-                format!("bad argument #2 to 'StrFindChar' (a one-character string or 0..255 expected, got {what})"),
+                format!(
+                    "bad argument #{} to 'StrFindChar' (a one-character string or 0..255 expected, got {what})",
+                    arg.at + 1
+                ),
             ))
         }
     }
@@ -316,11 +252,7 @@ fn substring(s: &[u8], start: i64, len: i64) -> Result<&[u8], i64> {
 /// `rc, destination` of the copy and append functions: `destination` with `tail`
 /// appended, or as it was with the code when `tail` failed or the result would be longer
 /// than HMPL_STR_MAX_LEN (0x138D).
-fn string_result(
-    lua: &Lua,
-    mut destination: Vec<u8>,
-    tail: Result<&[u8], i64>,
-) -> mlua::Result<(i64, mlua::LuaString)> {
+fn string_result(lua: &Lua, mut destination: Vec<u8>, tail: Result<&[u8], i64>) -> mlua::Result<MultiValue> {
     let rc = match tail {
         Ok(tail) if destination.len() + tail.len() <= STR_MAX_LEN => {
             destination.extend_from_slice(tail);
@@ -329,7 +261,7 @@ fn string_result(
         Ok(_) => system_code(SystemError::HmplStrTooLong),
         Err(code) => code,
     };
-    Ok((rc, lua.create_string(&destination)?))
+    (rc, lua.create_string(&destination)?).into_lua_multi(lua)
 }
 
 /// A table standing for a C array: integers are a C `int[]` (4 bytes each), a table with
@@ -352,12 +284,15 @@ impl Memory {
     }
 }
 
-fn memory(lua: &Lua, name: &str, args: &MultiValue, i: usize) -> mlua::Result<Memory> {
+fn memory(lua: &Lua, name: &str, arg: &LuaArg) -> mlua::Result<Memory> {
     let bad = |what: String| {
-        error_here(lua, format!("bad argument #{} to '{name}' (table of integers or numbers expected, {what})", i + 1))
+        error_here(
+            lua,
+            format!("bad argument #{} to '{name}' (table of integers or numbers expected, {what})", arg.at + 1),
+        )
     };
-    let Some(Value::Table(table)) = args.get(i) else {
-        return Err(bad(format!("got {}", type_name(args.get(i).unwrap_or(&Value::Nil)))));
+    let Value::Table(table) = &arg.value else {
+        return Err(bad(format!("got {}", type_name(&arg.value))));
     };
     let values: Vec<Value> = table.sequence_values::<Value>().collect::<mlua::Result<_>>()?;
     let doubles = values.iter().any(|v| matches!(v, Value::Number(_)));

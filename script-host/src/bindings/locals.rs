@@ -4,20 +4,17 @@
 use std::rc::Rc;
 use std::time::Duration;
 
-use api::FunctionSpec;
-use api::{CommandCall, ErrorCode, Local, SystemError};
+use api::call::ArgError;
+use api::{CommandCall, ErrorCode, FunctionSpec, Local, LocalCall, SystemError};
 use calls::user_table;
 use ipc::event_record::{EventKind, EventRecord};
 use ipc::output::{char_boundary, cut_marker, escape};
 use ipc::task_table::RunState;
-use mlua::{AnyUserData, BorrowedBytes, Function, Lua, MultiValue, Value};
+use mlua::{AnyUserData, BorrowedBytes, Function, IntoLuaMulti, Lua, MultiValue, Value};
 use schema::shared::{Lock, MUTEXES};
 
 use super::timer::Timer;
-use super::{
-    Host, binding, bool_arg, double_arg, doubles_arg, error_here, int_arg, lua_string_arg, round_trip, type_name,
-    write_output,
-};
+use super::{Host, LuaArg, binding, error_here, got_name, local_call, round_trip, write_output};
 use crate::printf::{self, Arg, Formatted};
 
 /// HMPL 2.20: the longest message `SendMsgEvent` sends.
@@ -93,177 +90,168 @@ pub(super) fn system_code(e: SystemError) -> i64 {
     ErrorCode::System(e).code() as i64
 }
 
+/// The Lua function of `local`: its typed call, carried out where it belongs.
 pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    match local {
-        Local::MHSPOLoad
-        | Local::MHSPOText
-        | Local::GetPlcReg
-        | Local::SetPlcReg
-        | Local::GetPlcRelay
-        | Local::SetPlcRelay => super::plc::local(lua, host, local),
-        Local::EthOpenAsServer
-        | Local::EthOpenAsClient
-        | Local::EthTx
-        | Local::EthRx
-        | Local::EthClose
-        | Local::EthCloseAll
-        | Local::EthBuffClear
-        | Local::EthGetSessions
-        | Local::EthConnectCheck => super::freeport::local(lua, host, local),
-        Local::SerialInit | Local::SerialTx | Local::SerialRx => super::serial::local(lua, host, local),
-        Local::ASCII_ClientConnect
-        | Local::ASCII_ClientRecv
-        | Local::ASCII_ClientSend
-        | Local::ASCII_ClientDisconnect
-        | Local::Modbus_ClientConnect
-        | Local::Modbus_ClientDisconnect
-        | Local::Modbus_ClientRead_HoldReg
-        | Local::Modbus_ClientRead_InputReg
-        | Local::Modbus_ClientRead_Coils
-        | Local::Modbus_ClientRead_Inputs
-        | Local::Modbus_ClientWrite_HoldReg
-        | Local::Modbus_ClientWrite_Coils => super::clients::local(lua, host, local),
-        Local::START_ASCII_AGENT | Local::ASCII_ServerBroadcast => super::agent::local(lua, host, local),
-        Local::expect_eq | Local::expect_near | Local::expect_true => super::expect::local(lua, host, local),
-        Local::GetFirmwareVer
-        | Local::GetFirmwareDate
-        | Local::GetFirmwareHash
-        | Local::GetModelNum
-        | Local::GetSerialNum
-        | Local::SetHMIScope
-        | Local::StringPrint
-        | Local::StringLen
-        | Local::IsStringEqual
-        | Local::StrFindChar
-        | Local::StrFindCharEx
-        | Local::StrFindStr
-        | Local::StringCopy
-        | Local::StringCopyEx
-        | Local::StringCat
-        | Local::StringCatEx
-        | Local::StringToDouble
-        | Local::MemoryCopy
-        | Local::MemorySet
-        | Local::IsMemoryEqual
-        | Local::sin
-        | Local::cos
-        | Local::tan
-        | Local::asin
-        | Local::acos
-        | Local::atan
-        | Local::atan2
-        | Local::abs
-        | Local::fabs
-        | Local::ceil
-        | Local::floor
-        | Local::ldexp
-        | Local::exp
-        | Local::pow
-        | Local::log
-        | Local::log10
-        | Local::sqrt
-        | Local::cbrt
-        | Local::hypot
-        | Local::GetConfigVar
-        | Local::SetConfigVar => super::library::local(lua, host, local),
-        Local::Sleep => binding(lua, spec, move |lua, args| {
+    binding(lua, local.spec(), move |lua, args| {
+        let call = local_call(lua, local, &args)?;
+        match local {
+            Local::MHSPOLoad
+            | Local::MHSPOText
+            | Local::GetPlcReg
+            | Local::SetPlcReg
+            | Local::GetPlcRelay
+            | Local::SetPlcRelay => super::plc::call(lua, &host, call),
+            Local::EthOpenAsServer
+            | Local::EthOpenAsClient
+            | Local::EthTx
+            | Local::EthRx
+            | Local::EthClose
+            | Local::EthCloseAll
+            | Local::EthBuffClear
+            | Local::EthGetSessions
+            | Local::EthConnectCheck => super::freeport::call(lua, &host, call),
+            Local::SerialInit | Local::SerialTx | Local::SerialRx => super::serial::call(lua, &host, call),
+            Local::ASCII_ClientConnect
+            | Local::ASCII_ClientRecv
+            | Local::ASCII_ClientSend
+            | Local::ASCII_ClientDisconnect
+            | Local::Modbus_ClientConnect
+            | Local::Modbus_ClientDisconnect
+            | Local::Modbus_ClientRead_HoldReg
+            | Local::Modbus_ClientRead_InputReg
+            | Local::Modbus_ClientRead_Coils
+            | Local::Modbus_ClientRead_Inputs
+            | Local::Modbus_ClientWrite_HoldReg
+            | Local::Modbus_ClientWrite_Coils => super::clients::call(lua, &host, call),
+            Local::START_ASCII_AGENT | Local::ASCII_ServerBroadcast => super::agent::call(lua, &host, call),
+            Local::expect_eq | Local::expect_near | Local::expect_true => super::expect::call(lua, &host, call),
+            Local::GetFirmwareVer
+            | Local::GetFirmwareDate
+            | Local::GetFirmwareHash
+            | Local::GetModelNum
+            | Local::GetSerialNum
+            | Local::SetHMIScope
+            | Local::StringPrint
+            | Local::StringLen
+            | Local::IsStringEqual
+            | Local::StrFindChar
+            | Local::StrFindCharEx
+            | Local::StrFindStr
+            | Local::StringCopy
+            | Local::StringCopyEx
+            | Local::StringCat
+            | Local::StringCatEx
+            | Local::StringToDouble
+            | Local::MemoryCopy
+            | Local::MemorySet
+            | Local::IsMemoryEqual
+            | Local::GetConfigVar
+            | Local::SetConfigVar => super::library::call(lua, &host, call),
+            math if api::libm::is_math(math) => super::library::call(lua, &host, call),
+            _ => self::call(lua, &host, call),
+        }
+    })
+}
+
+/// A local's argument error, as every function's (`super::arg_error`); HMPL 2.22: a mutex
+/// id that is not an integer is a bad id, as one outside 0..7 is.
+pub(super) fn arg_error(lua: &Lua, local: Local, error: ArgError) -> mlua::Error {
+    match (local, error) {
+        (Local::MutexLock | Local::MutexUnlock, ArgError::Type { got, .. }) => {
+            no_mutex(lua, local.spec(), &got_name(got))
+        }
+        (_, error) => super::arg_error(lua, local.spec(), error),
+    }
+}
+
+/// The functions of `Local` that belong here: waits, output, events, mutexes, timers, the
+/// user table and the DV/DH words.
+fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
+    let spec = call.func().spec();
+    match call {
+        LocalCall::Sleep { ms } => {
             host.beat();
-            let ms = int_arg(lua, spec, &args, 0)?;
             if ms < 0 {
                 return Err(error_here(lua, format!("Sleep: ms must be >= 0, not {ms}")));
             }
-            host.sleep_ns(lua, ms as f64 * 1e6)
-        }),
-        Local::DELAY => binding(lua, spec, move |lua, args| {
+            host.sleep_ns(lua, ms as f64 * 1e6)?.into_lua_multi(lua)
+        }
+        LocalCall::DELAY { seconds } => {
             host.beat();
-            let seconds = double_arg(lua, spec, &args, 0)?;
             if !(seconds >= 0.0 && seconds.is_finite()) {
                 return Err(error_here(lua, format!("DELAY: seconds must be >= 0, not {seconds}")));
             }
-            host.sleep_ns(lua, seconds * 1e9)
-        }),
-        Local::Till => binding(lua, spec, move |lua, args| {
+            host.sleep_ns(lua, seconds * 1e9)?.into_lua_multi(lua)
+        }
+        LocalCall::Till { condition } => {
             host.beat();
-            let condition = match args.front() {
-                Some(Value::Function(f)) => f.clone(),
-                other => {
-                    let got = other.cloned().unwrap_or(Value::Nil);
-                    return Err(error_here(
-                        lua,
-                        format!(
-                            "bad argument #1 to 'Till' (function expected, got {}); write Till(function() return IsInPos(0) end)",
-                            type_name(&got)
-                        ),
-                    ));
-                }
-            };
+            let Value::Function(condition) = condition.value else { unreachable!("the source checked it") };
             loop {
                 host.start_watch();
                 let value = condition.call::<Value>(());
                 let watch = host.take_watch();
                 if is_true(&value?) {
-                    return Ok(());
+                    return Ok(MultiValue::new());
                 }
                 let next = host.cycle() + 1;
                 host.endpoint.borrow_mut().wait_watching(next, &watch).map_err(mlua::Error::external)?;
-                super::agent::serve(lua, &host);
+                super::agent::serve(lua, host);
             }
-        }),
-        Local::Print => binding(lua, spec, move |lua, args| {
+        }
+        LocalCall::Print { format: text, args } => {
             host.beat();
-            match format(lua, spec, &args)? {
+            match format(spec, &text, &args) {
                 Ok(formatted) => {
                     let marker = if formatted.cut > 0 { cut_marker(formatted.cut) } else { String::new() };
                     write_output(&[&formatted.text, marker.as_bytes()]);
-                    Ok(formatted.chars as i64)
+                    (formatted.chars as i64).into_lua_multi(lua)
                 }
                 // HMPL 3.2: Print returns -1 on error; the warning says why.
-                Err(()) => Ok(-1),
+                Err(()) => (-1).into_lua_multi(lua),
             }
-        }),
-        Local::my_print => binding(lua, spec, move |lua, args| {
+        }
+        LocalCall::my_print { text } => {
             host.beat();
-            write_output(&[&lua_string_arg(lua, spec, &args, 0)?.as_bytes()]);
-            Ok(())
-        }),
-        Local::SendEvent => binding(lua, spec, move |lua, args| {
+            write_output(&[&text]);
+            Ok(MultiValue::new())
+        }
+        LocalCall::SendEvent { evt_id } => {
             host.beat();
-            let Ok(id) = u16::try_from(int_arg(lua, spec, &args, 0)?) else {
-                return Ok(system_code(SystemError::HmplArgOutOfRange));
+            let Ok(id) = u16::try_from(evt_id) else {
+                return system_code(SystemError::HmplArgOutOfRange).into_lua_multi(lua);
             };
             host.throttle(lua)?;
-            Ok(host.send_event(EventKind::Event, id as u32, ""))
-        }),
-        Local::SendMsgEvent => binding(lua, spec, move |lua, args| {
+            host.send_event(EventKind::Event, id as u32, "").into_lua_multi(lua)
+        }
+        LocalCall::SendMsgEvent { format: text, args } => {
             host.beat();
-            let Ok(formatted) = format(lua, spec, &args)? else {
-                return Ok(system_code(SystemError::HmplInvalidStrFormat));
+            let Ok(formatted) = format(spec, &text, &args) else {
+                return system_code(SystemError::HmplInvalidStrFormat).into_lua_multi(lua);
             };
             if formatted.chars > MAX_MESSAGE_CHARS {
-                return Ok(system_code(SystemError::HmplStrTooLong));
+                return system_code(SystemError::HmplStrTooLong).into_lua_multi(lua);
             }
             let text = escape(&formatted.text);
             host.throttle(lua)?;
-            Ok(host.send_event(EventKind::Message, 0, &text))
-        }),
-        Local::RunScheduler => binding(lua, spec, move |_, _| {
+            host.send_event(EventKind::Message, 0, &text).into_lua_multi(lua)
+        }
+        LocalCall::RunScheduler {} => {
             host.beat();
             let mut endpoint = host.endpoint.borrow_mut();
             if endpoint.lockstep() {
                 // On the simulation clock the other tasks' turns come first.
-                endpoint.yield_turn().map_err(mlua::Error::external)
+                endpoint.yield_turn().map_err(mlua::Error::external)?;
             } else {
                 std::thread::yield_now();
-                Ok(())
             }
-        }),
-        Local::MutexLock => binding(lua, spec, move |lua, args| {
+            Ok(MultiValue::new())
+        }
+        LocalCall::MutexLock { mutex_id } => {
             host.beat();
-            let id = mutex_id(lua, spec, &args)?;
+            let id = mutex(lua, spec, mutex_id)?;
             loop {
                 match host.shared.try_lock(id, host.task()) {
-                    Some(Lock::Acquired) => return Ok(()),
+                    Some(Lock::Acquired) => return Ok(MultiValue::new()),
                     Some(Lock::Twice) => host.stop_with_runtime_error(
                         lua,
                         SystemError::HmplMutexLockTwice,
@@ -283,159 +271,148 @@ pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> 
                     None => return Err(error_here(lua, format!("MutexLock: no mutex {id}"))),
                 }
             }
-        }),
-        Local::MutexUnlock => binding(lua, spec, move |lua, args| {
+        }
+        LocalCall::MutexUnlock { mutex_id } => {
             host.beat();
-            let id = mutex_id(lua, spec, &args)?;
+            let id = mutex(lua, spec, mutex_id)?;
             ipc::mutex::unlock(&host.shared, id, host.task());
-            Ok(())
-        }),
-        Local::TimerInit => binding(lua, spec, move |_, _| {
+            Ok(MultiValue::new())
+        }
+        LocalCall::TimerInit {} => {
             host.beat();
-            Ok(Timer::default())
-        }),
-        Local::TON | Local::TOF => binding(lua, spec, move |lua, args| {
+            Timer::default().into_lua_multi(lua)
+        }
+        LocalCall::TON { timer, IN: input, PT: preset } | LocalCall::TOF { timer, IN: input, PT: preset } => {
             host.beat();
-            let timer = match args.front() {
-                Some(Value::UserData(ud)) if ud.is::<Timer>() => ud.clone(),
-                other => {
-                    let got = other.cloned().unwrap_or(Value::Nil);
-                    let what = format!(
-                        "bad argument #1 to '{}' (Timer expected, got {}); make one with TimerInit()",
-                        spec.name,
-                        type_name(&got)
-                    );
-                    return Err(error_here(lua, what));
-                }
-            };
-            let input = bool_arg(lua, spec, &args, 1)?;
-            let preset = int_arg(lua, spec, &args, 2)?.max(0) as u64;
+            let Value::UserData(timer) = timer.value else { unreachable!("the source checked it") };
+            let preset = preset.max(0) as u64;
             let now = host.now_ms();
             let mut timer = AnyUserData::borrow_mut::<Timer>(&timer)?;
-            Ok(if local == Local::TON {
+            if spec.func == api::Func::Local(Local::TON) {
                 timer.on_delay(input, preset, now)
             } else {
                 timer.off_delay(input, preset, now)
-            })
-        }),
-        Local::SetupGroup => binding(lua, spec, move |lua, args| {
+            }
+            .into_lua_multi(lua)
+        }
+        LocalCall::SetupGroup { group_id, axis_ids } => {
             // HMPL 8.3.3: AddAxisToGrp for each axis, then EnableGroup; what it added is
             // removed again when a step fails, so a failed setup leaves the group as it was.
             // Every argument is read before the first command: a refused call changes nothing.
-            let group_id = int_arg(lua, spec, &args, 0)?;
-            let axis_ids = (1..args.len()).map(|i| int_arg(lua, spec, &args, i)).collect::<mlua::Result<Vec<_>>>()?;
-            let mut added = 0;
-            for axis_id in axis_ids {
-                let rc = core_rc(lua, &host, &CommandCall::AddAxisToGrp { group_id, axis_id })?;
-                if rc != 0 {
-                    return undo_setup(lua, &host, group_id, added, rc);
-                }
-                added += 1;
-            }
-            let rc = core_rc(lua, &host, &CommandCall::EnableGroup { group_id })?;
-            if rc != 0 {
-                return undo_setup(lua, &host, group_id, added, rc);
-            }
-            Ok(0)
-        }),
-        Local::SetUserTable => binding(lua, spec, move |lua, args| {
+            let axis_ids = axis_ids.iter().map(|axis| axis.int(lua, spec)).collect::<mlua::Result<Vec<_>>>()?;
+            setup_group(lua, host, group_id, axis_ids)?.into_lua_multi(lua)
+        }
+        LocalCall::SetUserTable { start_idx, num_data, input } => {
             host.beat();
-            let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            let values = doubles_arg(lua, spec, &args, 2)?;
-            let Some(range) = host.shared.user_table_range(start, num).filter(|r| r.len() <= values.len()) else {
-                return Ok(system_code(SystemError::HmplArgOutOfRange));
+            let values: Vec<f64> = input.iter().collect();
+            let Some(range) = host.shared.user_table_range(start_idx, num_data).filter(|r| r.len() <= values.len())
+            else {
+                return system_code(SystemError::HmplArgOutOfRange).into_lua_multi(lua);
             };
             for (i, v) in range.zip(values) {
                 host.shared.set_user_table(i, v);
             }
-            Ok(0)
-        }),
-        Local::GetUserTable => binding(lua, spec, move |lua, args| {
+            0.into_lua_multi(lua)
+        }
+        LocalCall::GetUserTable { start_idx, num_data } => {
             host.beat();
-            let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            let Some(range) = host.shared.user_table_range(start, num) else {
-                return Ok((system_code(SystemError::HmplArgOutOfRange), lua.create_table()?));
+            let Some(range) = host.shared.user_table_range(start_idx, num_data) else {
+                return (system_code(SystemError::HmplArgOutOfRange), lua.create_table()?).into_lua_multi(lua);
             };
             let values = lua.create_sequence_from(range.map(|i| host.shared.user_table(i).unwrap_or(0.0)))?;
-            Ok((0, values))
-        }),
-        Local::SetTableValue => binding(lua, spec, move |lua, args| {
+            (0, values).into_lua_multi(lua)
+        }
+        LocalCall::SetTableValue { index, value } => {
             host.beat();
-            let (index, value) = (int_arg(lua, spec, &args, 0)?, double_arg(lua, spec, &args, 1)?);
             let stored = usize::try_from(index).is_ok_and(|i| host.shared.set_user_table(i, value));
-            Ok(if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) })
-        }),
-        Local::GetTableValue => binding(lua, spec, move |lua, args| {
+            (if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) }).into_lua_multi(lua)
+        }
+        LocalCall::GetTableValue { index } => {
             host.beat();
-            let index = int_arg(lua, spec, &args, 0)?;
             usize::try_from(index)
                 .ok()
                 .and_then(|i| host.shared.user_table(i))
-                .ok_or_else(|| error_here(lua, format!("GetTableValue: index {index} is outside 0..511999 (0x138F)")))
-        }),
-        Local::ReadModbusWord => binding(lua, spec, move |lua, args| {
+                .ok_or_else(|| error_here(lua, format!("GetTableValue: index {index} is outside 0..511999 (0x138F)")))?
+                .into_lua_multi(lua)
+        }
+        LocalCall::ReadModbusWord { address } => {
             host.beat();
-            let address = int_arg(lua, spec, &args, 0)?;
-            calls::user_area::read(&host.shared, address).ok_or_else(|| {
-                error_here(
-                    lua,
-                    format!("ReadModbusWord: 0x{address:X} is outside DV 0x0000..0x2FFF and DH 0x8000..0xAFFF"),
-                )
-            })
-        }),
-        Local::WriteModbusWord => binding(lua, spec, move |lua, args| {
+            calls::user_area::read(&host.shared, address)
+                .ok_or_else(|| {
+                    error_here(
+                        lua,
+                        format!("ReadModbusWord: 0x{address:X} is outside DV 0x0000..0x2FFF and DH 0x8000..0xAFFF"),
+                    )
+                })?
+                .into_lua_multi(lua)
+        }
+        LocalCall::WriteModbusWord { address, value } => {
             host.beat();
-            let (address, value) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
             let stored = u16::try_from(value).is_ok_and(|v| calls::user_area::write(&host.shared, address, v));
-            Ok(if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) })
-        }),
-        Local::SaveUserTable | Local::LoadUserTable => binding(lua, spec, move |lua, args| {
+            (if stored { 0 } else { system_code(SystemError::HmplArgOutOfRange) }).into_lua_multi(lua)
+        }
+        LocalCall::SaveUserTable { start_idx, num_data } | LocalCall::LoadUserTable { start_idx, num_data } => {
             host.beat();
-            let (start, num) = (int_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
-            let Some(range) = host.shared.user_table_range(start, num) else {
-                return Ok(system_code(SystemError::HmplArgOutOfRange));
+            let Some(range) = host.shared.user_table_range(start_idx, num_data) else {
+                return system_code(SystemError::HmplArgOutOfRange).into_lua_multi(lua);
             };
             // Waiting on the disk is not a hang.
             let slot_state = |state| host.endpoint.borrow().slot().set_state(state);
             slot_state(RunState::Blocked);
-            let result = user_table::save_or_load(local == Local::SaveUserTable, &host.data_dir, &host.shared, range);
+            let save = spec.func == api::Func::Local(Local::SaveUserTable);
+            let result = user_table::save_or_load(save, &host.data_dir, &host.shared, range);
             slot_state(RunState::Running);
-            Ok(match result {
+            match result {
                 Ok(()) => 0,
                 Err((code, e)) => {
                     eprintln!("warning: {}: {e}", spec.name);
                     system_code(code)
                 }
-            })
-        }),
+            }
+            .into_lua_multi(lua)
+        }
+        other => unreachable!("{:?} is carried out elsewhere", other.func()),
     }
+}
+
+/// HMPL 8.3.3's steps: the code of the first that fails (what was added is removed
+/// again), or 0.
+fn setup_group(lua: &Lua, host: &Host, group_id: i64, axis_ids: Vec<i64>) -> mlua::Result<i64> {
+    let mut added = 0;
+    for axis_id in axis_ids {
+        let rc = core_rc(lua, host, &CommandCall::AddAxisToGrp { group_id, axis_id })?;
+        if rc != 0 {
+            return undo_setup(lua, host, group_id, added, rc);
+        }
+        added += 1;
+    }
+    let rc = core_rc(lua, host, &CommandCall::EnableGroup { group_id })?;
+    if rc != 0 {
+        return undo_setup(lua, host, group_id, added, rc);
+    }
+    Ok(0)
 }
 
 /// HMPL 2.22: mutex ids 0..7; another id is an error in the program.
-fn mutex_id(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<usize> {
-    match args.front() {
-        Some(Value::Integer(id)) if (0..MUTEXES as i64).contains(id) => Ok(*id as usize),
-        Some(Value::Number(id)) if id.fract() == 0.0 && (0.0..MUTEXES as f64).contains(id) => Ok(*id as usize),
-        other => {
-            let got = other.cloned().unwrap_or(Value::Nil);
-            Err(error_here(lua, format!("{}: mutex ids are 0..7, not {} (0x138F)", spec.name, type_name(&got))))
-        }
-    }
+fn mutex(lua: &Lua, spec: &FunctionSpec, id: i64) -> mlua::Result<usize> {
+    usize::try_from(id).ok().filter(|&id| id < MUTEXES).ok_or_else(|| no_mutex(lua, spec, &format!("integer {id}")))
 }
 
-/// `Print`'s formatting of a call's arguments. A bad format is a warning on stderr (with
+fn no_mutex(lua: &Lua, spec: &FunctionSpec, got: &str) -> mlua::Error {
+    error_here(lua, format!("{}: mutex ids are 0..7, not {got} (0x138F)", spec.name))
+}
+
+/// `Print`'s formatting of `fmt` with `args`. A bad format is a warning on stderr (with
 /// the format's start) and `Err`.
-pub(super) fn format(lua: &Lua, spec: &FunctionSpec, args: &MultiValue) -> mlua::Result<Result<Formatted, ()>> {
-    let fmt = lua_string_arg(lua, spec, args, 0)?;
-    let fmt = fmt.as_bytes();
+pub(super) fn format(spec: &FunctionSpec, fmt: &[u8], args: &[LuaArg]) -> Result<Formatted, ()> {
     let strings: Vec<Option<BorrowedBytes>> =
-        args.iter().skip(1).map(|v| if let Value::String(s) = v { Some(s.as_bytes()) } else { None }).collect();
-    let values: Vec<Arg> = args.iter().skip(1).zip(&strings).map(|(v, s)| printf_arg(v, s.as_deref())).collect();
-    Ok(printf::format(&fmt, &values).map_err(|e| {
-        let shown = char_boundary(&fmt, 60);
+        args.iter().map(|a| if let Value::String(s) = &a.value { Some(s.as_bytes()) } else { None }).collect();
+    let values: Vec<Arg> = args.iter().zip(&strings).map(|(a, s)| printf_arg(&a.value, s.as_deref())).collect();
+    printf::format(fmt, &values).map_err(|e| {
+        let shown = char_boundary(fmt, 60);
         let more = if shown < fmt.len() { "..." } else { "" };
         eprintln!("warning: {}(\"{}{more}\"): {e}", spec.name, escape(&fmt[..shown]));
-    }))
+    })
 }
 
 /// `Till` keeps waiting while its condition returns false, nil or 0.

@@ -27,11 +27,11 @@ use std::rc::Rc;
 
 use std::borrow::Cow;
 
-use api::call::{self, ArgError, Doubles, Expected, Got, Source, TypedCall};
+use api::call::{self, ArgError, Doubles, Expected, Got, Source, TypedCall, ValueSource};
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::event_rate::Throttle;
-use api::{Command, CommandCall, Func, FunctionSpec, Query, QueryCall, SdoAbort, ValueType};
-use calls::{query, wire};
+use api::{ArgType, Command, CommandCall, Func, FunctionSpec, Local, LocalCall, Query, QueryCall};
+use calls::{query, reply, wire};
 use ipc::call::{Reply, Request};
 use ipc::events::EventSender;
 use ipc::output::{Lines, MAX_LINE_BYTES, cut_marker};
@@ -204,17 +204,28 @@ fn arg_error(lua: &Lua, spec: &FunctionSpec, error: ArgError) -> mlua::Error {
         ArgError::Type { index, expected, got } => (index, expected, got),
         ArgError::TooMany { given, .. } => return error_here(lua, spec.too_many_args(given)),
     };
-    let expected = match expected {
-        Expected::Integer => "integer",
-        Expected::Number => "number",
-        Expected::BoolOrNumber => "boolean or number",
-        Expected::Utf8String => "UTF-8 string",
-        Expected::String => "string",
-        Expected::ByteTable => "table of integers 0..255",
-        Expected::BytesOrString => "table of bytes or string",
-        Expected::Numbers => "table of numbers",
+    let (expected, hint) = match expected {
+        Expected::Integer => ("integer", ""),
+        Expected::Number => ("number", ""),
+        Expected::BoolOrNumber => ("boolean or number", ""),
+        Expected::Utf8String => ("UTF-8 string", ""),
+        Expected::String => ("string", ""),
+        Expected::ByteTable => ("table of integers 0..255", ""),
+        Expected::BytesOrString => ("table of bytes or string", ""),
+        Expected::Numbers => ("table of numbers", ""),
+        Expected::Function if spec.func == Func::Local(Local::Till) => {
+            ("function", "; write Till(function() return IsInPos(0) end)")
+        }
+        Expected::Function => ("function", ""),
+        Expected::Timer => ("Timer", "; make one with TimerInit()"),
     };
-    let got = match got {
+    let got = got_name(got);
+    error_here(lua, format!("bad argument #{} to '{}' ({expected} expected, got {got}){hint}", index + 1, spec.name))
+}
+
+/// What came instead of an argument, as Lua names it: numbers with their value.
+fn got_name(got: Got) -> String {
+    match got {
         Got::Missing | Got::Nil => "nil".to_string(),
         Got::Bool => "boolean".to_string(),
         Got::Int(n) => format!("integer {n}"),
@@ -222,17 +233,20 @@ fn arg_error(lua: &Lua, spec: &FunctionSpec, error: ArgError) -> mlua::Error {
         Got::Str => "string".to_string(),
         Got::List => "table".to_string(),
         Got::Other(name) => name.to_string(),
-    };
-    error_here(lua, format!("bad argument #{} to '{}' ({expected} expected, got {got})", index + 1, spec.name))
+    }
+}
+
+/// What a Lua value is, for an error.
+fn got(value: &Value) -> Got {
+    match value {
+        Value::Table(_) => Got::List,
+        other => Got::of(&neutral_element(other)),
+    }
 }
 
 /// A value as a message names it: numbers with their value.
 fn type_name(v: &Value) -> String {
-    match v {
-        Value::Integer(n) => format!("integer {n}"),
-        Value::Number(n) => format!("number {n}"),
-        other => other.type_name().to_string(),
-    }
+    got_name(got(v))
 }
 
 /// A Lua value as the neutral encoder takes it: a table as its sequence `1..n`, whose
@@ -264,11 +278,37 @@ fn neutral_element(value: &Value) -> call::Value {
 struct LuaArgs<'a> {
     args: &'a MultiValue,
     next: usize,
+    /// A local's `char*` is any bytes, as C reads it (HMPL ch. 3); the core's commands take
+    /// UTF-8 only.
+    any_bytes: bool,
+}
+
+/// A local's argument that only Lua has the type of (`ArgType::Func`, `Timer`, `Any`,
+/// `Memory`, `Rest`): its value, and where it was in the call, for an error that names it.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct LuaArg {
+    /// Its position in the call, from 0.
+    pub at: usize,
+    /// The value (nil when left out).
+    pub value: Value,
+}
+
+impl LuaArg {
+    /// The value as a C `int`, by the neutral encoder's rules.
+    fn int(&self, lua: &Lua, spec: &FunctionSpec) -> mlua::Result<i64> {
+        let args = MultiValue::from_vec(vec![self.value.clone()]);
+        LuaArgs::new(&args).read(|v| v.int()).map_err(|e| match e {
+            ArgError::Type { expected, got, .. } => {
+                arg_error(lua, spec, ArgError::Type { index: self.at, expected, got })
+            }
+            other => arg_error(lua, spec, other),
+        })
+    }
 }
 
 impl<'a> LuaArgs<'a> {
     fn new(args: &'a MultiValue) -> Self {
-        LuaArgs { args, next: 0 }
+        LuaArgs { args, next: 0, any_bytes: false }
     }
 
     /// The next argument through `read`, with its own position in an error; what it
@@ -304,6 +344,10 @@ impl<'a> Source<'a> for LuaArgs<'a> {
     }
 
     fn str(&mut self) -> Result<Cow<'a, [u8]>, ArgError> {
+        if let (true, Some(Value::String(s))) = (self.any_bytes, self.args.get(self.next)) {
+            self.next += 1;
+            return Ok(Cow::Owned(s.as_bytes().to_vec()));
+        }
         self.read(|v| v.str().map(|s| Cow::Owned(s.into_owned())))
     }
 
@@ -313,6 +357,41 @@ impl<'a> Source<'a> for LuaArgs<'a> {
 
     fn doubles(&mut self) -> Result<Doubles<'a>, ArgError> {
         self.read(|v| v.doubles().map(|d| Doubles::Values(Cow::Owned(d.iter().collect()))))
+    }
+}
+
+impl<'a> ValueSource<'a> for LuaArgs<'a> {
+    type Value = LuaArg;
+
+    fn value(&mut self, ty: ArgType) -> Result<LuaArg, ArgError> {
+        let at = self.next;
+        self.next += 1;
+        let value = self.args.get(at).cloned().unwrap_or(Value::Nil);
+        let expected = match (ty, &value) {
+            (ArgType::Func, Value::Function(_)) => None,
+            (ArgType::Func, _) => Some(Expected::Function),
+            (ArgType::Timer, Value::UserData(ud)) if ud.is::<timer::Timer>() => None,
+            (ArgType::Timer, _) => Some(Expected::Timer),
+            _ => None,
+        };
+        match expected {
+            Some(expected) => Err(ArgError::Type { index: at, expected, got: got(&value) }),
+            None => Ok(LuaArg { at, value }),
+        }
+    }
+
+    fn rest(&mut self) -> Result<Vec<LuaArg>, ArgError> {
+        let first = self.next;
+        self.next = self.next.max(self.args.len());
+        Ok((first..self.args.len()).map(|at| LuaArg { at, value: self.args[at].clone() }).collect())
+    }
+
+    fn absent(&mut self) -> bool {
+        let absent = matches!(self.args.get(self.next), None | Some(Value::Nil));
+        if absent {
+            self.next += 1;
+        }
+        absent
     }
 }
 
@@ -340,46 +419,10 @@ fn query_call(lua: &Lua, query: Query, args: &MultiValue) -> mlua::Result<QueryC
     QueryCall::read(query, &mut LuaArgs::new(args)).map_err(|e| arg_error(lua, query.spec(), e))
 }
 
-/// Argument `i` read by the neutral encoder's rules (a local function's arguments).
-fn neutral_arg<T>(
-    lua: &Lua,
-    spec: &FunctionSpec,
-    args: &MultiValue,
-    i: usize,
-    read: impl FnOnce(&mut call::Values) -> Result<T, ArgError>,
-) -> mlua::Result<T> {
-    LuaArgs { args, next: i }.read(read).map_err(|e| arg_error(lua, spec, e))
-}
-
-fn int_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<i64> {
-    neutral_arg(lua, spec, args, i, |v| v.int())
-}
-
-fn double_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<f64> {
-    neutral_arg(lua, spec, args, i, |v| v.double())
-}
-
-/// A C `int` condition: a boolean, or a number where 0 is false.
-fn bool_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<bool> {
-    neutral_arg(lua, spec, args, i, |v| v.bool())
-}
-
-/// A string argument as the Lua string it is (a number as its text), any bytes.
-fn lua_string_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<mlua::LuaString> {
-    match args.get(i).cloned().unwrap_or(Value::Nil) {
-        Value::String(s) => Ok(s),
-        Value::Integer(n) => lua.create_string(n.to_string()),
-        Value::Number(n) => lua.create_string(n.to_string()),
-        other => Err(error_here(
-            lua,
-            format!("bad argument #{} to '{}' (string expected, got {})", i + 1, spec.name, type_name(&other)),
-        )),
-    }
-}
-
-/// `double*` arguments: a table of numbers.
-fn doubles_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Vec<f64>> {
-    neutral_arg(lua, spec, args, i, |v| v.doubles().map(|d| d.iter().collect()))
+/// The typed local call `args` make, as `command_call`; a `char*` is any bytes.
+fn local_call<'a>(lua: &Lua, local: Local, args: &'a MultiValue) -> Result<LocalCall<'a, LuaArg>, mlua::Error> {
+    let mut source = LuaArgs { any_bytes: true, ..LuaArgs::new(args) };
+    LocalCall::read(local, &mut source).map_err(|e| locals::arg_error(lua, local, e))
 }
 
 fn bytes_table(lua: &Lua, bytes: &[u8]) -> mlua::Result<Value> {
@@ -400,35 +443,22 @@ fn command(lua: &Lua, host: Rc<Host>, command: Command) -> mlua::Result<Function
         host.beat();
         let call = command_call(lua, command, &args)?;
         let reply = round_trip(lua, &host, &call)?;
-        let first = reply.values[0] as i64;
-        if first == -1 && reply.rc != 0 {
+        if reply.values[0] as i64 == -1 && reply.rc != 0 {
             // Ch. 17 says only -1; say why, once, where the user sees it.
-            eprintln!("warning: {}: {}", spec.name, explain(reply.rc));
+            eprintln!("warning: {}: {}", spec.name, reply::explain(reply.rc));
         }
         let mut results = MultiValue::new();
-        for (i, ty) in spec.returns.iter().enumerate() {
-            results.push_back(match ty {
-                ValueType::Bytes => bytes_table(lua, reply.blob())?,
-                // An out-pointer array: every value after the ones before it.
-                ValueType::Doubles => {
-                    let words = reply.values.get(i..reply.valuec as usize).unwrap_or(&[]);
-                    Value::Table(lua.create_sequence_from(words.iter().map(|&w| f64::from_bits(w)))?)
-                }
-                ValueType::Bool => Value::Boolean(reply.values[i] != 0),
-                ValueType::Double => Value::Number(f64::from_bits(reply.values[i])),
-                _ => Value::Integer(reply.values[i] as i64),
+        for value in reply::decode(command, &reply) {
+            results.push_back(match value {
+                reply::Value::Int(i) => Value::Integer(i),
+                reply::Value::Double(d) => Value::Number(d),
+                reply::Value::Bool(b) => Value::Boolean(b),
+                reply::Value::Bytes(bytes) => bytes_table(lua, bytes)?,
+                reply::Value::Doubles(numbers) => Value::Table(lua.create_sequence_from(numbers)?),
             });
         }
         Ok(results)
     })
-}
-
-/// Why a call failed, from its reply's `rc`: an SDO abort code or an HMPL error code.
-fn explain(rc: u32) -> String {
-    match SdoAbort::try_from(rc) {
-        Ok(abort) => abort.to_string(),
-        Err(_) => api::errors::describe(rc),
-    }
 }
 
 /// A status query: read the local snapshot, no round trip.

@@ -1,14 +1,12 @@
 //! The FUN147 local functions (docs/fun147.md): the PLC register image in the namespace's
 //! shared memory, read and written in place, and the step table's text form.
 
-use std::rc::Rc;
-
-use api::{FunctionSpec, Local};
+use api::{FunctionSpec, LocalCall};
 use calls::plc::SharedPlc;
 use fun147::{Plc, Program, Reg, Relay, assemble, disassemble};
-use mlua::{Function, Lua, MultiValue};
+use mlua::{IntoLuaMulti, Lua, MultiValue};
 
-use super::{Host, binding, bool_arg, error_here, int_arg, lua_string_arg};
+use super::{Host, LuaArg, error_here};
 
 /// A register operand: "R1000", "D4062" (a word) or "DR1000", "DD100" (n and n+1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -28,12 +26,8 @@ fn address(text: &str) -> Option<Address> {
     }
 }
 
-fn text_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<String> {
-    Ok(lua_string_arg(lua, spec, args, i)?.to_string_lossy())
-}
-
-fn reg_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Address> {
-    let text = text_arg(lua, spec, args, i)?;
+fn register(lua: &Lua, spec: &FunctionSpec, text: &[u8]) -> mlua::Result<Address> {
+    let text = String::from_utf8_lossy(text);
     address(&text).ok_or_else(|| {
         error_here(
             lua,
@@ -45,8 +39,8 @@ fn reg_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua:
     })
 }
 
-fn relay_arg(lua: &Lua, spec: &FunctionSpec, args: &MultiValue, i: usize) -> mlua::Result<Relay> {
-    let text = text_arg(lua, spec, args, i)?;
+fn relay(lua: &Lua, spec: &FunctionSpec, text: &[u8]) -> mlua::Result<Relay> {
+    let text = String::from_utf8_lossy(text);
     text.parse().map_err(|_| {
         error_here(lua, format!("{}: {text:?} is no relay X0-X255, Y0-Y255, M0-M2001, S0-S999", spec.name))
     })
@@ -57,55 +51,46 @@ fn plc(host: &Host) -> SharedPlc<'_> {
 }
 
 /// The functions of `Local` that belong here.
-pub fn local(lua: &Lua, host: Rc<Host>, local: Local) -> mlua::Result<Function> {
-    let spec = local.spec();
-    match local {
-        Local::MHSPOLoad => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let Address::Word(sr) = reg_arg(lua, spec, &args, 0)? else {
+pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
+    let spec = call.func().spec();
+    host.beat();
+    match call {
+        LocalCall::MHSPOLoad { sr, text } => {
+            let Address::Word(sr) = register(lua, spec, &sr)? else {
                 return Err(error_here(lua, "MHSPOLoad: SR is one register, not DR/DD"));
             };
-            let text = text_arg(lua, spec, &args, 1)?;
-            let program = assemble(&text).map_err(|e| error_here(lua, format!("MHSPOLoad: {e}")))?;
-            program.write(&mut plc(&host), sr).map_err(|e| error_here(lua, format!("MHSPOLoad: {e}")))?;
-            Ok(0)
-        }),
-        Local::MHSPOText => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let Address::Word(sr) = reg_arg(lua, spec, &args, 0)? else {
+            let program =
+                assemble(&String::from_utf8_lossy(&text)).map_err(|e| error_here(lua, format!("MHSPOLoad: {e}")))?;
+            program.write(&mut plc(host), sr).map_err(|e| error_here(lua, format!("MHSPOLoad: {e}")))?;
+            0.into_lua_multi(lua)
+        }
+        LocalCall::MHSPOText { sr } => {
+            let Address::Word(sr) = register(lua, spec, &sr)? else {
                 return Err(error_here(lua, "MHSPOText: SR is one register, not DR/DD"));
             };
-            let program = Program::read(&plc(&host), sr).map_err(|e| error_here(lua, format!("MHSPOText: {e}")))?;
-            Ok(disassemble(&program))
-        }),
-        Local::GetPlcReg => binding(lua, spec, move |lua, args| {
-            host.beat();
-            Ok(match reg_arg(lua, spec, &args, 0)? {
-                Address::Word(reg) => i64::from(plc(&host).word(reg)),
-                Address::Double(reg) => i64::from(plc(&host).dword(reg)),
-            })
-        }),
-        Local::SetPlcReg => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let (address, value) = (reg_arg(lua, spec, &args, 0)?, int_arg(lua, spec, &args, 1)?);
+            let program = Program::read(&plc(host), sr).map_err(|e| error_here(lua, format!("MHSPOText: {e}")))?;
+            disassemble(&program).into_lua_multi(lua)
+        }
+        LocalCall::GetPlcReg { addr } => match register(lua, spec, &addr)? {
+            Address::Word(reg) => i64::from(plc(host).word(reg)),
+            Address::Double(reg) => i64::from(plc(host).dword(reg)),
+        }
+        .into_lua_multi(lua),
+        LocalCall::SetPlcReg { addr, value } => {
+            let address = register(lua, spec, &addr)?;
             let out_of_range = || error_here(lua, format!("SetPlcReg: {value} does not fit (0x138F)"));
             match address {
-                Address::Word(reg) if (-32768..=65535).contains(&value) => plc(&host).set_word(reg, value as u16),
-                Address::Double(reg) => plc(&host).set_dword(reg, i32::try_from(value).map_err(|_| out_of_range())?),
+                Address::Word(reg) if (-32768..=65535).contains(&value) => plc(host).set_word(reg, value as u16),
+                Address::Double(reg) => plc(host).set_dword(reg, i32::try_from(value).map_err(|_| out_of_range())?),
                 Address::Word(_) => return Err(out_of_range()),
             }
-            Ok(0)
-        }),
-        Local::GetPlcRelay => binding(lua, spec, move |lua, args| {
-            host.beat();
-            Ok(plc(&host).relay(relay_arg(lua, spec, &args, 0)?))
-        }),
-        Local::SetPlcRelay => binding(lua, spec, move |lua, args| {
-            host.beat();
-            let (relay, on) = (relay_arg(lua, spec, &args, 0)?, bool_arg(lua, spec, &args, 1)?);
-            plc(&host).set_relay(relay, on);
-            Ok(0)
-        }),
+            0.into_lua_multi(lua)
+        }
+        LocalCall::GetPlcRelay { addr } => plc(host).relay(relay(lua, spec, &addr)?).into_lua_multi(lua),
+        LocalCall::SetPlcRelay { addr, on } => {
+            plc(host).set_relay(relay(lua, spec, &addr)?, on);
+            0.into_lua_multi(lua)
+        }
         _ => unreachable!("{} is not a FUN147 function", spec.name),
     }
 }
