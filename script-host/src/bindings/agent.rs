@@ -17,8 +17,7 @@ use mlua::{Function, IntoLuaMulti, Lua, MultiValue, Value};
 use schema::shared::BROADCAST_BYTES;
 use schema::{Snapshot, TaskState};
 
-use super::locals::system_code;
-use super::{Host, LuaArg, error_here};
+use super::{Host, LuaArg, error_here, system_code};
 
 /// The address the agent listens on unless the controller says otherwise (HMPL 22.1).
 pub const DEFAULT_ADDRESS: &str = "127.0.0.1:4000";

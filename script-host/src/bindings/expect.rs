@@ -76,7 +76,7 @@ pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result
             record(lua, &host.tally, spec, held, why, message(text)).into_lua_multi(lua)
         }
         LocalCall::expect_true { value, message: text } => {
-            let held = super::locals::is_true(&value.value);
+            let held = super::is_true(&value.value);
             let why = || format!("got {}", shown(&value.value));
             record(lua, &host.tally, spec, held, why, message(text)).into_lua_multi(lua)
         }

@@ -7,21 +7,17 @@ use std::sync::OnceLock;
 
 use api::call::{self, Value as Neutral};
 use api::hcv::{self, Hcv, SystemHcv};
-use api::{CommandCall, ErrorCode, Local, LocalCall, QueryCall, SystemError, strings};
+use api::{CommandCall, Local, LocalCall, QueryCall, SystemError, strings};
 use calls::query;
 use ipc::event_record::EventKind;
 use ipc::task_table::RunState;
 use mlua::{IntoLuaMulti, Lua, MultiValue, Table, Value};
 use schema::shared::{TestValue, TestVar};
 
-use super::{Host, LuaArg, error_here, round_trip, type_name};
+use super::{Host, LuaArg, error_here, round_trip, system_code, type_name};
 
 /// HMPL 3.1: `HMPL_STR_MAX_LEN`.
 const STR_MAX_LEN: usize = 512;
-
-fn system_code(e: SystemError) -> i64 {
-    ErrorCode::System(e).code() as i64
-}
 
 /// The functions of `Local` that belong here.
 pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result<MultiValue> {
@@ -60,7 +56,7 @@ pub fn call(lua: &Lua, host: &Host, call: LocalCall<'_, LuaArg>) -> mlua::Result
         }
         // HMPL ch. 3: strings, read as C reads them, up to their first NUL.
         LocalCall::StringPrint { format, args } => {
-            let text = match super::locals::format(spec, &format, &args) {
+            let text = match super::print::format(spec, &format, &args) {
                 Ok(f) if f.cut == 0 && f.text.len() <= STR_MAX_LEN => f.text,
                 Ok(_) => {
                     eprintln!("warning: StringPrint: the text is longer than HMPL_STR_MAX_LEN (512) (0x138D)");

@@ -5,17 +5,17 @@ use std::rc::Rc;
 use std::time::Duration;
 
 use api::call::ArgError;
-use api::{CommandCall, ErrorCode, FunctionSpec, Local, LocalCall, SystemError};
+use api::{CommandCall, FunctionSpec, Local, LocalCall, SystemError};
 use calls::user_table;
 use ipc::event_record::{EventKind, EventRecord};
-use ipc::output::{char_boundary, cut_marker, escape};
+use ipc::output::{cut_marker, escape};
 use ipc::task_table::RunState;
-use mlua::{AnyUserData, BorrowedBytes, Function, IntoLuaMulti, Lua, MultiValue, Value};
+use mlua::{AnyUserData, Function, IntoLuaMulti, Lua, MultiValue, Value};
 use schema::shared::{Lock, MUTEXES};
 
+use super::print::format;
 use super::timer::Timer;
-use super::{Host, LuaArg, binding, error_here, got_name, local_call, round_trip, write_output};
-use crate::printf::{self, Arg, Formatted};
+use super::{Host, LuaArg, binding, error_here, got_name, is_true, local_call, round_trip, system_code, write_output};
 
 /// HMPL 2.20: the longest message `SendMsgEvent` sends.
 const MAX_MESSAGE_CHARS: usize = 128;
@@ -84,10 +84,6 @@ impl Host {
         self.endpoint.borrow().slot().set_end_code(code.id() as u32);
         std::process::exit(1)
     }
-}
-
-pub(super) fn system_code(e: SystemError) -> i64 {
-    ErrorCode::System(e).code() as i64
 }
 
 /// The Lua function of `local`: its typed call, carried out where it belongs.
@@ -400,39 +396,6 @@ fn mutex(lua: &Lua, spec: &FunctionSpec, id: i64) -> mlua::Result<usize> {
 
 fn no_mutex(lua: &Lua, spec: &FunctionSpec, got: &str) -> mlua::Error {
     error_here(lua, format!("{}: mutex ids are 0..7, not {got} (0x138F)", spec.name))
-}
-
-/// `Print`'s formatting of `fmt` with `args`. A bad format is a warning on stderr (with
-/// the format's start) and `Err`.
-pub(super) fn format(spec: &FunctionSpec, fmt: &[u8], args: &[LuaArg]) -> Result<Formatted, ()> {
-    let strings: Vec<Option<BorrowedBytes>> =
-        args.iter().map(|a| if let Value::String(s) = &a.value { Some(s.as_bytes()) } else { None }).collect();
-    let values: Vec<Arg> = args.iter().zip(&strings).map(|(a, s)| printf_arg(&a.value, s.as_deref())).collect();
-    printf::format(fmt, &values).map_err(|e| {
-        let shown = char_boundary(fmt, 60);
-        let more = if shown < fmt.len() { "..." } else { "" };
-        eprintln!("warning: {}(\"{}{more}\"): {e}", spec.name, escape(&fmt[..shown]));
-    })
-}
-
-/// `Till` keeps waiting while its condition returns false, nil or 0.
-pub(super) fn is_true(v: &Value) -> bool {
-    match v {
-        Value::Nil | Value::Boolean(false) => false,
-        Value::Integer(0) => false,
-        Value::Number(n) => *n != 0.0,
-        _ => true,
-    }
-}
-
-fn printf_arg<'a>(v: &Value, string: Option<&'a [u8]>) -> Arg<'a> {
-    match (v, string) {
-        (_, Some(bytes)) => Arg::Str(bytes),
-        (Value::Integer(i), _) => Arg::Int(*i),
-        (Value::Number(n), _) => Arg::Float(*n),
-        (Value::Boolean(b), _) => Arg::Int(*b as i64),
-        (other, _) => Arg::Str(other.type_name().as_bytes()),
-    }
 }
 
 /// A command's return code (its first value).

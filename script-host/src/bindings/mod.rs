@@ -15,6 +15,7 @@ pub mod freeport_sim;
 mod library;
 mod locals;
 mod plc;
+mod print;
 mod serial;
 mod system_vars;
 mod till_watch;
@@ -30,7 +31,9 @@ use std::borrow::Cow;
 use api::call::{self, ArgError, Doubles, Expected, Got, Source, TypedCall, ValueSource};
 use api::constants::{CONSTANTS, Constant, error_ids, numbered};
 use api::event_rate::Throttle;
-use api::{ArgType, Command, CommandCall, Func, FunctionSpec, Local, LocalCall, Query, QueryCall};
+use api::{
+    ArgType, Command, CommandCall, ErrorCode, Func, FunctionSpec, Local, LocalCall, Query, QueryCall, SystemError,
+};
 use calls::{query, reply, wire};
 use ipc::call::{Reply, Request};
 use ipc::events::EventSender;
@@ -190,6 +193,21 @@ pub fn install(lua: &Lua, host: Rc<Host>) -> mlua::Result<()> {
         globals.set(name, value)?;
     }
     Ok(())
+}
+
+/// `Till` keeps waiting while its condition returns false, nil or 0.
+pub(super) fn is_true(v: &Value) -> bool {
+    match v {
+        Value::Nil | Value::Boolean(false) => false,
+        Value::Integer(0) => false,
+        Value::Number(n) => *n != 0.0,
+        _ => true,
+    }
+}
+
+/// A ch. 2 system error as the code a local returns.
+pub(super) fn system_code(e: SystemError) -> i64 {
+    ErrorCode::System(e).code() as i64
 }
 
 /// An error at the Lua line that called the binding (through `pcall` too), as
