@@ -274,7 +274,7 @@ impl Kernel {
             return Err(self.refuse(a, AxisError::CompNotCnfg));
         };
         let mut axes = std::iter::once(a).chain(setup.ref_axes[..setup.dims].iter().copied());
-        if !axes.all(|id| self.axes[id as usize].is_homed()) {
+        if !axes.all(|id| self.axes[id as usize].home_state().is_homed()) {
             return Err(self.refuse(a, AxisError::CmdInvalidState));
         }
         let table = &mut self.compensation.tables[a as usize];

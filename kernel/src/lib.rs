@@ -31,11 +31,14 @@ use config::{FaultReaction, MachineConfig};
 use devices::ecat::Network;
 use gantry::Gantries;
 use group::Group;
+use ownership::Claim;
 
 pub use schema::MAX_GROUPS;
 
 pub struct Kernel {
     axes: Vec<Axis>,
+    /// Who commanded each axis' motion, and at what run speed, by axis id.
+    claims: Vec<Claim>,
     gantry: Gantries,
     /// HMPL ch. 8: the groups, each with its interpolator.
     groups: Vec<Group>,
@@ -60,6 +63,7 @@ impl Kernel {
         let n = axes.len();
         Kernel {
             axes,
+            claims: vec![Claim::default(); n],
             gantry: Gantries::new(n),
             groups: (0..MAX_GROUPS).map(|_| Group::new(period_s)).collect(),
             gear_slaves: vec![0; n],
@@ -120,6 +124,13 @@ impl Kernel {
         }
         self.keep_coordinates(id as i64)?;
         self.axes[id as usize].set_pos(pos).map_err(|e| ErrorCode::axis(id, e))
+    }
+
+    /// HMPL 5.3.37: axis `id`'s velocity override, with its commander's run speed on top.
+    pub fn set_vel_scale(&mut self, id: i64, percent: f64) -> Result<(), ErrorCode> {
+        let a = self.axis_id(id)? as usize;
+        self.axes[a].set_vel_scale(percent, self.claims[a].run_speed);
+        Ok(())
     }
 
     pub fn record_system_error(&mut self, code: u32) {
@@ -191,13 +202,6 @@ impl Kernel {
         }
     }
 
-    /// DXMC A.3, 0x6B03: task `task`'s run speed changed; its motion follows.
-    pub fn set_run_speed(&mut self, task: u8, factor: f64) {
-        for axis in self.axes.iter_mut().filter(|a| a.commander() == Some(task)) {
-            axis.set_run_speed(factor);
-        }
-    }
-
     /// HMPL 2.8: every axis stops with its kill deceleration and stays enabled; every
     /// group stops along its path.
     pub fn stop_all(&mut self) {
@@ -222,7 +226,8 @@ impl Kernel {
         self.react_groups(task, reaction);
         for id in 0..self.axes.len() {
             let axis = &self.axes[id];
-            if axis.commander() != Some(task) || !(axis.is_moving() || axis.is_homing()) || self.is_grouped(id) {
+            let commanded = self.claims[id].commander == Some(task);
+            if !commanded || !(axis.is_moving() || axis.is_homing()) || self.is_grouped(id) {
                 continue;
             }
             match reaction {

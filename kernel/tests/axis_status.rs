@@ -63,11 +63,11 @@ fn status_words_as_the_tables_give_them() {
     rig.cycles(1);
     assert_eq!(rig.status(0), (0x0003, 0x00), "Enabled | Moving at constant velocity");
 
-    rig.kernel.axis_mut(0).unwrap().set_homed(true);
+    rig.kernel.axis_mut(0).unwrap().home_state_mut().set_homed(true);
     rig.until("settled", |k| !k.axes()[0].is_moving());
     rig.cycles(20);
     assert_eq!(rig.status(0), (0x0805, 0x00), "Enabled | InPos | Homed");
-    rig.kernel.axis_mut(0).unwrap().set_homed(false);
+    rig.kernel.axis_mut(0).unwrap().home_state_mut().set_homed(false);
 
     // Gear: the slave is Sync and Gear (bits 3 and 8); the master shows neither.
     rig.kernel.enable(1).unwrap();

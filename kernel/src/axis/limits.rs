@@ -20,8 +20,7 @@ impl Axis {
         let raw = self.generator.raw();
         if let Some((bit, error)) = self.passes_limit(raw) {
             self.generator.stop_with(self.settings.kill_dec);
-            self.error_stop = true;
-            self.faults |= bit;
+            self.errors.enter_error_stop(bit);
             self.fail(error);
         }
     }
@@ -46,24 +45,23 @@ impl Axis {
 
     /// 3. Limits, position error and status from this cycle's feedback and reference.
     pub fn monitor(&mut self) {
-        if let Some(inputs) = self.feedback.digital_inputs {
+        if let Some(inputs) = self.sensed.feedback.digital_inputs {
             // 0x60FD bit 0: negative (left) limit, bit 1: positive (right) limit.
             for (bit, flag, error) in
                 [(1, fault_status::HW_RIGHT_LIMIT, AxisError::Hwrl), (0, fault_status::HW_LEFT_LIMIT, AxisError::Hwll)]
             {
                 let active = inputs & (1 << bit) != 0 && !self.settings.ignore_hwl;
-                if active && self.faults & flag == 0 {
+                if active && self.errors.faults() & flag == 0 {
                     self.kill_stop();
-                    self.error_stop = true;
+                    self.errors.enter_error_stop(0);
                     self.fail(error);
                 }
-                if active { self.faults |= flag } else { self.faults &= !flag }
+                self.errors.set_limit_switch(flag, active);
             }
         }
         let error = self.pos_err();
         if self.link.is_enabled() && !self.settings.ignore_pe && error.abs() > self.settings.max_pos_err {
-            self.faults |= fault_status::POSITION_ERROR;
-            self.error_stop = true;
+            self.errors.enter_error_stop(fault_status::POSITION_ERROR);
             self.fail(AxisError::Perr);
             let _ = self.disable();
         }

@@ -2,37 +2,43 @@
 //! status, following the manual's pipeline (fig. 5.1.1): command -> profile generator ->
 //! filter chain (HMPL 15.1) -> reference position + compensation -> position output +
 //! offset -> counts to the drive. Which source gives the reference is the axis' one
-//! `ReferenceSource` (`motion/source.rs`), changed only through its transitions. Gear and
-//! gantry couplings are the kernel's (`motion/mod.rs`); the axis takes their results
+//! `ReferenceSource` (`source.rs`), changed only through its transitions. Gear and
+//! gantry couplings are the kernel's (`lib.rs`); the axis takes their results
 //! through `follow` and `set_drive_position`. Limits live in `limits.rs`, what the axis
-//! shows in `status.rs`.
+//! shows and its settle statistics in `status.rs`, homing in `homing.rs`, what it senses
+//! of its drive in `sensed.rs`, its error state in `errors.rs`. Who commanded its motion,
+//! and at what run speed, is the kernel's claim (`Kernel::claim`).
 
+mod errors;
+mod homing;
 mod limits;
 mod ranges;
+mod sensed;
 mod status;
 mod vibration;
 
+pub use homing::HomeState;
 pub use vibration::VibrationFilter;
 
 use api::AxisError;
 use api::alarms::Alarm;
-use schema::fault_status;
 
-use crate::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_CST, MODE_CSV, Output};
+use crate::drive_link::{DriveLink, MODE_CSP, MODE_CST, MODE_CSV, Output};
 use crate::filter::FilterChain;
 use crate::generator::{Generator, Move};
-use crate::homing::Homing;
 use crate::power::PowerEvent;
 use crate::pvt::{Pvt, PvtError, PvtPoint};
-use crate::settings::{HomeSettings, MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
+use crate::settings::{MAX_SMOOTH_TIME_MS, Settings, rate_from_time};
 use crate::shaping::AXIS_MIN_SHAPER_HZ;
 use crate::source::{Engagement, ReferenceSource};
 use crate::touch_probe::TouchProbes;
 use config::AxisConfig;
 use devices::cia402::State;
-use devices::coe::fits_width;
 use devices::ecat::Network;
 use devices::profile::Kinematics;
+use errors::ErrorState;
+use sensed::Sensed;
+use status::Settle;
 
 /// Below this fraction of the axis' velocity limit the motor counts as standing.
 const STANDSTILL: f64 = 1e-3;
@@ -54,42 +60,15 @@ pub struct Axis {
     pos_offset: f64,
     /// HMPL 14.1: this cycle's compensation (`comp_pos_set`), added to the reference.
     compensation: f64,
-    /// The compensation the drive's feedback of this cycle holds (the last cycle's output):
-    /// taken off it, the feedback is in the reference's coordinates.
-    comp_in_fb: f64,
-    feedback: Feedback,
-    /// The drive's position in units before the offset (a gantry replaces it).
-    drive_position: f64,
-    pos_fb: f64,
-    vel_fb: f64,
+    sensed: Sensed,
     /// csp or csv: how a position reference reaches the drive (cst is the torque source).
     cyclic_mode: i64,
-    error_stop: bool,
-    /// fault_status bits other than ErrorStop.
-    faults: u32,
-    /// HMPL 18.3: the code `GetAxisLastErr` answers, 0 for none: an axis error
-    /// (`0x83IIEEEE`), or the alarm of another task's stop that cut this axis' motion short.
-    last_err: u32,
-    drive_err: u16,
-    homed: bool,
-    home_result: Option<Result<(), AxisError>>,
-    /// The power sequence's timeout (`Settings::enable_timeout_ms`, fixed), in cycles.
-    enable_timeout_cycles: u64,
+    errors: ErrorState,
+    home_state: HomeState,
     /// A Stop (not a Halt) is decelerating: other motion is refused (0x83II008C).
     stopping: bool,
     enabled_pending: bool,
-    in_window_cycles: u64,
-    moving_since: Option<u64>,
-    settled_at: Option<u64>,
-    move_time_ms: f64,
-    settling_time_ms: f64,
-    /// The task whose command set the present motion going: it owns the motion while it
-    /// lasts (`owner`), and for fault reactions.
-    commander: Option<u8>,
-    /// Stopped by an E-stop: motion is refused with 0x0064 until the axis is enabled again.
-    emergency_stopped: bool,
-    /// The run speed of the commander's program (DXMC A.3, 0x6B03), as a factor.
-    run_speed: f64,
+    settle: Settle,
     /// HMPL ch. 13.
     touch_probes: TouchProbes,
 }
@@ -97,7 +76,6 @@ pub struct Axis {
 impl Axis {
     pub fn new(id: u8, config: &AxisConfig, network: &Network, period_s: f64) -> Self {
         let settings = Settings::new(config);
-        let enable_timeout_cycles = cycles(settings.enable_timeout_ms, period_s);
         let max_samples = (MAX_SMOOTH_TIME_MS / 1000.0 / period_s).round() as usize + 1;
         let mut axis = Axis {
             id,
@@ -111,29 +89,13 @@ impl Axis {
             reference: Kinematics::default(),
             pos_offset: 0.0,
             compensation: 0.0,
-            comp_in_fb: 0.0,
-            feedback: Feedback::default(),
-            drive_position: 0.0,
-            pos_fb: 0.0,
-            vel_fb: 0.0,
+            sensed: Sensed::default(),
             cyclic_mode: MODE_CSP,
-            error_stop: false,
-            faults: 0,
-            last_err: 0,
-            drive_err: 0,
-            homed: false,
-            home_result: None,
-            enable_timeout_cycles,
+            errors: ErrorState::default(),
+            home_state: HomeState::default(),
             stopping: false,
             enabled_pending: false,
-            in_window_cycles: 0,
-            moving_since: None,
-            settled_at: None,
-            move_time_ms: 0.0,
-            settling_time_ms: 0.0,
-            commander: None,
-            emergency_stopped: false,
-            run_speed: 1.0,
+            settle: Settle::default(),
             touch_probes: TouchProbes::new(id as usize, config, network),
         };
         axis.rest_profile_at(0.0);
@@ -155,11 +117,6 @@ impl Axis {
 
     pub fn settings(&self) -> &Settings {
         &self.settings
-    }
-
-    /// HMPL 20.10: homing completed (or `SetHomedStatus`).
-    pub fn is_homed(&self) -> bool {
-        self.homed
     }
 
     pub fn is_enabled(&self) -> bool {
@@ -194,7 +151,7 @@ impl Axis {
     }
 
     pub fn is_error_stop(&self) -> bool {
-        self.error_stop
+        self.errors.is_error_stop()
     }
 
     pub fn is_gear_slave(&self) -> bool {
@@ -206,7 +163,7 @@ impl Axis {
     }
 
     pub fn pos_fb(&self) -> f64 {
-        self.pos_fb
+        self.sensed.pos_fb
     }
 
     /// Simulation only: where the drive's flexible load is, axis coordinates (the motor's
@@ -217,23 +174,23 @@ impl Axis {
 
     /// HMPL 5.3.21: the feedback with the compensation it holds, as the drive reports it.
     pub fn pos_fb_comp(&self) -> f64 {
-        self.pos_fb + self.comp_in_fb
+        self.sensed.pos_fb_comp()
     }
 
     /// The drive's position before the axis' offset (the gantry transform works on it).
     pub fn drive_position(&self) -> f64 {
-        self.drive_position
+        self.sensed.drive_position
     }
 
     /// Records a rejection or a fault as the axis' last error (HMPL 18.3) and returns it.
     pub fn fail(&mut self, error: AxisError) -> AxisError {
-        self.last_err = api::ErrorCode::axis(self.id, error).code();
+        self.errors.record(api::ErrorCode::axis(self.id, error).code());
         error
     }
 
     /// Records an alarm as the axis' last error (`Kernel::record_interruption`).
     pub(crate) fn record_alarm(&mut self, alarm: Alarm) {
-        self.last_err = alarm.0;
+        self.errors.record(alarm.0);
     }
 
     fn check<T>(&mut self, result: Result<T, AxisError>) -> Result<T, AxisError> {
@@ -241,7 +198,7 @@ impl Axis {
     }
 
     pub fn clear_last_err(&mut self) {
-        self.last_err = 0;
+        self.errors.record(0);
     }
 
     fn cycles(&self, ms: f64) -> u64 {
@@ -254,10 +211,10 @@ impl Axis {
         if !self.link.can_enable() {
             return Err(self.fail(AxisError::CmdInvalidNoSpecificPdo));
         }
-        if self.error_stop {
+        if self.errors.is_error_stop() {
             return Err(self.fail(AxisError::CmdInvalidErrorState));
         }
-        self.emergency_stopped = false;
+        self.errors.set_emergency_stopped(false);
         self.link.enable(self.cycle);
         Ok(())
     }
@@ -265,45 +222,31 @@ impl Axis {
     /// HMPL 2.9, 9.1: the E-stop disables the axis and refuses motion until `Enable`.
     pub fn emergency_stop(&mut self) {
         let _ = self.disable();
-        self.emergency_stopped = true;
+        self.errors.set_emergency_stopped(true);
     }
 
     pub fn is_emergency_stopped(&self) -> bool {
-        self.emergency_stopped
+        self.errors.is_emergency_stopped()
     }
 
-    /// The task whose motion command runs on this axis.
-    pub fn commander(&self) -> Option<u8> {
-        self.commander
-    }
-
-    /// The task that owns the axis' own motion: its commander, while the motion it set
-    /// going lasts (planned, halted, queued, settling, homing, an engaged gear, a torque)
-    /// on an enabled axis out of error stop (docs/decisions.md, "Axis ownership"). A
-    /// grouped axis' motion is its group's (`Kernel::axis_owner`).
-    pub fn owner(&self) -> Option<u8> {
+    /// Whether the axis' own motion lasts (planned, halted, queued, settling, homing, an
+    /// engaged gear, a torque) on an enabled axis out of error stop: while it does, the
+    /// task that set it going owns it (`Kernel::axis_owner`, docs/decisions.md, "Axis
+    /// ownership").
+    pub fn motion_lasts(&self) -> bool {
         let lasts = self.generator.is_busy()
             || self.is_moving()
             || self.source.is_homing()
             || self.source.is_torque()
             || self.source.engagement().is_some();
-        self.commander.filter(|_| lasts && self.link.is_enabled() && !self.error_stop)
+        lasts && self.link.is_enabled() && !self.errors.is_error_stop()
     }
 
-    /// `task`, whose program runs at `run_speed` (a factor), commanded motion: it owns the
-    /// axis' motion from now on.
-    pub fn claim(&mut self, task: u8, run_speed: f64) {
-        self.commander = Some(task);
-        self.set_run_speed(run_speed);
-    }
-
-    /// DXMC A.3, 0x6B03: the commanding program's run speed scales the velocity of its
-    /// motion, on top of `SetVelScale`, the move under way included.
-    pub fn set_run_speed(&mut self, factor: f64) {
-        if factor != self.run_speed {
-            self.run_speed = factor;
-            self.generator.set_scale(self.settings.vel_scale / 100.0 * factor);
-        }
+    /// DXMC A.3, 0x6B03: the commanding program's run speed (a factor, the kernel's
+    /// claim) scales the velocity of its motion, on top of `SetVelScale` (HMPL 5.3.37),
+    /// the move under way included.
+    pub(crate) fn set_run_speed(&mut self, run_speed: f64) {
+        self.generator.set_scale(self.settings.vel_scale / 100.0 * run_speed);
     }
 
     /// The drive's quick stop (CiA 402); the axis ends disabled.
@@ -325,15 +268,14 @@ impl Axis {
 
     /// Leaves ErrorStop (HMPL 5.2.3); a drive fault is reset too. The axis stays disabled.
     pub fn reset(&mut self) -> Result<(), AxisError> {
-        if self.error_stop {
+        if self.errors.is_error_stop() {
             if matches!(
-                State::from_statusword(self.feedback.statusword),
+                State::from_statusword(self.sensed.feedback.statusword),
                 Some(State::Fault | State::FaultReactionActive)
             ) {
                 self.link.reset_fault(self.cycle);
             }
-            self.error_stop = false;
-            self.faults &= fault_status::HW_LEFT_LIMIT | fault_status::HW_RIGHT_LIMIT;
+            self.errors.reset();
         }
         Ok(())
     }
@@ -341,7 +283,7 @@ impl Axis {
     // --- motion (HMPL 5.2) ---
 
     fn check_can_move(&mut self) -> Result<(), AxisError> {
-        let refused = if self.error_stop {
+        let refused = if self.errors.is_error_stop() {
             Some(AxisError::CmdInvalidErrorState)
         } else if !self.link.is_enabled() {
             Some(AxisError::CmdInvalidDisabled)
@@ -361,7 +303,7 @@ impl Axis {
     fn command(&mut self, m: Move) -> Result<(), AxisError> {
         let buffered = self.settings.buffer_mode == 1;
         self.generator.command(m, buffered).map_err(|_| self.fail(AxisError::CmdQueueFull))?;
-        self.moving_since.get_or_insert(self.cycle);
+        self.settle.start(self.cycle);
         Ok(())
     }
 
@@ -418,7 +360,7 @@ impl Axis {
     /// HMPL 5.2.7: a constant torque (N·m), in cst (`SetOpMode(a, 10)`), with 0x6071 mapped;
     /// clamped to the rated (continuous) torque.
     pub fn move_trq(&mut self, torque: f64) -> Result<(), AxisError> {
-        if self.error_stop {
+        if self.errors.is_error_stop() {
             return Err(self.fail(AxisError::CmdInvalidErrorState));
         }
         if !self.link.is_enabled() {
@@ -457,7 +399,7 @@ impl Axis {
     }
 
     pub fn halt(&mut self) -> Result<(), AxisError> {
-        if self.error_stop {
+        if self.errors.is_error_stop() {
             return Err(self.fail(AxisError::CmdInvalidErrorState));
         }
         self.generator.halt();
@@ -465,7 +407,7 @@ impl Axis {
     }
 
     pub fn resume(&mut self) -> Result<(), AxisError> {
-        if self.error_stop {
+        if self.errors.is_error_stop() {
             return Err(self.fail(AxisError::CmdInvalidErrorState));
         }
         self.generator.resume();
@@ -548,7 +490,7 @@ impl Axis {
             Some(AxisError::CmdInvalidInSync)
         } else if self.source.group().is_some() {
             Some(AxisError::CmdInvalidGrouped)
-        } else if self.error_stop {
+        } else if self.errors.is_error_stop() {
             Some(AxisError::CmdInvalidErrorState)
         } else if self.is_moving() {
             Some(AxisError::CmdInvalidMoving)
@@ -560,7 +502,7 @@ impl Axis {
         }
         let shift = self.reference.pos - pos;
         self.pos_offset += shift;
-        self.pos_fb -= shift;
+        self.sensed.pos_fb -= shift;
         self.reference.pos = pos;
         self.rest_profile_at(pos);
         Ok(())
@@ -575,11 +517,11 @@ impl Axis {
         Ok(())
     }
 
-    /// HMPL 5.3.37: applied to the move under way.
-    pub fn set_vel_scale(&mut self, percent: f64) -> Result<(), AxisError> {
+    /// HMPL 5.3.37: applied to the move under way, with the commanding program's run
+    /// speed (`Kernel::set_vel_scale`).
+    pub(crate) fn set_vel_scale(&mut self, percent: f64, run_speed: f64) {
         self.settings.vel_scale = percent;
-        self.generator.set_scale(percent / 100.0 * self.run_speed);
-        Ok(())
+        self.set_run_speed(run_speed);
     }
 
     /// HMPL 5.3.39: rollover length (0 switches it off), only while disabled.
@@ -632,84 +574,24 @@ impl Axis {
         Ok(())
     }
 
-    // --- homing (HMPL ch. 20) ---
-
-    /// Applies one of the homing setters (HMPL 20.3 to 20.8), recording a refusal.
-    pub fn set_home(&mut self, f: impl FnOnce(&mut HomeSettings) -> Result<(), AxisError>) -> Result<(), AxisError> {
-        let result = f(&mut self.settings.home);
-        self.check(result)
-    }
-
-    pub fn set_homed(&mut self, homed: bool) {
-        self.homed = homed;
-    }
-
-    /// HMPL 20.2: writes the homing objects by SDO and starts the drive's homing.
-    pub fn start_homing(&mut self, network: &mut Network) -> Result<(), AxisError> {
-        self.check_can_move()?;
-        if !self.link.can_home() {
-            return Err(self.fail(AxisError::CmdInvalidNoSpecificPdo));
-        }
-        let home = self.settings.home;
-        let counts = |units: f64| self.link.counts(units).round() as i64;
-        let writes: [(u16, u8, i64, usize); 5] = [
-            (0x6098, 0, home.method, 1),
-            (0x6099, 1, counts(home.switch_vel), 4),
-            (0x6099, 2, counts(home.zero_vel), 4),
-            (0x609A, 0, counts(home.acc), 4),
-            (0x607C, 0, counts(home.offset), 4),
-        ];
-        for (index, sub, value, len) in writes {
-            // A value cut to the object's width would be another value.
-            if !fits_width(value, len)
-                || network.sdo_write(self.link.slave(), index, sub, &value.to_le_bytes()[..len]).is_err()
-            {
-                return Err(self.fail(AxisError::DriveHomeFailed));
-            }
-        }
-        let started = self.source.start_homing(Homing::new(self.cycle));
-        self.check(started)?;
-        Homing::enter(&mut self.link);
-        self.homed = false;
-        self.home_result = None;
-        Ok(())
-    }
-
-    /// Ends a homing run early (disabled, stopped, a fault): `MoveHome` returns 0x83II042E.
-    fn abort_homing(&mut self) {
-        if self.source.is_homing() {
-            Homing::abort(&mut self.link);
-            self.finish_homing(Err(AxisError::DriveHomeFailed));
-        }
-    }
-
-    pub fn is_homing(&self) -> bool {
-        self.source.is_homing()
-    }
-
-    /// The result of the last homing run, once, when it is over.
-    pub fn take_home_result(&mut self) -> Option<Result<(), AxisError>> {
-        self.home_result.take()
-    }
-
     // --- the cycle ---
 
     /// 1. Reads the drive and steps the power sequence.
     pub fn sense(&mut self, network: &mut Network, cycle: u64) {
         self.cycle = cycle;
         let (inputs, _) = network.images_mut();
-        self.feedback = self.link.read(inputs);
+        self.sensed.feedback = self.link.read(inputs);
         self.touch_probes.read(inputs);
-        self.drive_position = self.feedback.position;
-        let timeout = self.enable_timeout_cycles;
-        let at_rest = self.vel_fb.abs() < STANDSTILL * self.settings.max_vel;
-        let event = self.link.sequence(self.feedback.statusword, cycle, timeout, at_rest);
+        self.sensed.drive_position = self.sensed.feedback.position;
+        let timeout = self.cycles(self.settings.enable_timeout_ms);
+        let at_rest = self.sensed.vel_fb.abs() < STANDSTILL * self.settings.max_vel;
+        let event = self.link.sequence(self.sensed.feedback.statusword, cycle, timeout, at_rest);
         self.on_power_event(event, network);
     }
 
     /// The kernel's gantry transform replaces the drive position with a pair's.
     pub(crate) fn set_drive_position(&mut self, position: f64) {
-        self.drive_position = position;
+        self.sensed.drive_position = position;
     }
 
     fn on_power_event(&mut self, event: PowerEvent, network: &mut Network) {
@@ -717,22 +599,21 @@ impl Axis {
             PowerEvent::None | PowerEvent::Disabled | PowerEvent::FaultCleared => {}
             PowerEvent::Enabled => self.enabled_pending = true,
             PowerEvent::Timeout => {
-                let enabling =
-                    !State::from_statusword(self.feedback.statusword).is_some_and(|s| s == State::OperationEnabled);
+                let enabling = !State::from_statusword(self.sensed.feedback.statusword)
+                    .is_some_and(|s| s == State::OperationEnabled);
                 self.fail(if enabling { AxisError::DriveEnableTout } else { AxisError::DriveDisableTout });
             }
             PowerEvent::DriveFault => {
-                self.error_stop = true;
-                self.faults |= fault_status::DRIVE_FAULT;
-                self.drive_err = match self.feedback.error_code {
+                let drive_err = match self.sensed.feedback.error_code {
                     Some(code) => code,
                     None => network.sdo_read(self.link.slave(), 0x603F, 0).map_or(0, |(v, _)| v as u16),
                 };
+                self.errors.drive_fault(drive_err);
                 self.abort_homing();
                 self.fail(AxisError::DriveFault);
             }
             PowerEvent::AbnormalDisable => {
-                self.error_stop = true;
+                self.errors.enter_error_stop(0);
                 self.fail(AxisError::DriveAbnormalDisable);
             }
         }
@@ -743,21 +624,11 @@ impl Axis {
     /// The profile generator's through the filter chain, or the feedback (disabled,
     /// homing, torque); an engaged gear slave's comes from the kernel (`follow`).
     pub fn plan(&mut self) {
-        self.comp_in_fb = self.compensation;
-        let fb = self.drive_position - self.pos_offset - self.comp_in_fb;
-        self.vel_fb = (fb - self.pos_fb) / self.period_s;
-        self.pos_fb = fb;
+        self.sensed.locate(self.pos_offset, self.compensation, self.period_s);
         if std::mem::take(&mut self.enabled_pending) {
-            self.rest_profile_at(self.pos_fb);
+            self.rest_profile_at(self.sensed.pos_fb);
         }
-        if self.source.is_homing() {
-            let timeout = self.cycles(self.settings.home.timeout_ms as f64);
-            if let ReferenceSource::Homing(run) = &mut self.source
-                && let Some(result) = run.step(&mut self.link, &self.feedback, self.cycle, timeout)
-            {
-                self.finish_homing(result);
-            }
-        }
+        self.step_homing();
         match self.source {
             _ if !self.link.is_enabled() => self.follow_feedback(),
             ReferenceSource::Homing(_) | ReferenceSource::Torque { .. } => self.follow_feedback(),
@@ -781,24 +652,9 @@ impl Axis {
 
     /// The reference stands where the motor is; the generator waits there.
     fn follow_feedback(&mut self) {
-        self.rest_profile_at(self.pos_fb);
-        self.reference = Kinematics { pos: self.pos_fb, vel: 0.0, acc: 0.0 };
-    }
-
-    /// Ends a homing run: the profile generator gives the reference again.
-    fn finish_homing(&mut self, result: Result<(), AxisError>) {
-        self.source.end_homing();
-        match result {
-            Ok(()) => {
-                // The home defines the coordinates: the drive reads the home offset there.
-                self.homed = true;
-                self.pos_offset = 0.0;
-            }
-            Err(e) => {
-                self.fail(e);
-            }
-        }
-        self.home_result = Some(result);
+        let pos = self.sensed.pos_fb;
+        self.rest_profile_at(pos);
+        self.reference = Kinematics { pos, vel: 0.0, acc: 0.0 };
     }
 
     // --- gear (HMPL ch. 6): the kernel's gear commands move the source ---
@@ -843,8 +699,7 @@ impl Axis {
                 // Engaged, so the source takes it.
                 let _ = self.source.disengage();
                 self.come_to_rest(self.settings.kill_dec);
-                self.error_stop = true;
-                self.faults |= bit;
+                self.errors.enter_error_stop(bit);
                 self.fail(error);
                 return;
             }
@@ -894,8 +749,7 @@ impl Axis {
         }
         if let Some((bit, error)) = self.passes_limit(next) {
             self.leave_group_sync(self.settings.kill_dec, false);
-            self.error_stop = true;
-            self.faults |= bit;
+            self.errors.enter_error_stop(bit);
             self.fail(error);
             return;
         }
@@ -933,15 +787,14 @@ impl Axis {
     /// (docs/decisions.md, "Compensation").
     pub(crate) fn compensation_limit(&mut self) {
         self.kill_stop();
-        self.error_stop = true;
+        self.errors.enter_error_stop(0);
         self.fail(AxisError::CompLimit);
     }
 
     /// HMPL 14.3: without compensation the reference is where the (disabled) axis stands.
     pub(crate) fn end_compensation(&mut self) {
         self.compensation = 0.0;
-        self.comp_in_fb = 0.0;
-        self.pos_fb = self.drive_position - self.pos_offset;
+        self.sensed.drop_compensation(self.pos_offset);
         self.follow_feedback();
     }
 

@@ -113,7 +113,7 @@ pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bo
         Ok(CommandCall::MoveHome { axis_id }) => {
             let Ok(axis) = machine.kernel.axis_mut(axis_id) else { return true };
             let id = axis.id();
-            match axis.take_home_result() {
+            match axis.home_state_mut().take_result() {
                 None => return false,
                 Some(result) => result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))),
             }
@@ -336,9 +336,7 @@ fn run(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Reply) -> Ou
         let run_speed = m.run_speed(caller);
         let group_axes = group.as_ref().map_or(&[][..], |(_, axes, n)| &axes[..*n]);
         for &axis in moved.iter().chain(group_axes) {
-            if let Ok(axis) = m.kernel.axis_mut(axis as i64) {
-                axis.claim(caller, run_speed);
-            }
+            m.kernel.claim(axis, caller, run_speed);
         }
         if let Some((g, _, _)) = group {
             m.kernel.claim_group(g, caller);
@@ -383,7 +381,7 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::IgnoreHWL { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::HardwareLimits, cmd != 0)),
         C::IgnoreSWL { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::SoftwareLimits, cmd != 0)),
         C::IgnorePE { axis_id, cmd } => axis(m, axis_id, |ax| ax.set_ignore(Ignore::PositionError, cmd != 0)),
-        C::SetVelScale { axis_id, vel_scale } => axis(m, axis_id, |ax| ax.set_vel_scale(vel_scale)),
+        C::SetVelScale { axis_id, vel_scale } => motion(m, |m| now(m.kernel.set_vel_scale(axis_id, vel_scale))),
         C::SetRollover { axis_id, rollover_val } => axis(m, axis_id, |ax| ax.set_rollover(rollover_val)),
         C::SetOpMode { axis_id, op_mode } => axis(m, axis_id, |ax| ax.set_op_mode(op_mode)),
         C::SetBufferMode { axis_id, buf_mode } => axis(m, axis_id, |ax| ax.set_buffer_mode(buf_mode)),
@@ -552,7 +550,7 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         C::SetHomeOffset { axis_id, offset } => home_number(m, axis_id, offset, |h| &mut h.offset),
         C::SetHomeTimeout { axis_id, timeout } => axis(m, axis_id, |ax| ax.set_home(|h| h.set_timeout(timeout))),
         C::SetHomedStatus { axis_id, is_homed } => axis(m, axis_id, |ax| {
-            ax.set_homed(is_homed != 0);
+            ax.home_state_mut().set_homed(is_homed != 0);
             Ok(())
         }),
         // HMPL ch. 14: dynamic error compensation.

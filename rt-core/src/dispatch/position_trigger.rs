@@ -16,7 +16,7 @@ pub(super) fn trigger(
     f: impl FnOnce(&mut PositionTriggers, usize, bool) -> Result<(), PtError>,
 ) -> Outcome {
     let axis = m.kernel.axis_mut(a)?;
-    let homed = axis.is_homed();
+    let homed = axis.home_state().is_homed();
     match f(&mut m.triggers, a as usize, homed) {
         Ok(()) => Ok(Done::Now),
         Err(PtError::NoTrigger) => Err(SystemError::HmplNotSupported.into()),
