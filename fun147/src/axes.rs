@@ -1,5 +1,5 @@
-//! What FUN147 needs of the pulse outputs Ps0-Ps3. The controller implements it on its
-//! group interpolator; [`crate::sim::SimAxes`] is the reference for tests.
+//! What FUN147 needs of the pulse outputs Ps0-Ps3, which the controller implements on its
+//! group interpolator and the crate's tests on a simulation.
 //!
 //! Units: positions, targets, ratios and remaining counts are pulses (Ps); speeds and
 //! frequencies are pulses per second (Hz). The implementation maps pulses to its axis units.

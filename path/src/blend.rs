@@ -61,10 +61,6 @@ pub struct TransitionParams {
 pub const MAX_TRANS_VEL: f64 = 5000.0;
 pub const MAX_TRANS_CURV: f64 = 1e7;
 
-/// A junction turning more than this is not blended: near a reversal the blend would be a
-/// hairpin of tiny radius (and its arc length loses accuracy, `segment::Blend`).
-pub const MAX_TURN_DEG: f64 = 170.0;
-
 /// A junction turning less than this has no corner, rad.
 pub const MIN_TURN: f64 = 1e-9;
 
@@ -105,7 +101,7 @@ impl TransitionParams {
 
 /// The corner between `prev` and `next` blended: (`prev` trimmed, the blend, `next`
 /// trimmed), the blend tangent to both at its ends. `None` where the junction is not
-/// blended: TM_NONE, no corner, a turn over [`MAX_TURN_DEG`], a segment that is itself a
+/// blended: TM_NONE, no corner, a turn over [`Blend::MAX_TURN_DEG`], a segment that is itself a
 /// blend or only rotates, segments that do not meet, or a trim that reaches the length of
 /// either segment.
 pub fn corner(
@@ -123,7 +119,7 @@ pub fn corner(
     }
     let (t1, t2) = (prev.direction_at(1.0), next.direction_at(0.0));
     let turn = dot3(t1, t2).clamp(-1.0, 1.0).acos();
-    if norm3(t1) == 0.0 || norm3(t2) == 0.0 || turn < MIN_TURN || turn > MAX_TURN_DEG.to_radians() {
+    if norm3(t1) == 0.0 || norm3(t2) == 0.0 || turn < MIN_TURN || turn > Blend::MAX_TURN_DEG.to_radians() {
         return None;
     }
     let len_min = prev.length().min(next.length());

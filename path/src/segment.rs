@@ -53,7 +53,7 @@ pub struct Arc {
 }
 
 /// Panels of a blend's length table (8-point Gauss-Legendre each): with the turning
-/// angle of a blended corner at most [`crate::blend::MAX_TURN_DEG`] the speed along `u`
+/// angle of a blended corner at most [`Blend::MAX_TURN_DEG`] the speed along `u`
 /// stays within 1e-7 of uniform (measured by `path/tests/speed.rs`: 4e-8 at worst over
 /// random blends, 1e-10 at a 170° corner).
 const BLEND_PANELS: usize = 16;
@@ -235,6 +235,10 @@ impl Arc {
 }
 
 impl Blend {
+    /// The largest corner turn a blend is built for, deg: near a reversal it would be a
+    /// hairpin of tiny radius, and its length table loses accuracy (`BLEND_PANELS`).
+    pub const MAX_TURN_DEG: f64 = 170.0;
+
     /// The blend from `start` to `end` (poses; their X, Y, Z are `ctrl[0]` and `ctrl[3]`).
     pub fn new(start: Pose, end: Pose, inner: [[f64; 3]; 2]) -> Blend {
         let ctrl = [[start[0], start[1], start[2]], inner[0], inner[1], [end[0], end[1], end[2]]];

@@ -22,7 +22,7 @@
 //! curve this is the cycle's chord, the same as without smoothing. Nothing here allocates
 //! after `new`.
 
-use crate::planner::Sample;
+use crate::sample::Sample;
 use crate::segment::{Pose, lerp};
 
 /// One cycle's raw sample in the window.
@@ -159,7 +159,7 @@ impl PathSmoother {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::planner::Corners;
+    use crate::sample::Corners;
 
     fn at(s: f64, pose: Pose) -> Sample {
         Sample { pose, path_pos: s, ..Sample::default() }

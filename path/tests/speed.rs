@@ -116,7 +116,7 @@ fn every_variant_moves_at_uniform_speed() {
 #[test]
 fn sharpest_blended_corner_keeps_uniform_speed() {
     // The worst case of the blend's arc length: the largest turn still blended.
-    let turn = path::blend::MAX_TURN_DEG.to_radians() - 1e-9;
+    let turn = path::segment::Blend::MAX_TURN_DEG.to_radians() - 1e-9;
     let prev = line_abs_2d(&[0.0; 6], [100.0, 0.0, 0.0]).unwrap();
     let next = line_rel_2d(&prev.end(), [100.0 * turn.cos(), 100.0 * turn.sin(), 0.0]).unwrap();
     let params = TransitionParams { trans_vel: 100.0, trans_dis: 50.0, trans_dev: 0.0, trans_curv: 0.0 };

@@ -19,7 +19,8 @@ use api::{ErrorCode, GroupError};
 use path::Pose;
 use path::blend::{TransitionMode, TransitionParams};
 use path::frames::{CoordSys, Frames};
-use path::planner::{Limits, Planner, Sample};
+use path::planner::{Limits, Planner};
+use path::sample::Sample;
 use path::smoothing::PathSmoother;
 use schema::{GroupSnapshot, MAX_GROUP_AXES, fault_status, group_fault_status, group_motion_status};
 
