@@ -251,6 +251,7 @@ fn serial_bytes_are_recorded_and_replayed() {
            Sleep(1)\n\
          end\n\
          Till(function() return IsInPos(0) end)\n\
+         Sleep(100)\n\
          Print('%d codes, at %.3f mm', count, GetPosFb(0))\n",
     );
     let (config, record, link) = (machine(dir.path()), dir.path().join("inputs.txt"), dir.path().join("ttyS1"));
@@ -277,6 +278,8 @@ fn serial_bytes_are_recorded_and_replayed() {
     let said = recorded.task_lines();
     assert_eq!(said.len(), 4, "{said:?}\n{}", recorded.out.stderr);
     assert!(said[1].starts_with("code A1 at ") && said[2].starts_with("code BB222 at "), "{said:?}");
+    // In position is within the window; 100 ms later the drive has settled on the target,
+    // however the codes' arrival split the two moves (a loaded machine: 7.001 mm at once).
     assert_eq!(said[3], "2 codes, at 7.000 mm");
     replays_match(&recorded, &record, &["--config", config.to_str().unwrap(), program.to_str().unwrap()]);
 }
