@@ -20,8 +20,11 @@ pub struct DrlConfig {
     /// Folder projects are exported to and imported from (the DXMC's USB stick).
     /// Default: `<data dir>/export`.
     pub export: Option<PathBuf>,
+    /// The project's watchdog, ms, as a `[[tasks]]` entry's `watchdog_ms`.
     pub watchdog_ms: u32,
+    /// The project's Lua memory limit, MiB, as a `[[tasks]]` entry's `memory_limit_mib`.
     pub memory_limit_mib: u32,
+    /// What the project's motion does when it fails or is stopped (DXMC parameter 8-1).
     pub fault_reaction: FaultReaction,
 }
 

@@ -2,14 +2,33 @@
 
 use std::path::PathBuf;
 
+/// Why a machine file was refused; nothing starts on one.
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
+    /// The file could not be read.
     #[error("cannot read {path}: {source}")]
-    Read { path: PathBuf, source: std::io::Error },
+    Read {
+        /// The machine file.
+        path: PathBuf,
+        /// What reading it failed with.
+        source: std::io::Error,
+    },
+    /// Not TOML, or a key or type the types do not have (serde's message names the line).
     #[error("{path}: {message}")]
-    Parse { path: PathBuf, message: String },
+    Parse {
+        /// The machine file.
+        path: PathBuf,
+        /// toml's message: the key, the line and what was wrong.
+        message: String,
+    },
+    /// A value out of its range, or sections that contradict each other.
     #[error("{key}: {message}")]
-    Invalid { key: String, message: String },
+    Invalid {
+        /// The key refused, as a path into the file (`axes[0].max_vel`).
+        key: String,
+        /// What the key must be.
+        message: String,
+    },
 }
 
 pub(crate) fn invalid(key: impl Into<String>, message: impl Into<String>) -> ConfigError {

@@ -47,15 +47,19 @@ use error::invalid;
 /// DC cycle times the drives accept (CoE manual table 2-1), in µs.
 pub const DC_CYCLES_US: [u32; 5] = [250, 500, 1000, 2000, 4000];
 
+/// The whole machine file; a section the file leaves out is the built-in machine's.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MachineConfig {
     /// Controller cycle in µs: one of 250, 500, 1000, 2000, 4000.
     pub cycle_us: u32,
+    /// `[rt]`: how the RT thread asks the OS for real-time service, and the script pool.
     pub rt: RtConfig,
+    /// `[[axes]]`: 1 to `MAX_AXES` axes, each on its own drive, in API order.
     pub axes: Vec<AxisConfig>,
     /// Devices on the bus that drive no axis, after the axes' drives in file order.
     pub slaves: Vec<SlaveConfig>,
+    /// `[[tasks]]`: the programs the controller runs, one HMPL task slot each.
     pub tasks: Vec<TaskConfig>,
     /// DRL projects and their program control (DXMC manual A.3).
     pub drl: DrlConfig,
@@ -162,10 +166,13 @@ impl MachineConfig {
         Ok(self)
     }
 
+    /// The controller cycle in ns.
     pub fn period_ns(&self) -> u64 {
         self.cycle_us as u64 * 1000
     }
 
+    /// Checks every section's ranges and the checks that span sections (`load` calls it;
+    /// a config built in code calls it itself). The first error found is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
         if !DC_CYCLES_US.contains(&self.cycle_us) {
             return Err(invalid(

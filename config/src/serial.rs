@@ -11,6 +11,8 @@ use crate::error::{ConfigError, invalid};
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SerialConfig {
+    /// Whether the controller opens the port (default true); without it scripts'
+    /// `FreePort.Serial` calls return 10.
     pub enabled: bool,
     /// A symlink to the pseudo-terminal (`/dev/pts/N`), made at start (replacing one
     /// there) and removed at the end; relative to the machine file.

@@ -8,6 +8,7 @@ use crate::error::{ConfigError, invalid};
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SlaveConfig {
+    /// What kind of terminal it is.
     pub device: SlaveDevice,
     /// Input channels: 0..=32 of a `digital_io` terminal, 0..=4 of an `analog_io` one.
     #[serde(default)]

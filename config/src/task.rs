@@ -9,15 +9,23 @@ use serde::Deserialize;
 
 use crate::error::{ConfigError, invalid};
 
+/// `[[tasks]]`: one task slot and the program its script process runs.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TaskConfig {
+    /// The HMPL task id, 0..63 (ch. 16), each used once.
     pub id: u8,
+    /// The Lua program, relative to the machine file; it must exist at load.
     pub program: PathBuf,
+    /// Started with the controller; otherwise only when another task starts it
+    /// (`StartTask`).
     #[serde(default)]
     pub autorun: bool,
+    /// A task that runs Lua this long (ms, default 500) without calling the API is
+    /// stopped as hung.
     #[serde(default = "TaskConfig::default_watchdog_ms")]
     pub watchdog_ms: u32,
+    /// The Lua VM's memory limit, 1..4096 MiB (default 64); over it the task ends.
     #[serde(default = "TaskConfig::default_memory_limit_mib")]
     pub memory_limit_mib: u32,
     /// What the axes this task set moving do when it fails or is stopped.

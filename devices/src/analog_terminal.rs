@@ -71,6 +71,8 @@ const OUTPUTS: [ObjId; MAX_ANALOG_CHANNELS] = [
     id(OBJECTS, ANALOG_OUTPUTS, 4),
 ];
 
+/// An analog I/O terminal on the bus: its dictionary, its channel counts and the
+/// simulator's input signals.
 pub struct AnalogIoTerminal {
     od: ObjectStore,
     inputs: u8,
@@ -81,6 +83,8 @@ pub struct AnalogIoTerminal {
 }
 
 impl AnalogIoTerminal {
+    /// A terminal with `inputs` and `outputs` channels (at most 4 each, more are cut),
+    /// output n wired to input n when `loopback`.
     pub fn new(inputs: u8, outputs: u8, loopback: bool) -> Self {
         let max = MAX_ANALOG_CHANNELS as u8;
         let (inputs, outputs) = (inputs.min(max), outputs.min(max));

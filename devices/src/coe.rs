@@ -10,16 +10,24 @@
 /// CoE data types.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DataType {
+    /// INTEGER8 (the manual's INT8).
     Int8,
+    /// INTEGER16 (INT16).
     Int16,
+    /// INTEGER32 (INT32).
     Int32,
+    /// UNSIGNED8 (UINT8).
     UInt8,
+    /// UNSIGNED16 (UINT16).
     UInt16,
+    /// UNSIGNED32 (UINT32).
     UInt32,
+    /// REAL32, an IEEE 754 single, stored as its bits.
     Real32,
 }
 
 impl DataType {
+    /// The width in bits, as a PDO mapping entry's length byte gives it.
     pub const fn bits(self) -> u8 {
         match self {
             DataType::Int8 | DataType::UInt8 => 8,
@@ -28,10 +36,12 @@ impl DataType {
         }
     }
 
+    /// The width in bytes on the bus and in an SDO.
     pub const fn bytes(self) -> usize {
         self.bits() as usize / 8
     }
 
+    /// Whether it is one of the INTEGER types (sign-extended when read).
     pub const fn is_signed(self) -> bool {
         matches!(self, DataType::Int8 | DataType::Int16 | DataType::Int32)
     }
@@ -78,9 +88,12 @@ pub fn fits_width(value: i64, bytes: usize) -> bool {
     (-(1i64 << (bits - 1))..=(1i64 << bits) - 1).contains(&value)
 }
 
+/// Who may write an object over SDO (the device itself always may).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Access {
+    /// RO: uploads only; a download is aborted.
     ReadOnly,
+    /// RW: upload and download.
     ReadWrite,
     /// The SDO layer refuses to read one.
     WriteOnly,
@@ -93,15 +106,25 @@ pub const ALL_VARIANTS: u32 = u32::MAX;
 /// included); integers up to 2^32 are exact in an f64.
 #[derive(Clone, Copy, Debug)]
 pub struct ObjectDef {
+    /// The object's index (`0x6040`).
     pub index: u16,
+    /// The sub-index, 0 for a simple object.
     pub sub: u8,
+    /// The name the manual's table gives it.
     pub name: &'static str,
+    /// Its data type.
     pub ty: DataType,
+    /// RO, RW or WO over SDO.
     pub access: Access,
+    /// Whether a PDO may carry it (the tables' PDO column, O).
     pub pdo_mappable: bool,
+    /// The lowest value a download may write.
     pub min: f64,
+    /// The highest value a download may write.
     pub max: f64,
+    /// The value at power-up.
     pub default: f64,
+    /// The unit as the table prints it (`count/s`), empty for none.
     pub unit: &'static str,
     /// The variants of the device family that have the object, one bit each
     /// (`ALL_VARIANTS` for most); a store is made for one variant.
@@ -119,14 +142,14 @@ impl ObjectDef {
 }
 
 /// Read-only, read-write; `_PDO`: mappable too (a terminal object's `(access, pdo)`).
-pub const RO: (Access, bool) = (Access::ReadOnly, false);
-pub const RW: (Access, bool) = (Access::ReadWrite, false);
-pub const RO_PDO: (Access, bool) = (Access::ReadOnly, true);
-pub const RW_PDO: (Access, bool) = (Access::ReadWrite, true);
+pub(crate) const RO: (Access, bool) = (Access::ReadOnly, false);
+pub(crate) const RW: (Access, bool) = (Access::ReadWrite, false);
+pub(crate) const RO_PDO: (Access, bool) = (Access::ReadOnly, true);
+pub(crate) const RW_PDO: (Access, bool) = (Access::ReadWrite, true);
 
 /// An object of a simple device (an I/O terminal): no unit, on every variant, `(access,
 /// pdo)` one of `RO`.. `RW_PDO`, its range and default as integers.
-pub const fn terminal_object(
+pub(crate) const fn terminal_object(
     index: u16,
     sub: u8,
     name: &'static str,
@@ -204,7 +227,7 @@ impl ObjectStore {
         self.def(id).variants & self.variant != 0
     }
 
-    pub fn def(&self, id: ObjId) -> &'static ObjectDef {
+    pub(crate) fn def(&self, id: ObjId) -> &'static ObjectDef {
         &self.table[id.0]
     }
 
@@ -213,7 +236,7 @@ impl ObjectStore {
         self.table.iter().position(|o| o.index == index && o.sub == sub).map(ObjId).filter(|&id| self.has(id))
     }
 
-    pub fn get(&self, id: ObjId) -> i64 {
+    pub(crate) fn get(&self, id: ObjId) -> i64 {
         self.values[id.0]
     }
 
@@ -227,7 +250,7 @@ impl ObjectStore {
         self.values[id.0] = value;
     }
 
-    pub fn set_f32(&mut self, id: ObjId, value: f32) {
+    pub(crate) fn set_f32(&mut self, id: ObjId, value: f32) {
         self.values[id.0] = value.to_bits() as i64;
     }
 }

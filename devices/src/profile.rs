@@ -9,16 +9,22 @@
 /// Profile limits, all > 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
+    /// Highest velocity, units/s.
     pub vel: f64,
+    /// Highest acceleration, units/s².
     pub acc: f64,
+    /// Highest deceleration, units/s² (positive).
     pub dec: f64,
 }
 
 /// A sample of a profile.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Kinematics {
+    /// Position, in the profile's unit (counts in a drive, the axis' unit in the kernel).
     pub pos: f64,
+    /// Velocity, units/s.
     pub vel: f64,
+    /// Acceleration, units/s² (negative when braking forward).
     pub acc: f64,
 }
 
@@ -124,6 +130,7 @@ impl Trapezoid {
         self.count.checked_sub(1).map_or(0.0, |i| self.segments[i].end())
     }
 
+    /// Where the move ends, at rest.
     pub fn target(&self) -> f64 {
         self.target
     }

@@ -42,6 +42,8 @@ const OUTPUTS: ObjId = id(OBJECTS, 0x7000, 1);
 #[error("the terminal has no input {0}")]
 pub struct NoSuchChannel(pub i64);
 
+/// A digital I/O terminal on the bus: its dictionary, its channel counts and the
+/// simulator's input switches.
 pub struct DigitalIoTerminal {
     od: ObjectStore,
     inputs: u8,
@@ -51,6 +53,7 @@ pub struct DigitalIoTerminal {
 }
 
 impl DigitalIoTerminal {
+    /// A terminal with `inputs` and `outputs` channels (at most 32 each, more are cut).
     pub fn new(inputs: u8, outputs: u8) -> Self {
         let (inputs, outputs) = (inputs.min(MAX_TERMINAL_CHANNELS), outputs.min(MAX_TERMINAL_CHANNELS));
         DigitalIoTerminal { od: ObjectStore::new(OBJECTS, ALL_VARIANTS), inputs, outputs, levels: 0 }

@@ -8,9 +8,13 @@ use num_enum::{IntoPrimitive, TryFromPrimitive};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u16)]
 pub enum ExecState {
+    /// No project opened.
     Close = 0,
+    /// The project's program runs.
     Running = 1,
+    /// The program stopped at a breakpoint (0x6B02 shows the line).
     BreakPoint = 2,
+    /// The program is paused by Pause, a step or Block Run.
     Pause = 3,
     /// Opened, waiting for a run command.
     PreRun = 4,
@@ -39,24 +43,42 @@ impl ExecState {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u16)]
 pub enum Control {
+    /// Checks and opens the project selected in 0x6B04.
     Open = 1,
+    /// Runs the opened project, breakpoints ignored.
     ReleaseRun = 2,
+    /// Stops the program and closes the project.
     Stop = 3,
+    /// Pauses the program at its next line of `main.lua`.
     Pause = 4,
+    /// Open, then Release Run.
     OpenAndReleaseRun = 6,
+    /// Debug: one line, into a called function.
     StepInto = 11,
+    /// Debug: one line, over calls.
     StepOver = 12,
+    /// Debug: on to the caller's next line.
     StepOut = 13,
+    /// A Debug Run that stops before the first line (docs/decisions.md: the manual does
+    /// not describe it).
     BlockRun = 21,
+    /// Open, then Block Run.
     OpenAndBlockRun = 22,
+    /// Runs the opened project, stopping at its breakpoints.
     DebugRun = 44,
+    /// Open, then Debug Run.
     OpenAndDebugRun = 45,
     /// FTP area -> USB.
     ExportProject = 31,
     /// USB -> FTP area.
     ImportProject = 32,
+    /// Before a run: the breakpoints 0x6B07..0x6B0E name (at most 8).
     SetBp = 41,
+    /// One breakpoint more, at the line in 0x6B07 (during a run it reaches the debugger
+    /// at
+    /// once).
     AddBp = 42,
+    /// Removes the breakpoint at the line in 0x6B07.
     DeleteBp = 43,
 }
 
@@ -65,37 +87,70 @@ pub enum Control {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, TryFromPrimitive, IntoPrimitive)]
 #[repr(u16)]
 pub enum Status {
+    /// BUSY: a command is on its way (a start not yet seen, a pause waiting for a line).
     Busy = 0,
+    /// CHECKING: Open checks the project's `main.lua`.
     Checking = 1,
+    /// FAILED: the program ended with an error, or an import was refused.
     Failed = 2,
+    /// CANNOT_OPEN: no such project, or it does not compile.
     CannotOpen = 10,
+    /// OPENING: Open under way.
     Opening = 11,
+    /// OPENED: the project is open (state Pre-Run).
     Opened = 12,
+    /// CANNOT_RUN: no project open, or the core refused the start.
     CannotRun = 20,
+    /// RUNNING: the run command is done.
     Running = 21,
+    /// CANNOT_STOP: nothing to stop.
     CannotStop = 30,
+    /// STOPPING: Stop under way.
     Stopping = 31,
+    /// STOPPED: the program ended, or was stopped.
     Stopped = 32,
+    /// CANNOT_PAUSE: the program does not run.
     CannotPause = 40,
+    /// PAUSED: the program stands at a line.
     Paused = 41,
+    /// CANNOT_STEP: the program is not at a breakpoint or paused.
     CannotStep = 50,
+    /// STEPPED: the step is done.
     Stepped = 51,
+    /// PASSWORD_ERROR (export and import); never sent here, no password is asked.
     PasswordError = 60,
+    /// FTP_ID_ERROR: export of a project the FTP area does not hold.
     FtpIdError = 61,
+    /// USB_MOUNT_ERROR: the export folder could not be written.
     UsbMountError = 62,
+    /// EXPORTING: export under way.
     Exporting = 63,
+    /// USB_UNMOUNT_ERROR; never sent here, the export folder is not unmounted.
     UsbUnmountError = 64,
+    /// EXPORT_DONE: the project is in the export folder.
     ExportDone = 65,
+    /// USB_ID_CHECKING: import under way, checking the exported project.
     UsbIdChecking = 66,
+    /// USB_ID_ERROR: import of a project the export folder does not hold.
     UsbIdError = 67,
+    /// IMPORTING: import under way.
     Importing = 68,
+    /// IMPORT_DONE: the project is back in the FTP area.
     ImportDone = 69,
+    /// CANNOT_SETBP: Set BP during a run, or a line past the end of `main.lua`.
     CannotSetBp = 70,
+    /// BP_SETTING: Set BP under way.
     BpSetting = 71,
+    /// BP_SET: the breakpoints are set for the next run.
     BpSet = 72,
+    /// CANNOT_ADDBP: no line, a line already set, 8 set before a run, or one the debugger
+    /// refuses.
     CannotAddBp = 73,
+    /// BP_ADDED: the breakpoint is added.
     BpAdded = 74,
+    /// CANNOT_DELETEBP: no breakpoint at that line.
     CannotDeleteBp = 75,
+    /// BP_DELETED: the breakpoint is gone.
     BpDeleted = 76,
 }
 

@@ -34,18 +34,22 @@ const HOUSEKEEPING_PERIOD: Duration = Duration::from_millis(100);
 
 /// A Modbus request in register terms.
 #[derive(Debug)]
-pub enum Op {
+pub(crate) enum Op {
     Read { address: u16, count: u16 },
     Write { address: u16, values: Vec<u16> },
 }
 
-pub type Answer = Result<Vec<u16>, Refusal>;
-pub type Request = (Op, oneshot::Sender<Answer>);
+pub(crate) type Answer = Result<Vec<u16>, Refusal>;
+pub(crate) type Request = (Op, oneshot::Sender<Answer>);
 
 /// What the console serves.
 pub struct Setup {
+    /// The controller's namespace.
     pub ns: Namespace,
+    /// The console's way into the core: the orders (program control, controller state)
+    /// the RT thread carries out.
     pub console: Console,
+    /// The DRL program control over the projects.
     pub program: ProgramControl,
     /// The DRL project's task slot.
     pub drl_task: u8,
@@ -120,7 +124,7 @@ impl Host for Resources {
 /// Runs the console in the calling thread until the request channel closes: opens the
 /// controller's resources (it must be ready: `ipc::controller_ready`), restores DH from its file, says whether it is
 /// ready, then serves.
-pub fn run(setup: Setup, requests: Receiver<Request>, ready: Sender<Result<(), IpcError>>) {
+pub(crate) fn run(setup: Setup, requests: Receiver<Request>, ready: Sender<Result<(), IpcError>>) {
     if let Some(state) = crate::listener::opened(&ready, open_resources(&setup).map(|parts| assemble(setup, parts))) {
         state.serve(requests);
     }

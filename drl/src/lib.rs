@@ -13,7 +13,7 @@ pub mod modbus;
 pub mod program;
 pub mod projects;
 pub mod registers;
-pub mod retentive;
+pub(crate) mod retentive;
 
 use std::net::SocketAddr;
 use std::sync::mpsc;
@@ -24,18 +24,23 @@ pub use console::Setup;
 /// Requests queued for the console before clients are told the device is busy.
 const QUEUE: usize = 64;
 
+/// Why a server (Modbus TCP or Native ASCII) could not start.
 #[derive(Debug, thiserror::Error)]
 pub enum ServerError {
+    /// The address `bind:port` cannot be listened on (taken, or not this host's).
     #[error("cannot listen on {0}: {1}")]
     Bind(String, std::io::Error),
+    /// The console could not attach to the controller's shared memory.
     #[error("the DRL console cannot reach the controller: {0}")]
     Ipc(#[from] ipc::IpcError),
+    /// The server's tokio runtime or thread could not start.
     #[error("cannot start the Modbus server: {0}")]
     Runtime(std::io::Error),
 }
 
 /// A running Modbus server and its console thread; both end when it is dropped.
 pub struct Server {
+    /// Where it listens (with the port chosen when 0 was asked).
     pub address: SocketAddr,
     /// The console's requests, for Modbus on other lines (serial port 1); dropped first.
     requests: Option<mpsc::SyncSender<console::Request>>,

@@ -36,7 +36,7 @@ pub use crate::listener::Limits;
 
 /// Serves Modbus TCP on `listener` until the runtime stops. Every unit id is answered
 /// (Modbus TCP clients often send 0 or 255 for the one device behind an address).
-pub async fn serve(listener: TcpListener, console: SyncSender<ConsoleRequest>, limits: Limits) {
+pub(crate) async fn serve(listener: TcpListener, console: SyncSender<ConsoleRequest>, limits: Limits) {
     let serve = move |stream, peer: SocketAddr| {
         let console = console.clone();
         async move {
@@ -176,7 +176,7 @@ fn answered(answer: Result<Answer, oneshot::error::RecvError>, echo: Echo) -> Re
 
 /// A request PDU answered by the console, waiting for it (Modbus RTU on serial port 1:
 /// the same register logic and exceptions as Modbus TCP, outside an async runtime).
-pub fn answer_pdu(console: &SyncSender<ConsoleRequest>, pdu: &[u8]) -> Vec<u8> {
+pub(crate) fn answer_pdu(console: &SyncSender<ConsoleRequest>, pdu: &[u8]) -> Vec<u8> {
     let Some(&function) = pdu.first() else { return Vec::new() };
     let response = decode(pdu)
         .and_then(|op| submit(console, function, op))
@@ -219,17 +219,22 @@ pub struct Client {
     context: tokio_modbus::client::Context,
 }
 
+/// Why a Modbus request of the client failed.
 #[derive(Debug, thiserror::Error)]
 pub enum ClientError {
+    /// No TCP connection to the server at this address.
     #[error("cannot reach the controller at {0}: {1}")]
     Connect(SocketAddr, std::io::Error),
+    /// The connection failed during the request.
     #[error("Modbus: {0}")]
     Transport(#[from] tokio_modbus::Error),
+    /// The server answered with a Modbus exception (an illegal address or value).
     #[error("the controller answered with exception {0:?}")]
     Exception(ExceptionCode),
 }
 
 impl Client {
+    /// Connects to the server at `address` as unit `station` (`[modbus] station`).
     pub async fn connect(address: SocketAddr, station: u8) -> Result<Self, ClientError> {
         let context = tokio_modbus::client::tcp::connect_slave(address, Slave(station))
             .await
@@ -237,10 +242,12 @@ impl Client {
         Ok(Client { context })
     }
 
+    /// Reads `count` holding registers from `address` (function 03).
     pub async fn read(&mut self, address: u16, count: u16) -> Result<Vec<u16>, ClientError> {
         self.context.read_holding_registers(address, count).await?.map_err(ClientError::Exception)
     }
 
+    /// Writes `values` from `address`: function 06 for one register, 16 for more.
     pub async fn write(&mut self, address: u16, values: &[u16]) -> Result<(), ClientError> {
         match values {
             [one] => self.context.write_single_register(address, *one).await?,

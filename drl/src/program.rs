@@ -30,6 +30,7 @@ const START_UNSEEN: Duration = Duration::from_secs(2);
 pub trait Host {
     /// The DRL task's state as the core publishes it.
     fn task_state(&self) -> TaskState;
+    /// The debugger's words in the DRL task's slot: breakpoints, commands, the line.
     fn debug(&self) -> &DebugBlock;
     /// The DRL task's run speed, %, as the core publishes it (DXMC A.3, 0x6B03).
     fn run_speed(&self) -> u16;
@@ -37,8 +38,9 @@ pub trait Host {
     fn set_run_speed(&self, pct: u16) -> bool;
     /// Writes the program the next start runs into the task's slot.
     fn set_program(&self, path: &Path);
-    /// Orders the start or the stop of the DRL task; false when the core is too busy.
+    /// Orders the start of the DRL task; false when the core is too busy.
     fn start(&self) -> bool;
+    /// Orders the stop of the DRL task; false when the core is too busy.
     fn stop(&self) -> bool;
     /// Wakes the script after a debugger command.
     fn wake(&self);
@@ -56,6 +58,8 @@ enum Pending {
     Debug { seq: u32, done: Status },
 }
 
+/// The DRL registers' program control (0x6B00..0x6B0E) over the projects on disk: what is
+/// selected, opened and running, and the status of the last command.
 #[derive(Debug)]
 pub struct ProgramControl {
     projects: Projects,
@@ -72,6 +76,7 @@ pub struct ProgramControl {
 }
 
 impl ProgramControl {
+    /// Closed, nothing selected, status STOPPED.
     pub fn new(projects: Projects) -> Self {
         ProgramControl {
             projects,
@@ -87,30 +92,37 @@ impl ProgramControl {
         }
     }
 
+    /// 0x6B00: the id of the project opened (0 before any).
     pub fn current_id(&self) -> u16 {
         self.current
     }
 
+    /// 0x6B01: the execution state.
     pub fn state(&self) -> ExecState {
         self.state
     }
 
+    /// 0x6B06: the status of the last command.
     pub fn status(&self) -> Status {
         self.status
     }
 
+    /// 0x6B04: the id the next Open opens.
     pub fn selected(&self) -> u16 {
         self.selected
     }
 
+    /// 0x6B05 as last written, known code or not.
     pub fn last_control(&self) -> u16 {
         self.control
     }
 
+    /// Breakpoint register `i` (0x6B07 + i): a line of `main.lua`, 0 for none.
     pub fn breakpoint_register(&self, i: usize) -> u16 {
         self.breakpoint_registers[i]
     }
 
+    /// Writes breakpoint register `i`; Set, Add or Delete BP reads it.
     pub fn set_breakpoint_register(&mut self, i: usize, line: u16) {
         self.breakpoint_registers[i] = line;
     }

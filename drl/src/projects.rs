@@ -9,25 +9,44 @@ pub const MAX_ID: u16 = 9999;
 /// The entry script of a project.
 pub const MAIN: &str = "main.lua";
 
+/// Why a project cannot be opened, exported or imported.
 #[derive(Debug, thiserror::Error)]
 pub enum ProjectError {
+    /// The project's folder has no `main.lua` (the id and the path looked at).
     #[error("project {0}: no {MAIN} in {1}")]
     Missing(u16, PathBuf),
+    /// `main.lua` does not compile.
     #[error("project {id}: {message}")]
-    Syntax { id: u16, message: String },
+    Syntax {
+        /// The project's DRL id.
+        id: u16,
+        /// Lua's message, `file:line: ...`.
+        message: String,
+    },
+    /// The path of `main.lua` does not fit the task table's program field.
     #[error("project {id}: the path of {MAIN} is too long for the task table ({path})")]
-    PathTooLong { id: u16, path: PathBuf },
+    PathTooLong {
+        /// The project's DRL id.
+        id: u16,
+        /// The path that does not fit.
+        path: PathBuf,
+    },
+    /// A file operation on this path failed.
     #[error("{0}: {1}")]
     Io(PathBuf, std::io::Error),
 }
 
+/// Where the DRL projects are: one folder per DRL id holding `main.lua`.
 #[derive(Clone, Debug)]
 pub struct Projects {
+    /// The projects (the DXMC's FTP area), `<dir>/<id>/main.lua`.
     pub dir: PathBuf,
+    /// Where Export copies a project and Import takes it from (the DXMC's USB stick).
     pub export: PathBuf,
 }
 
 impl Projects {
+    /// The `main.lua` of project `id`.
     pub fn main_lua(&self, id: u16) -> PathBuf {
         self.dir.join(id.to_string()).join(MAIN)
     }
@@ -59,10 +78,12 @@ impl Projects {
         copy_project(&self.export.join(id.to_string()), &self.dir.join(id.to_string()))
     }
 
+    /// Whether project `id` is in the projects folder.
     pub fn has_project(&self, id: u16) -> bool {
         self.main_lua(id).is_file()
     }
 
+    /// Whether project `id` is in the export folder.
     pub fn has_export(&self, id: u16) -> bool {
         self.export.join(id.to_string()).join(MAIN).is_file()
     }

@@ -44,6 +44,7 @@ pub const BREAKPOINT_REGISTERS: usize = 8;
 const BREAKPOINT_BASE: u16 = 0x6B07;
 
 impl Register {
+    /// The register at a Modbus address (DXMC A.1 to A.3), `None` for one the map lacks.
     pub fn at(address: u16) -> Option<Self> {
         Some(match address {
             0x0000..=0x2FFF | 0x8000..=0xAFFF => Register::User(address),
@@ -64,6 +65,7 @@ impl Register {
         })
     }
 
+    /// Whether a client may write it (the state and status displays are read-only).
     pub fn writable(self) -> bool {
         !matches!(
             self,

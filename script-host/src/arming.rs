@@ -151,6 +151,7 @@ impl Drop for Watcher {
 
 /// The hook mask of the Lua thread running on this OS thread (0: no hook), for tests that
 /// prove the hook off; 0 outside a watched VM.
+#[cfg(test)]
 pub fn running_hook_mask() -> i32 {
     let state = RUNNING.with(|r| r.load(Ordering::Relaxed));
     // SAFETY: as in `on_signal`; read on the Lua thread itself.

@@ -5,11 +5,11 @@
 //! armed by a signal while the program runs Lua (`arming`), records the line being run, for
 //! the watchdog's report, and carries out the console's program control (DXMC manual A.3).
 
-pub mod arming;
+pub(crate) mod arming;
 pub mod bindings;
 pub mod debugger;
-pub mod printf;
-pub mod require;
+pub(crate) mod printf;
+pub(crate) mod require;
 pub mod sandbox;
 
 use std::path::PathBuf;
@@ -27,15 +27,23 @@ use bindings::Host;
 pub use bindings::freeport_sim::FreePortInputs;
 use debugger::{Debugger, SharedTable};
 
+/// What a script process (`luamotion script`) is started with: its task and program, and
+/// where the outside world is.
 pub struct ScriptArgs {
+    /// The controller's namespace (`--ns`), which names every shared-memory service.
     pub ns: Namespace,
+    /// The HMPL task id, 0..63, whose slot and mailbox the program uses.
     pub task: u8,
+    /// The controller's pid: the process ends at once if its parent is not (or no longer)
+    /// that controller.
     pub controller_pid: u32,
+    /// The Lua VM's memory limit, MiB (the task's `memory_limit_mib`).
     pub memory_limit_mib: u32,
     /// Where `SaveUserTable` keeps its file.
     pub data_dir: PathBuf,
     /// `StartTaskFunc`: the function to run after the program's top level.
     pub entry: Option<String>,
+    /// The Lua file to run; its folder is where `require` looks.
     pub program: PathBuf,
     /// Where `START_ASCII_AGENT` listens, `host:port` (HMPL 22.1).
     pub user_ascii: String,
@@ -47,13 +55,19 @@ pub struct ScriptArgs {
 
 /// A pooled process (`script --pool <place>`): what it knows before the core hands it a task.
 pub struct PoolArgs {
+    /// The controller's namespace, as `ScriptArgs::ns`.
     pub ns: Namespace,
     /// Its place on the task table's pool board.
     pub place: usize,
+    /// The controller's pid, as `ScriptArgs::controller_pid`.
     pub controller_pid: u32,
+    /// Where `SaveUserTable` keeps its file, as `ScriptArgs::data_dir`.
     pub data_dir: PathBuf,
+    /// Where `START_ASCII_AGENT` listens, as `ScriptArgs::user_ascii`.
     pub user_ascii: String,
+    /// Where `FreePort.Eth.OpenAsServer` listens, as `ScriptArgs::freeport_bind`.
     pub freeport_bind: std::net::IpAddr,
+    /// The FreePort inputs on the simulation clock, as `ScriptArgs::freeport_inputs`.
     pub freeport_inputs: FreePortInputs,
 }
 
@@ -79,17 +93,35 @@ impl PoolArgs {
 pub enum ScriptError {
     /// A syntax or runtime error: `file:line: message`, and the Lua traceback if any.
     #[error("{message}")]
-    Lua { message: String, traceback: Option<String> },
+    Lua {
+        /// `file:line: message`, as Lua's own interpreter writes it.
+        message: String,
+        /// Lua's `stack traceback:` lines, when the error carried them.
+        traceback: Option<String>,
+    },
+    /// The program's file could not be read.
     #[error("cannot read {path}: {source}")]
-    Read { path: PathBuf, source: std::io::Error },
+    Read {
+        /// The program.
+        path: PathBuf,
+        /// Why it could not be read.
+        source: std::io::Error,
+    },
+    /// The task's endpoint, the shared data or the event stream could not be opened.
     #[error("cannot reach the controller: {0}")]
     Ipc(#[from] IpcError),
+    /// The controller ended (or was never this process' parent): nothing to report to.
     #[error("the controller is gone")]
     ControllerGone,
+    /// A pooled process was started for a place the pool's board does not have.
     #[error("no place {0} on the pool's board")]
     NoPlace(usize),
+    /// The VM went over its memory limit; the task ends with the memory-limit alarm.
     #[error("{message}")]
-    OutOfMemory { message: String },
+    OutOfMemory {
+        /// `file: not enough memory near line N (the task's limit is M MiB)`.
+        message: String,
+    },
 }
 
 impl ScriptError {

@@ -16,6 +16,8 @@ const INTERNAL: &str = "=[luamotion]";
 /// Where `call_program` finds the VM's own `xpcall` and message handler.
 const RUNNER: &str = "luamotion.runner";
 
+/// A VM with the sandbox's libraries and `load`, its memory limited to
+/// `memory_limit_bytes`; the API is bound into it later.
 pub fn new_vm(memory_limit_bytes: usize) -> mlua::Result<Lua> {
     let libs = StdLib::TABLE | StdLib::STRING | StdLib::MATH | StdLib::COROUTINE | StdLib::UTF8;
     let lua = Lua::new_with(libs, LuaOptions::new())?;

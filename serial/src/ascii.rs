@@ -3,7 +3,8 @@
 
 use crate::rtu::Request;
 
-pub fn lrc(bytes: &[u8]) -> u8 {
+/// The LRC of `bytes`: a frame with its LRC sums to 0.
+pub(crate) fn lrc(bytes: &[u8]) -> u8 {
     bytes.iter().fold(0u8, |sum, b| sum.wrapping_add(*b)).wrapping_neg()
 }
 
@@ -35,6 +36,7 @@ pub struct Assembler {
 }
 
 impl Assembler {
+    /// Takes characters from the line; returns the requests whose frames they complete.
     pub fn push(&mut self, bytes: &[u8]) -> Vec<Request> {
         let mut requests = Vec::new();
         for &b in bytes {

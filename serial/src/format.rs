@@ -7,8 +7,11 @@
 /// The end of a serial frame: what 5-5's nibble B can say.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum End {
+    /// B = 0: no end byte.
     None,
+    /// B = 1: the end byte UZ.
     Byte(u8),
+    /// B = 2: CR LF.
     CrLf,
 }
 
@@ -24,7 +27,8 @@ impl End {
         }
     }
 
-    pub fn bytes(self) -> Vec<u8> {
+    /// The end bytes on the line.
+    pub(crate) fn bytes(self) -> Vec<u8> {
         match self {
             End::None => Vec::new(),
             End::Byte(b) => vec![b],

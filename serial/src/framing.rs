@@ -7,7 +7,9 @@ use std::collections::VecDeque;
 /// How a line delimits its frames.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Framing {
+    /// The byte that begins a frame, `None` when frames have none.
     pub start: Option<u8>,
+    /// The bytes that end a frame; empty when every read is a frame.
     pub end: Vec<u8>,
 }
 
@@ -25,6 +27,7 @@ impl Framing {
 /// What the receiving side makes of the bytes: frames, or a notice that some were lost.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Received {
+    /// A frame's data, without its start and end bytes.
     Frame(Vec<u8>),
     /// A frame longer than the limit, dropped.
     TooLong,
@@ -52,6 +55,8 @@ pub struct Deframer {
 }
 
 impl Deframer {
+    /// A deframer for `framing` that keeps frames of at most `max_data` bytes (at least
+    /// 1) and at most `max_frames` of them waiting.
     pub fn new(framing: Framing, max_data: usize, max_frames: usize) -> Self {
         Deframer {
             framing,
@@ -66,6 +71,7 @@ impl Deframer {
         }
     }
 
+    /// The delimiters it cuts by (a sender frames its data with the same).
     pub fn framing(&self) -> &Framing {
         &self.framing
     }

@@ -11,7 +11,7 @@ pub mod framing;
 pub mod link;
 pub mod port;
 pub mod protocol;
-pub mod pty;
+pub(crate) mod pty;
 pub mod rtu;
 
 pub use port::{Handler, Port, Recorder, SerialError, Settings, SimLine};

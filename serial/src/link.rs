@@ -15,6 +15,7 @@ use crate::format::End;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Code {
+    /// DXMC 8.3: success.
     Ok = 0,
     /// A start or end byte that is not one, a protocol that is not a FreePort code, a
     /// message with no bytes.
@@ -60,25 +61,33 @@ pub fn socket_name(ns: &str) -> String {
     format!("lm.{ns}.serial1")
 }
 
-pub fn socket_addr(ns: &str) -> io::Result<SocketAddr> {
+/// The socket's address in the abstract namespace.
+pub(crate) fn socket_addr(ns: &str) -> io::Result<SocketAddr> {
     SocketAddr::from_abstract_name(socket_name(ns))
 }
 
+/// A script's request to the port: one per `FreePort.Serial` function (DXMC 8.3).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Op {
     /// Switch to FreePort with these delimiters and protocol (`None`: the line's frame),
     /// clearing the receive buffer.
     Init {
+        /// The start byte (5-5's YX), `None` for none.
         start: Option<u8>,
+        /// The end of a frame (5-5's nibble B and UZ).
         end: End,
+        /// A FreePort code of parameter 5-1.
         protocol: Option<u8>,
     },
+    /// `FreePort.Serial.Tx`: send these data bytes as one frame.
     Tx(Vec<u8>),
+    /// `FreePort.Serial.Rx`: the next received frame, if any.
     Rx,
 }
 
 impl Op {
-    pub fn encode(&self) -> Vec<u8> {
+    /// The request as a message on the socket.
+    pub(crate) fn encode(&self) -> Vec<u8> {
         let (op, payload) = match self {
             Op::Init { start, end, protocol } => {
                 let (end_kind, end_byte) = match end {
@@ -141,6 +150,7 @@ pub struct Client {
 const REPLY_TIMEOUT: Duration = Duration::from_secs(1);
 
 impl Client {
+    /// Connects to serial port 1 of the controller of namespace `ns`.
     pub fn connect(ns: &str) -> io::Result<Client> {
         let stream = UnixStream::connect_addr(&socket_addr(ns)?)?;
         Ok(Client { stream })

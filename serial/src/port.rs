@@ -56,14 +56,19 @@ pub struct SimLine {
     pub replay: Option<Vec<(u64, Vec<u8>)>>,
 }
 
+/// Why serial port 1 cannot be opened (the controller then runs without it).
 #[derive(Debug, thiserror::Error)]
 pub enum SerialError {
+    /// posix_openpt(3) or the line settings failed.
     #[error("cannot open a pseudo-terminal: {0}")]
     Pty(io::Error),
+    /// The symlink could not be made (a file that is not a symlink is in the way).
     #[error("cannot make the link {0}: {1}")]
     Link(PathBuf, io::Error),
+    /// The scripts' socket is taken or cannot be bound.
     #[error("cannot listen for scripts on {0}: {1} (is another controller using this namespace?)")]
     Socket(String, io::Error),
+    /// The thread "serial1" could not be spawned.
     #[error("cannot start the serial thread: {0}")]
     Thread(io::Error),
 }
@@ -81,6 +86,7 @@ const IDLE: Duration = Duration::from_millis(50);
 pub struct Port {
     /// The pseudo-terminal's slave, `/dev/pts/N`.
     pub path: PathBuf,
+    /// The symlink to `path` from the settings, removed when the port is dropped.
     pub link: Option<PathBuf>,
     handler: Arc<Mutex<Option<Handler>>>,
     stop: Arc<AtomicBool>,

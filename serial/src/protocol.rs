@@ -4,23 +4,33 @@
 /// How a frame's protocol is carried.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
+    /// Modbus ASCII (DXMC 8.2): hex characters, LRC.
     ModbusAscii,
+    /// Modbus RTU (DXMC 8.2): binary, CRC-16.
     ModbusRtu,
+    /// FreePort (DXMC 8.3): the program's own frames, delimited by parameter 5-5.
     FreePort,
 }
 
+/// A character frame's parity bit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Parity {
+    /// No parity bit (N).
     None,
+    /// Even parity (E).
     Even,
+    /// Odd parity (O).
     Odd,
 }
 
 /// A character frame: data bits, parity, stop bits (`8,N,1`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CharFrame {
+    /// Data bits per character: 7 or 8.
     pub data_bits: u8,
+    /// The parity bit, if any.
     pub parity: Parity,
+    /// Stop bits per character: 1 or 2.
     pub stop_bits: u8,
 }
 
@@ -35,11 +45,14 @@ impl std::fmt::Display for CharFrame {
     }
 }
 
+/// One row of parameter 5-1: its code, character frame and protocol.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Protocol {
     /// The value of parameter 5-1.
     pub code: u8,
+    /// The character frame on the line.
     pub frame: CharFrame,
+    /// Modbus ASCII, Modbus RTU or FreePort.
     pub kind: Kind,
 }
 
@@ -86,6 +99,7 @@ pub const TABLE: [Protocol; 30] = [
 ];
 
 impl Protocol {
+    /// The row of code `code` of parameter 5-1, `None` beyond 0x1D.
     pub fn from_code(code: i64) -> Option<Protocol> {
         usize::try_from(code).ok().and_then(|i| TABLE.get(i)).copied()
     }

@@ -18,6 +18,8 @@ use std::path::{Path, PathBuf};
 
 use crate::protocol::{CharFrame, Parity};
 
+/// A pseudo-terminal pair: the master the port's thread reads and writes, and a slave
+/// kept open so the master never reads EIO while no peer is attached.
 pub struct Pty {
     master: OwnedFd,
     slave: OwnedFd,
@@ -42,7 +44,9 @@ const SPEEDS: [(u32, libc::speed_t); 6] = [
 /// parameter 5-4 does not have).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LineSettings {
+    /// Data bits, parity and stop bits (parameter 5-1's frame).
     pub frame: CharFrame,
+    /// The baud rate (parameter 5-4).
     pub baud: u32,
 }
 
@@ -150,6 +154,7 @@ impl Pty {
         Ok(LineSettings { frame: CharFrame { data_bits, parity, stop_bits }, baud })
     }
 
+    /// The master's descriptor, for poll(2).
     pub fn master_fd(&self) -> libc::c_int {
         self.master.as_raw_fd()
     }

@@ -33,7 +33,9 @@ const MIN_FRAME: usize = 4;
 /// A request frame received whole: its address and its PDU.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Request {
+    /// The station addressed (parameter 0-0), 0 for a broadcast.
     pub address: u8,
+    /// Function code and data, without address and CRC.
     pub pdu: Vec<u8>,
 }
 
@@ -63,6 +65,8 @@ fn good(frame: &[u8]) -> bool {
 }
 
 impl Assembler {
+    /// Whether no bytes wait for the rest of a frame (the port then needs no silence
+    /// timer).
     pub fn is_empty(&self) -> bool {
         self.buf.is_empty()
     }

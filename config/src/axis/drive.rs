@@ -7,15 +7,22 @@ use crate::error::{ConfigError, positive};
 /// Drive families of the HIWIN CoE manual, with their product codes (CoE table 4-2).
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 pub enum DriveModel {
+    /// D1-N (`"D1-N"` in the machine file), product code 1.
     #[serde(rename = "D1-N")]
     D1N,
+    /// D1, product code 2.
     D1,
+    /// D2, product code 3.
     D2,
+    /// abily (`"abily"`), product code 4: above the table's printed maximum 3, it reports
+    /// D1COE's objects (docs/drive.md).
     #[serde(rename = "abily")]
     Abily,
 }
 
 impl DriveModel {
+    /// The product code in 0x1018:02 (CoE table 4-2), by which the master tells models
+    /// apart.
     pub fn product_code(self) -> u32 {
         match self {
             DriveModel::D1N => 1,
@@ -45,13 +52,17 @@ pub struct DriveSettings {
     /// Hard-stop homing (methods -1, -2, -4, -5): the current that means "at the stop",
     /// in % of rated current, held for `end_stop_time_ms`.
     pub end_stop_current_pct: f64,
+    /// Hard-stop homing: how long, in ms, the current must stay above
+    /// `end_stop_current_pct` before the drive takes it for the stop.
     pub end_stop_time_ms: f64,
     /// Methods -4/-5: distance from the hard stop to home, counts.
     pub end_stop_offset: i64,
     /// A multi-turn absolute encoder (method -3).
     pub multi_turn_absolute: bool,
-    /// Motor rated current, A, and force (torque) constant, N/A (N·m/A): torque modes.
+    /// Motor rated current, A (0x6075 in mA): the unit of torque and current feedback.
     pub rated_current_a: f64,
+    /// Motor force (torque) constant, N/A (N·m/A): converts a force into per mille of
+    /// rated current in the torque modes.
     pub force_constant: f64,
     /// Outputs O1..O5 configured as general purpose ("PDL usage"), bit 0 = O1.
     pub general_purpose_outputs: u8,

@@ -17,23 +17,32 @@ use crate::error::{ConfigError, invalid, positive};
 /// functions use, within 7 entries and 20 bytes per PDO (CoE manual 2.4). Out:
 /// controlword, target position, mode, target velocity, target torque (13 bytes). In:
 /// statusword, position actual, following error, digital inputs, mode display, error
-/// code, torque actual (19 bytes).
+/// code, torque actual (19 bytes). This is the RxPDO half (0x1600), the 5 outputs.
 pub const BUILT_IN_RX_PDO: [u32; 5] = [0x6040_0010, 0x607A_0020, 0x6060_0008, 0x60FF_0020, 0x6071_0010];
+/// The TxPDO half of the built-in mapping (0x1A00): the 7 inputs listed above.
 pub const BUILT_IN_TX_PDO: [u32; 7] =
     [0x6041_0010, 0x6064_0020, 0x60F4_0020, 0x60FD_0020, 0x6061_0008, 0x603F_0010, 0x6077_0010];
 
+/// The user unit of an axis' positions: the machine file's `"mm"` or `"deg"`.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Unit {
+    /// A linear axis, in millimetres.
     Mm,
+    /// A rotary axis, in degrees.
     Deg,
 }
 
+/// `[[axes]]`: one axis and its drive, the n-th entry being axis n of the API and slave n
+/// on the bus.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct AxisConfig {
+    /// A name for the reader of the file; programs address the axis by its number.
     pub name: String,
+    /// The drive family, which sets its product code and objects (CoE table 4-2, 4-22).
     pub drive: DriveModel,
+    /// Millimetres or degrees: what `counts_per_unit` and every position are in.
     pub unit: Unit,
     /// Drive counts per mm (or per degree).
     pub counts_per_unit: f64,
@@ -41,16 +50,23 @@ pub struct AxisConfig {
     pub max_vel: f64,
     /// Highest acceleration or deceleration `SetAcc`/`SetDec` accept (units/s²).
     pub max_acc: f64,
-    /// Profile at start-up.
+    /// Profile velocity at start-up (units/s), at most `max_vel`; `SetVel` changes it.
     pub vel: f64,
+    /// Profile acceleration at start-up (units/s²), at most `max_acc`.
     pub acc: f64,
+    /// Profile deceleration at start-up (units/s²), at most `max_acc`.
     pub dec: f64,
+    /// `[axes.plant]`: the simulated motor and load behind the drive.
     pub plant: PlantConfig,
+    /// `[axes.travel]`: switches, index and hard stops along the travel.
     pub travel: TravelConfig,
+    /// `[axes.drive_settings]`: the drive's parameters set outside its objects.
     pub drive_settings: DriveSettings,
-    /// PDO mapping entries (`0xIIIISSLL`) the master writes in PreOp; by default the
-    /// built-in mapping. `None` leaves the drive's defaults (CoE manual table 4-3).
+    /// RxPDO mapping entries (`0xIIIISSLL`, outputs into 0x1600) the master writes in
+    /// PreOp; by default the built-in mapping. `None` leaves the drive's defaults (CoE
+    /// manual table 4-3).
     pub rx_pdo: Option<Vec<u32>>,
+    /// TxPDO mapping entries (inputs into 0x1A00), as `rx_pdo`.
     pub tx_pdo: Option<Vec<u32>>,
     /// HMPL ch. 12: the drive has the position trigger (an E1-series drive with a digital
     /// encoder) and its PT output is wired to a controller GPO. None: no position trigger.

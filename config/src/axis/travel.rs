@@ -10,20 +10,27 @@ use crate::error::{ConfigError, invalid, positive};
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct TravelConfig {
+    /// The negative limit switch: active at and below this position (0x60FD bit 0).
     pub negative_limit: Option<f64>,
+    /// The positive limit switch: active at and above this position (0x60FD bit 1).
     pub positive_limit: Option<f64>,
     /// The home switch is active over `[L, R]`.
     pub home_switch: Option<[f64; 2]>,
     /// Distance between encoder index pulses (one motor turn); none: no index.
     pub index_pitch: Option<f64>,
+    /// Where one index pulse lies; the others follow every `index_pitch` from it.
     pub index_offset: f64,
+    /// The mechanical end below which the axis cannot move (hard-stop homing pushes on
+    /// it).
     pub negative_hard_stop: Option<f64>,
+    /// The mechanical end above which the axis cannot move.
     pub positive_hard_stop: Option<f64>,
     /// Where the motor stands at power-up.
     pub start_position: f64,
-    /// The drive's touch probe inputs 1 and 2 (a `cia402` touch probe only): a sensor
-    /// active over `[L, R]`, like the home switch.
+    /// The drive's touch probe input 1 (a `cia402` touch probe only): a sensor active
+    /// over `[L, R]`, like the home switch.
     pub probe_input_1: Option<[f64; 2]>,
+    /// Touch probe input 2, as `probe_input_1`.
     pub probe_input_2: Option<[f64; 2]>,
 }
 

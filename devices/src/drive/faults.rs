@@ -6,18 +6,27 @@ use crate::drive::DriveModel;
 /// Which error-events object carries a fault's bit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Events {
+    /// Drive error events 1, 0x2100 (table 4-13).
     One,
+    /// Drive error events 2, 0x2101 (table 4-14).
     Two,
 }
 
 /// One row of table 4-16: code, description, events bit, support on D1COE, D2COE, D1NCOE.
 pub struct FaultDef {
+    /// The error code the drive writes to 0x603F.
     pub code: u16,
+    /// The description as table 4-16 prints it.
     pub description: &'static str,
+    /// The error-events object its bit is in.
     pub events: Events,
+    /// Its bit in that object (inferred from the names of tables 4-13 and 4-14).
     pub bit: u8,
+    /// Reported by D1COE (and abily).
     pub d1: bool,
+    /// Reported by D2COE.
     pub d2: bool,
+    /// Reported by D1NCOE.
     pub d1n: bool,
 }
 
@@ -27,6 +36,7 @@ const fn f(code: u16, description: &'static str, events: Events, bit: u8, d1: bo
 
 use Events::{One, Two};
 
+/// Table 4-16 in the manual's order (its numbers 16 and 21 do not exist).
 pub static FAULTS: &[FaultDef] = &[
     f(0x2310, "Motor short (over current)", One, 18, true, true, true),
     f(0x3110, "Over voltage", One, 19, true, true, true),
@@ -54,7 +64,9 @@ pub static FAULTS: &[FaultDef] = &[
     f(0x5180, "Fan fault error", Two, 25, false, true, false),
 ];
 
+/// 0x603F for a following error beyond 0x6065 for longer than 0x6066 (CoE manual 3.3.2).
 pub const POSITION_ERROR_TOO_BIG: u16 = 0x8611;
+/// 0x603F for a failed homing, "CiA-402 Homing error" (CoE manual 3.2).
 pub const HOMING_ERROR: u16 = 0x8613;
 
 impl FaultDef {
@@ -73,6 +85,7 @@ impl FaultDef {
     }
 }
 
+/// The row of 0x603F code `code`, `None` for a code table 4-16 does not list.
 pub fn find(code: u16) -> Option<&'static FaultDef> {
     FAULTS.iter().find(|f| f.code == code)
 }

@@ -44,6 +44,7 @@ impl Default for Fsa {
 }
 
 impl Fsa {
+    /// The state the automaton is in.
     pub fn state(&self) -> State {
         self.state
     }

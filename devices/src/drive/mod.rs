@@ -7,12 +7,12 @@
 
 pub mod faults;
 pub mod fsa;
-pub mod limits;
-pub mod modes;
-pub mod od;
-pub mod plant;
-pub mod touch_probe;
-pub mod travel;
+pub(crate) mod limits;
+pub(crate) mod modes;
+pub(crate) mod od;
+pub(crate) mod plant;
+pub(crate) mod touch_probe;
+pub(crate) mod travel;
 
 pub use config::DriveModel;
 
@@ -97,16 +97,21 @@ impl Device for Drive {
     }
 }
 
+/// Why the simulation could not inject a drive fault.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum FaultInjectionError {
+    /// A code table 4-16 does not list.
     #[error("0x{0:04X} is not an error code of CoE manual table 4-16")]
     UnknownCode(u16),
+    /// A code the model does not report (an X in table 4-16).
     #[error("the {1:?} drive does not report 0x{0:04X} (CoE manual table 4-16)")]
     NotOnThisModel(u16, DriveModel),
+    /// The slave at this position holds no drive.
     #[error("slave {0} is not a drive")]
     NotADrive(usize),
 }
 
+/// A simulated HIWIN CoE drive and the motor behind it: the device of an axis' slave.
 pub struct Drive {
     model: DriveModel,
     settings: DriveSettings,
@@ -129,6 +134,8 @@ pub struct Drive {
 }
 
 impl Drive {
+    /// The drive of `axis` at power-up: Not ready to switch on, its dictionary at the
+    /// defaults of the model, the motor at the travel's start position.
     pub fn new(axis: &AxisConfig) -> Self {
         let travel = Travel::from_config(&axis.travel, axis.counts_per_unit);
         let start = axis.travel.start_position * axis.counts_per_unit;
@@ -161,18 +168,7 @@ impl Drive {
         drive
     }
 
-    pub fn model(&self) -> DriveModel {
-        self.model
-    }
-
-    pub fn od(&self) -> &ObjectStore {
-        &self.od
-    }
-
-    pub fn od_mut(&mut self) -> &mut ObjectStore {
-        &mut self.od
-    }
-
+    /// The CiA 402 state the statusword shows.
     pub fn state(&self) -> State {
         self.fsa.state()
     }

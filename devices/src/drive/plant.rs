@@ -93,11 +93,6 @@ impl Plant {
         self.load.as_ref().map(|l| self.position + l.deflection)
     }
 
-    /// Peak force, as a fraction of rated force.
-    pub fn peak(&self) -> f64 {
-        self.peak
-    }
-
     /// Advances the motor by one servo period.
     pub fn step(&mut self, demand: Demand) {
         let dt = SERVO_PERIOD_S;
@@ -162,11 +157,6 @@ impl Plant {
             l.deflection_rate += (-spring_acc - motor_acc) * dt;
             l.deflection += l.deflection_rate * dt;
         }
-    }
-
-    /// Position the encoder reports.
-    pub fn encoder(&self) -> i64 {
-        self.position.round() as i64
     }
 }
 
@@ -253,6 +243,6 @@ mod tests {
             p.step(Demand::Velocity { velocity: 100_000.0, acceleration: 0.0 });
         }
         assert_eq!(p.position, 5_000.0);
-        assert_eq!(p.force, p.peak(), "pushing against the stop at peak force");
+        assert_eq!(p.force, p.peak, "pushing against the stop at peak force");
     }
 }

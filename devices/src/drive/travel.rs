@@ -120,10 +120,6 @@ impl Travel {
         self.home_switch.is_some_and(|(l, r)| (l..=r).contains(&x))
     }
 
-    pub fn probe_input_active(&self, input: usize, x: f64) -> bool {
-        self.probe_inputs[input].is_some_and(|(l, r)| (l..=r).contains(&x))
-    }
-
     pub fn index_active(&self, x: f64) -> bool {
         self.index_pitch.is_some_and(|p| (x - self.index_offset).rem_euclid(p) < self.index_width)
     }

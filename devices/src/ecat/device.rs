@@ -15,7 +15,9 @@ use config::DC_CYCLES_US;
 /// 0x1000, 0x1018, the PDO mappings (0x1600/0x1601, 0x1A00/0x1A01), their assignments
 /// (0x1C12/0x1C13) and the SyncManager sync parameters (0x1C32/0x1C33).
 pub trait Device: Any + Send {
+    /// The device's object dictionary, as the mailbox and the process data read it.
     fn od(&self) -> &ObjectStore;
+    /// The dictionary for writing: the slave stores downloads and outputs into it.
     fn od_mut(&mut self) -> &mut ObjectStore;
 
     /// One bus cycle of `period_s` seconds: outputs are in the dictionary, inputs go back

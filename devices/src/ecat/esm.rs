@@ -5,13 +5,18 @@
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 #[repr(u8)]
 pub enum AlState {
+    /// Init: no mailbox, no process data.
     Init = 1,
+    /// Pre-Operational: mailbox, no process data; the master maps the PDOs here.
     PreOp = 2,
+    /// Safe-Operational: mailbox and inputs; outputs are not applied.
     SafeOp = 4,
+    /// Operational: mailbox, inputs and outputs.
     Op = 8,
 }
 
 impl AlState {
+    /// The state's code in AL Control (0x0120) and AL Status (0x0130).
     pub fn code(self) -> u8 {
         self as u8
     }
@@ -31,19 +36,26 @@ impl AlState {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u16)]
 pub enum AlStatusCode {
+    /// 0x0011: a state skipped going up (CoE manual 2.3: "no skipping").
     InvalidRequestedStateChange = 0x0011,
+    /// 0x0024: the TxPDO assignment or mapping does not resolve.
     InvalidInputMapping = 0x0024,
+    /// 0x0025: the RxPDO assignment or mapping does not resolve.
     InvalidOutputMapping = 0x0025,
+    /// 0x0030: 0x1C32:01 and the activation in ESC register 0x0980 disagree.
     InvalidDcSyncConfiguration = 0x0030,
+    /// 0x0035: DC mode with a cycle (0x1C32:02) the device does not run.
     InvalidSyncCycleTime = 0x0035,
 }
 
 impl AlStatusCode {
+    /// The code as AL Status Code (0x0134) shows it.
     pub fn code(self) -> u16 {
         self as u16
     }
 }
 
+/// One slave's ESM: its state and the error of the last refused request.
 #[derive(Clone, Copy, Debug)]
 pub struct Esm {
     state: AlState,
@@ -57,6 +69,7 @@ impl Default for Esm {
 }
 
 impl Esm {
+    /// The state AL Status shows.
     pub fn state(&self) -> AlState {
         self.state
     }

@@ -15,6 +15,7 @@ pub enum SdoError {
     /// No mailbox in Init (CoE manual 2.3, table 2-3).
     #[error("the slave has no mailbox in Init")]
     NoMailbox,
+    /// No slave at this position in the ring.
     #[error("no slave {0}")]
     NoSlave(usize),
 }
@@ -22,8 +23,11 @@ pub enum SdoError {
 /// What the SDO information service tells of one object: how a master reads and maps it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct EntryDescription {
+    /// The object's data type.
     pub ty: DataType,
+    /// Whether a master may write it.
     pub access: Access,
+    /// Whether a PDO may carry it.
     pub pdo_mappable: bool,
 }
 

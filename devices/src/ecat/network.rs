@@ -22,14 +22,17 @@ pub struct Field {
 }
 
 impl Field {
+    /// The object's value in `image`, in stored form (REAL32 as its bits).
     pub fn read(self, image: &[u8]) -> i64 {
         self.ty.decode(&image[self.offset..])
     }
 
+    /// Writes `value` into `image`, cut to the object's width.
     pub fn write(self, image: &mut [u8], value: i64) {
         self.ty.encode(value, &mut image[self.offset..]);
     }
 
+    /// The mapped object's data type.
     pub fn data_type(self) -> DataType {
         self.ty
     }
@@ -38,10 +41,28 @@ impl Field {
 /// Why the master could not bring the network to Op. The network stays where it stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum StartError {
+    /// A slave refused a state request (its AL Status error indication).
     #[error("slave {slave} refused {target:?} with AL status code 0x{:04X} ({code:?})", code.code())]
-    Refused { slave: usize, target: AlState, code: AlStatusCode },
+    Refused {
+        /// The slave's position in the ring.
+        slave: usize,
+        /// The state the master requested.
+        target: AlState,
+        /// Why it refused.
+        code: AlStatusCode,
+    },
+    /// An SDO of the configuration in PreOp failed.
     #[error("slave {slave}: SDO 0x{index:04X}:{sub} failed during configuration: {error}")]
-    Sdo { slave: usize, index: u16, sub: u8, error: SdoError },
+    Sdo {
+        /// The slave's position in the ring.
+        slave: usize,
+        /// The object's index.
+        index: u16,
+        /// Its sub-index.
+        sub: u8,
+        /// The abort or mailbox error.
+        error: SdoError,
+    },
 }
 
 /// A slave as the controller puts it on the bus: its device, and the mapping entries
@@ -49,10 +70,15 @@ pub enum StartError {
 /// its second ones (0x1601, 0x1A01, then assigned as 0x1C12:02/0x1C13:02) in PreOp; `None`
 /// leaves the device's own.
 pub struct SlaveSetup {
+    /// The device behind the slave's interface.
     pub device: Box<dyn Device>,
+    /// Entries for 0x1600, the first RxPDO (outputs).
     pub rx_pdo: Option<Vec<u32>>,
+    /// Entries for 0x1A00, the first TxPDO (inputs).
     pub tx_pdo: Option<Vec<u32>>,
+    /// Entries for 0x1601, the second RxPDO (a drive's touch probe function).
     pub rx_pdo_2: Option<Vec<u32>>,
+    /// Entries for 0x1A01, the second TxPDO (a drive's touch probe status and positions).
     pub tx_pdo_2: Option<Vec<u32>>,
 }
 
@@ -74,8 +100,11 @@ struct Mapping {
 /// One object in the master's process image, as read from the slave's mapping objects.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageEntry {
+    /// The object's index.
     pub index: u16,
+    /// Its sub-index.
     pub sub: u8,
+    /// Its data type, from the entry description.
     pub ty: DataType,
     /// Bytes from the start of the slave's part of the image.
     pub offset: usize,
@@ -90,6 +119,8 @@ struct SlaveImage {
     tx: Vec<ImageEntry>,
 }
 
+/// The simulated segment as its master sees it: the slaves, their mappings and the
+/// process image of outputs and inputs.
 pub struct Network {
     slaves: Vec<Slave>,
     mappings: Vec<Mapping>,
@@ -116,6 +147,7 @@ impl Network {
         }
     }
 
+    /// The slaves in ring order (slave n is position n).
     pub fn slaves(&self) -> &[Slave] {
         &self.slaves
     }

@@ -19,10 +19,6 @@ impl PdoEntry {
     pub const fn from_u32(v: u32) -> Self {
         PdoEntry { index: (v >> 16) as u16, sub: (v >> 8) as u8, bits: v as u8 }
     }
-
-    pub const fn to_u32(self) -> u32 {
-        (self.index as u32) << 16 | (self.sub as u32) << 8 | self.bits as u32
-    }
 }
 
 /// A mapped object and its byte offset in the slave's process data.

@@ -9,9 +9,9 @@ use crate::ecat::mailbox::{self, EntryDescription, SdoAbort, SdoError};
 use crate::ecat::pdo::{self, Direction, Mapped};
 
 /// ESC register 0x0980 (sync/latch activation): free run or DC SYNC0 (CoE manual 2.5).
-pub const ESC_SYNC_ACTIVATION: u16 = 0x0980;
-pub const ESC_FREE_RUN: u16 = 0x0000;
-pub const ESC_DC_SYNC0: u16 = 0x0300;
+pub(crate) const ESC_SYNC_ACTIVATION: u16 = 0x0980;
+pub(crate) const ESC_FREE_RUN: u16 = 0x0000;
+pub(crate) const ESC_DC_SYNC0: u16 = 0x0300;
 
 /// The SyncManager 2 and 3 sync parameters (CoE manual table 4-4).
 const SM2_SYNC: u16 = 0x1C32;
@@ -20,6 +20,8 @@ const SM3_SYNC: u16 = 0x1C33;
 const SYNC_FREE_RUN: i64 = 0;
 const SYNC_DC: i64 = 2;
 
+/// One slave on the ring: its ESM, its device, and the PDO layout checked on the way to
+/// SafeOp.
 pub struct Slave {
     esm: Esm,
     device: Box<dyn Device>,
@@ -31,7 +33,7 @@ pub struct Slave {
 }
 
 impl Slave {
-    pub fn new(device: Box<dyn Device>) -> Self {
+    pub(crate) fn new(device: Box<dyn Device>) -> Self {
         Slave {
             esm: Esm::default(),
             device,
@@ -43,10 +45,12 @@ impl Slave {
         }
     }
 
+    /// Its EtherCAT state machine.
     pub fn esm(&self) -> &Esm {
         &self.esm
     }
 
+    /// The device it holds, as the `Device` trait.
     pub fn device(&self) -> &dyn Device {
         &*self.device
     }
@@ -56,7 +60,7 @@ impl Slave {
         (&*self.device as &dyn std::any::Any).downcast_ref()
     }
 
-    pub fn device_mut_as<T: Device>(&mut self) -> Option<&mut T> {
+    pub(crate) fn device_mut_as<T: Device>(&mut self) -> Option<&mut T> {
         (&mut *self.device as &mut dyn std::any::Any).downcast_mut()
     }
 

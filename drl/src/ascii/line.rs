@@ -17,7 +17,7 @@ pub const MAX_LINE: usize = 256;
 
 /// Why a line is not a call.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum ParseError {
+pub(crate) enum ParseError {
     #[error("empty line")]
     Empty,
     #[error("not text: byte 0x{0:02X} at column {1}")]
@@ -38,7 +38,7 @@ pub enum ParseError {
 
 /// A call as a line names it: the function's name and its arguments as neutral values.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Call {
+pub(crate) struct Call {
     pub name: String,
     pub args: Vec<Value>,
 }
@@ -60,7 +60,7 @@ static NAMES: LazyLock<HashMap<String, Value>> = LazyLock::new(|| {
 });
 
 /// Parses one line (without its newline; a final `\r` is ignored).
-pub fn parse(line: &[u8]) -> Result<Call, ParseError> {
+pub(crate) fn parse(line: &[u8]) -> Result<Call, ParseError> {
     let line = line.strip_suffix(b"\r").unwrap_or(line);
     // Only printable ASCII and tabs: binary garbage is refused before anything else.
     if let Some(i) = line.iter().position(|&b| !(b == b'\t' || (0x20..0x7F).contains(&b))) {

@@ -53,6 +53,7 @@ type Job = (Work, oneshot::Sender<String>);
 
 /// A running Native ASCII server and its agent thread; both end when it is dropped.
 pub struct Server {
+    /// Where it listens (with the port chosen when 0 was asked).
     pub address: SocketAddr,
     /// For other front ends (`agent`); dropped before the runtime so the agent can end.
     jobs: Option<Agent>,

@@ -28,6 +28,7 @@ pub enum FreePortInputs {
 
 /// A task's side of the record, shared by the FreePort and the client inputs.
 pub enum RecordSide {
+    /// Live sockets: nothing is written down.
     Live,
     /// The task's own file in the record directory, appended to.
     Record(File),

@@ -11,7 +11,7 @@ mod clients;
 mod clients_sim;
 mod expect;
 mod freeport;
-pub mod freeport_sim;
+pub(crate) mod freeport_sim;
 mod library;
 mod locals;
 mod plc;
@@ -49,7 +49,11 @@ pub use system_vars::{install_system_variables, set_task_id};
 
 /// What the bindings share: the link to the controller, the shared data, the event stream.
 pub struct Host {
+    /// The script's end of the IPC: it posts the calls, waits on its bell for the replies
+    /// and reads the snapshot.
     pub endpoint: RefCell<TaskEndpoint>,
+    /// The data every process of the namespace maps: user table, test variables, mutexes,
+    /// task variables, DV and DH.
     pub shared: Region<SharedData>,
     /// The task, once the endpoint is attached (`attach`).
     task: Cell<u8>,
@@ -73,6 +77,9 @@ pub struct Host {
 }
 
 impl Host {
+    /// The bindings' host of an attached task `endpoint`: it opens the task's event
+    /// stream
+    /// and the shared data of namespace `ns`.
     pub fn new(endpoint: TaskEndpoint, ns: &Namespace, data_dir: PathBuf) -> Result<Self, IpcError> {
         let events = endpoint.event_sender(ns)?;
         let shared = Region::<SharedData>::open(ns, "shared")?;
