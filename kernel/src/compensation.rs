@@ -36,13 +36,13 @@ pub enum Algorithm {
 /// between points and their number. The first dimension varies fastest in the user table.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Setup {
-    pub dims: usize,
+    pub(crate) dims: usize,
     /// Index of the first value in the user table.
-    pub start: usize,
-    pub base: [f64; 3],
-    pub interval: [f64; 3],
-    pub points: [usize; 3],
-    pub ref_axes: [u8; 3],
+    pub(crate) start: usize,
+    pub(crate) base: [f64; 3],
+    pub(crate) interval: [f64; 3],
+    pub(crate) points: [usize; 3],
+    pub(crate) ref_axes: [u8; 3],
 }
 
 impl Setup {
@@ -191,7 +191,7 @@ struct Scratch {
 }
 
 /// Every axis' compensation, and the room a spline needs.
-pub struct Compensations {
+pub(crate) struct Compensations {
     tables: Vec<Table>,
     scratch: Scratch,
 }
@@ -305,6 +305,7 @@ impl Kernel {
         Ok(())
     }
 
+    /// IsCompActive (HMPL 5.4.14): axis `axis` has a table enabled (EnableComp).
     pub fn is_comp_active(&self, axis: usize) -> bool {
         self.compensation.is_active(axis)
     }

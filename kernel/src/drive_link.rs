@@ -131,10 +131,6 @@ impl DriveLink {
         if mapped { Ok(()) } else { Err(AxisError::CmdInvalidNoSpecificPdo) }
     }
 
-    pub fn power(&self) -> Power {
-        self.power
-    }
-
     pub fn is_enabled(&self) -> bool {
         self.power.is_enabled()
     }
@@ -175,10 +171,6 @@ impl DriveLink {
 
     pub fn set_mode(&mut self, mode: i64) {
         self.mode = mode;
-    }
-
-    pub fn mode(&self) -> i64 {
-        self.mode
     }
 
     pub fn set_extra_bits(&mut self, bits: u16) {

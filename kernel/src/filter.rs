@@ -14,7 +14,7 @@ use devices::profile::Kinematics;
 pub const MAX_STAGES: usize = 4;
 
 /// One filter of the chain.
-pub enum Stage {
+pub(crate) enum Stage {
     /// The moving average that turns a T-curve into an S-curve (HMPL 5.1, 5.3.16).
     Smoothing(Smoother),
     /// VSF and input shaping (HMPL 15.2 to 15.7), boxed at start-up: it is larger than
@@ -71,6 +71,7 @@ impl Stage {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ChainFull;
 
+/// The stages between an axis' profile generator and its reference, in order.
 pub struct FilterChain {
     stages: Vec<Stage>,
     /// The smoothing, VSF and shaper pass samples through until a motion handed over from
@@ -103,16 +104,16 @@ impl FilterChain {
     }
 
     /// The VSF and input-shaping stage, if the chain has one.
-    pub fn vibration(&mut self) -> Option<&mut Vibration> {
+    pub(crate) fn vibration(&mut self) -> Option<&mut Vibration> {
         self.stages.iter_mut().find_map(Stage::as_vibration)
     }
 
-    pub fn vibration_ref(&self) -> Option<&Vibration> {
+    pub(crate) fn vibration_ref(&self) -> Option<&Vibration> {
         self.stages.iter().find_map(Stage::vibration)
     }
 
     /// Appends a stage (at start-up: the room is reserved, so this never allocates).
-    pub fn add(&mut self, stage: Stage) -> Result<(), ChainFull> {
+    pub(crate) fn add(&mut self, stage: Stage) -> Result<(), ChainFull> {
         if self.stages.len() == MAX_STAGES {
             return Err(ChainFull);
         }
@@ -169,7 +170,7 @@ impl FilterChain {
         self.smoothing_suspended = true;
     }
 
-    pub fn is_smoothing_suspended(&self) -> bool {
+    pub(crate) fn is_smoothing_suspended(&self) -> bool {
         self.smoothing_suspended
     }
 

@@ -14,18 +14,24 @@ pub const QUEUE_CAPACITY: usize = 16;
 #[derive(Clone, Copy, Debug)]
 #[allow(clippy::large_enum_variant)]
 pub enum Move {
+    /// To a position, axis units (HMPL 5.2.4).
     Absolute(f64),
+    /// By a distance from the target in force, axis units (HMPL 5.2.5).
     Relative(f64),
     /// Signed velocity, run until stopped (HMPL 5.2.6).
     Velocity(f64),
+    /// Through a table of points (HMPL 5.2.8).
     Pvt(Pvt),
 }
 
 /// The profile of HMPL 5.3: maximum velocity, acceleration, deceleration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Profile {
+    /// Axis units/s.
     pub vel: f64,
+    /// Axis units/s².
     pub acc: f64,
+    /// Axis units/s², down to a target or a lower velocity.
     pub dec: f64,
 }
 
@@ -49,6 +55,7 @@ enum Running {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct QueueFull;
 
+/// One axis' profile generator: the T-curve of its present move, and the moves queued behind it.
 pub struct Generator {
     period_s: f64,
     profile: Profile,
@@ -69,6 +76,7 @@ pub struct Generator {
 }
 
 impl Generator {
+    /// At rest at 0, nothing planned, stepping `period_s` s a cycle.
     pub fn new(period_s: f64, profile: Profile) -> Self {
         Generator {
             period_s,
@@ -110,6 +118,8 @@ impl Generator {
         matches!(self.running, Some(Running::Stopping { .. }))
     }
 
+    /// A Halt (HMPL 5.2.10) or a scale of 0 holds the motion, which a Resume or a scale
+    /// above 0 takes up again.
     pub fn is_halted(&self) -> bool {
         self.halted.is_some()
     }
@@ -259,6 +269,8 @@ impl Generator {
         self.replan();
     }
 
+    /// The velocity override as a factor (SetVelScale's percent / 100, times the run
+    /// speed): the move under way is re-planned to it; 0 halts it.
     pub fn set_scale(&mut self, scale: f64) {
         let intent = self.intent();
         let velocity_unscaled = intent.and_then(|i| match i {

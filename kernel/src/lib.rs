@@ -6,20 +6,20 @@
 
 pub mod axis;
 pub mod compensation;
-pub mod drive_link;
+pub(crate) mod drive_link;
 pub mod filter;
-pub mod gantry;
-pub mod gear;
+pub(crate) mod gantry;
+pub(crate) mod gear;
 pub mod generator;
 pub mod group;
-pub mod homing;
+pub(crate) mod homing;
 pub mod ownership;
-pub mod power;
+pub(crate) mod power;
 pub mod pvt;
 pub mod settings;
 pub mod shaping;
-pub mod smoothing;
-pub mod source;
+pub(crate) mod smoothing;
+pub(crate) mod source;
 pub mod touch_probe;
 
 use api::{AxisError, ErrorCode, SystemError};
@@ -35,6 +35,8 @@ use ownership::Claim;
 
 pub use schema::MAX_GROUPS;
 
+/// The motion kernel: every axis and group of the machine and the couplings between them,
+/// stepped once per cycle (`Kernel::step`).
 pub struct Kernel {
     axes: Vec<Axis>,
     /// Who commanded each axis' motion, and at what run speed, by axis id.
@@ -74,6 +76,7 @@ impl Kernel {
         }
     }
 
+    /// The axes, by id (the machine file's order).
     pub fn axes(&self) -> &[Axis] {
         &self.axes
     }
@@ -107,6 +110,7 @@ impl Kernel {
         Ok(())
     }
 
+    /// HMPL 5.2.2: disabling one axis of a gantry pair disables both.
     pub fn disable(&mut self, id: i64) -> Result<(), ErrorCode> {
         let id = self.axis_id(id)?;
         for a in std::iter::once(id).chain(self.gantry.partner(id)) {
@@ -133,6 +137,8 @@ impl Kernel {
         Ok(())
     }
 
+    /// Records `code` as the last system error (HMPL 18.2): a refused call or a task's
+    /// runtime error.
     pub fn record_system_error(&mut self, code: u32) {
         self.system_last_err = code;
     }
@@ -265,6 +271,8 @@ impl Kernel {
         s
     }
 
+    /// Writes every axis, every group and the last errors into the snapshot the status
+    /// functions read (HMPL tables 5.1.1.1 to 5.1.1.6, 8.1.1.1; ch. 18).
     pub fn fill(&self, snapshot: &mut Snapshot) {
         snapshot.axis_count = self.axes.len() as u32;
         for (id, slot) in snapshot.axes.iter_mut().enumerate().take(self.axes.len()) {

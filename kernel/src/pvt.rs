@@ -3,13 +3,17 @@
 
 use devices::profile::Kinematics;
 
+/// The most points one MovePVT table holds (HMPL 5.2.8).
 pub const MAX_POINTS: usize = 50;
 
+/// One point of a PVT table: the axis passes `pos` at `t` with velocity `vel`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PvtPoint {
     /// Seconds from the start.
     pub t: f64,
+    /// Axis position, axis units, absolute: the first point is where the axis stands.
     pub pos: f64,
+    /// Axis velocity, axis units/s.
     pub vel: f64,
 }
 
@@ -26,6 +30,7 @@ pub enum PvtError {
     Points,
 }
 
+/// A checked PVT table (`Pvt::new`), held inline so that queueing it never allocates.
 #[derive(Clone, Copy, Debug)]
 pub struct Pvt {
     points: [PvtPoint; MAX_POINTS],
@@ -69,15 +74,15 @@ impl Pvt {
         Ok(pvt)
     }
 
-    pub fn first(&self) -> PvtPoint {
+    pub(crate) fn first(&self) -> PvtPoint {
         self.points[0]
     }
 
-    pub fn last(&self) -> PvtPoint {
+    pub(crate) fn last(&self) -> PvtPoint {
         self.points[self.count - 1]
     }
 
-    pub fn duration(&self) -> f64 {
+    pub(crate) fn duration(&self) -> f64 {
         self.last().t
     }
 

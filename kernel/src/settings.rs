@@ -12,11 +12,17 @@ pub const MAX_SMOOTH_TIME_MS: f64 = 500.0;
 /// HMPL 20: homing defaults: method 33, fast 20, slow 5, acc 2000, offset 0, 120 s.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HomeSettings {
+    /// The CiA 402 homing method written to 0x6098 (HMPL 20.3).
     pub method: i64,
+    /// The speed while searching for the switch, axis units/s, to 0x6099:1 (HMPL 20.4).
     pub switch_vel: f64,
+    /// The speed while searching for the zero, axis units/s, to 0x6099:2 (HMPL 20.5).
     pub zero_vel: f64,
+    /// The homing acceleration, axis units/s², to 0x609A (HMPL 20.6).
     pub acc: f64,
+    /// The home offset, axis units, to 0x607C (HMPL 20.7).
     pub offset: f64,
+    /// How long a run may take before it fails, ms (HMPL 20.8).
     pub timeout_ms: i64,
 }
 
@@ -34,6 +40,7 @@ pub fn valid_home_method(method: i64) -> bool {
 /// The setters of HMPL 20.3 and 20.8 with the code of their refusal; the speeds,
 /// acceleration and offset are plain numbers whose ranges the registry declares.
 impl HomeSettings {
+    /// SetHomeMethod (HMPL 20.3): a method of [`valid_home_method`], else `CmdInvalidParameter`.
     pub fn set_method(&mut self, method: i64) -> Result<(), AxisError> {
         if !valid_home_method(method) {
             return Err(AxisError::CmdInvalidParameter);
@@ -42,6 +49,7 @@ impl HomeSettings {
         Ok(())
     }
 
+    /// SetHomeTimeout (HMPL 20.8): a time above 0 ms, else `CmdInvalidParameter`.
     pub fn set_timeout(&mut self, ms: i64) -> Result<(), AxisError> {
         if ms <= 0 {
             return Err(AxisError::CmdInvalidParameter);
@@ -52,7 +60,7 @@ impl HomeSettings {
 }
 
 #[derive(Clone, Copy, Debug)]
-pub struct Settings {
+pub(crate) struct Settings {
     /// The machine file's limits: the most `SetVel`/`SetAcc`/`SetDec` accept.
     pub max_vel: f64,
     pub max_acc: f64,

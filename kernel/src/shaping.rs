@@ -31,7 +31,7 @@ pub const DEFAULT_SHAPER: ShaperParams = ShaperParams { freq_hz: 5.5, damping: 0
 
 /// The lowest frequency of an axis' shaper (HMPL 15.7) and of a group's (HMPL 15.10).
 pub const AXIS_MIN_SHAPER_HZ: f64 = 1.5;
-pub const GROUP_MIN_SHAPER_HZ: f64 = 3.0;
+pub(crate) const GROUP_MIN_SHAPER_HZ: f64 = 3.0;
 
 /// The highest damping ratio of a shaper (HMPL 15.7, 15.10): it sets the longest delay.
 pub const MAX_SHAPER_DAMPING: f64 = 0.3;
@@ -39,7 +39,9 @@ pub const MAX_SHAPER_DAMPING: f64 = 0.3;
 /// What SetAxisInShape and SetGrpInShape set.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShaperParams {
+    /// The frequency of the vibration to cancel, Hz.
     pub freq_hz: f64,
+    /// Its damping ratio, 0 to [`MAX_SHAPER_DAMPING`].
     pub damping: f64,
     /// ZVD (`SHAPER_ROBUST`) rather than ZV (`SHAPER_NORMAL`).
     pub robust: bool,
@@ -84,7 +86,7 @@ impl ShaperParams {
 }
 
 /// The input shaper of one axis or one group coordinate.
-pub struct InputShaper {
+pub(crate) struct InputShaper {
     /// The latest inputs, newest at `head`; room for the longest delay at this cycle.
     line: Vec<Kinematics>,
     head: usize,
@@ -122,10 +124,6 @@ impl InputShaper {
         };
         shaper.configure(DEFAULT_SHAPER);
         shaper
-    }
-
-    pub fn params(&self) -> ShaperParams {
-        self.params
     }
 
     pub fn is_enabled(&self) -> bool {
@@ -204,7 +202,9 @@ impl InputShaper {
 /// What SetAxisVsf sets.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VsfParams {
+    /// The notch's frequency, Hz.
     pub freq_hz: f64,
+    /// The damping ratio of the notch's poles: the wider, the larger.
     pub damping: f64,
 }
 
@@ -231,6 +231,7 @@ pub struct Vsf {
 const VSF_SETTLED: f64 = 1e-6;
 
 impl Vsf {
+    /// A notch for a cycle of `period_s`, switched off, with [`DEFAULT_VSF`].
     pub fn new(period_s: f64) -> Self {
         let mut vsf = Vsf {
             coefficients: [1.0, 0.0, 0.0, 0.0, 0.0],
@@ -245,11 +246,7 @@ impl Vsf {
         vsf
     }
 
-    pub fn params(&self) -> VsfParams {
-        self.params
-    }
-
-    pub fn is_enabled(&self) -> bool {
+    pub(crate) fn is_enabled(&self) -> bool {
         self.enabled
     }
 
@@ -271,7 +268,7 @@ impl Vsf {
         self.params = params;
     }
 
-    pub fn set_enabled(&mut self, on: bool, pos: f64) {
+    pub(crate) fn set_enabled(&mut self, on: bool, pos: f64) {
         self.enabled = on;
         self.rest_at(pos);
     }
@@ -307,7 +304,7 @@ impl Vsf {
         !self.enabled || self.at_rest
     }
 
-    pub fn push(&mut self, k: Kinematics) -> Kinematics {
+    pub(crate) fn push(&mut self, k: Kinematics) -> Kinematics {
         if !self.enabled {
             return k;
         }
@@ -337,7 +334,7 @@ impl Vsf {
 }
 
 /// The two vibration stages of an axis' chain: at most one of them on (HMPL 15.1).
-pub struct Vibration {
+pub(crate) struct Vibration {
     pub vsf: Vsf,
     pub shaper: InputShaper,
 }

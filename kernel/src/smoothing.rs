@@ -53,11 +53,6 @@ impl Smoother {
         self.reset(pos, self.len);
     }
 
-    /// Samples in the window.
-    pub fn window(&self) -> usize {
-        self.len
-    }
-
     /// Every value in the window is the same: the output has come to rest on it.
     pub fn settled(&self) -> bool {
         self.unchanged >= self.len
@@ -137,7 +132,7 @@ mod tests {
         every_cycle.reset(5.0, 7);
         assert_eq!(every_cycle.push(Kinematics { pos: 5.0, ..Default::default() }).pos, 5.0);
         every_cycle.reset(5.0, 3);
-        assert_eq!(every_cycle.window(), 3);
+        assert_eq!(every_cycle.len, 3, "samples in the window");
         let step = every_cycle.push(Kinematics { pos: 8.0, ..Default::default() });
         assert_eq!(step.pos, 6.0, "one of three samples moved by 3");
     }

@@ -34,6 +34,8 @@ struct Fields {
     negative: Option<Field>,
 }
 
+/// An axis' two touch probes (HMPL 13.1): what the master asked of each and what the drive
+/// latched.
 pub struct TouchProbes {
     kind: TouchProbeKind,
     function_field: Option<Field>,
@@ -51,7 +53,7 @@ pub struct TouchProbes {
 }
 
 impl TouchProbes {
-    pub fn new(slave: usize, config: &AxisConfig, network: &Network) -> Self {
+    pub(crate) fn new(slave: usize, config: &AxisConfig, network: &Network) -> Self {
         let inp = |i| network.input_field(slave, i, 0);
         TouchProbes {
             kind: config.drive_settings.touch_probe,
@@ -137,7 +139,7 @@ impl TouchProbes {
         }
     }
 
-    pub fn enabled(&self, probe: usize) -> bool {
+    pub(crate) fn enabled(&self, probe: usize) -> bool {
         self.enabled[probe]
     }
 

@@ -19,11 +19,17 @@ use crate::segment::{Blend, Segment, add3, cross3, diff3, dot3, norm3, scale3, x
 /// (HMPL table 8.1.5.1, "0 ~ 4"; TM_START_VEL is not available).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TransitionMode {
+    /// TM_NONE: no blend; the junction is what the buffer mode makes of it.
     #[default]
     None,
+    /// TM_CONST_VEL: trim trans_dis, and the blend is run at trans_vel.
     ConstVel,
+    /// TM_CORNER_DIST: trim trans_dis; the same corner as TM_CONST_VEL (HMPL 8.1.5 note 3).
     CornerDist,
+    /// TM_MAX_CORNER_DEV: the longest trim up to trans_dis whose blend passes the corner
+    /// within trans_dev.
     MaxCornerDev,
+    /// TM_MAX_CORNER_CURV: the shortest trim whose blend bends no more than trans_curv.
     MaxCornerCurv,
 }
 
@@ -51,15 +57,20 @@ impl From<TransitionMode> for i64 {
 /// {trans_vel mm/s, trans_dis mm, trans_dev mm, trans_curv 1/mm} (HMPL 8.3.26, 8.5).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TransitionParams {
+    /// The path velocity on the blend with TM_CONST_VEL and TM_CORNER_DIST, mm/s, in (0, 5000).
     pub trans_vel: f64,
+    /// The trim distance d from the corner, mm (> 0): the longest with TM_MAX_CORNER_DEV.
     pub trans_dis: f64,
+    /// The largest distance of the blend from the corner with TM_MAX_CORNER_DEV, mm; 0 unused.
     pub trans_dev: f64,
+    /// The largest curvature of the blend with TM_MAX_CORNER_CURV, 1/mm; 0 unused.
     pub trans_curv: f64,
 }
 
-/// trans_vel < 5000 mm/s, trans_curv < 1e7 1/mm (HMPL table 8.3.26.1).
-pub const MAX_TRANS_VEL: f64 = 5000.0;
-pub const MAX_TRANS_CURV: f64 = 1e7;
+/// trans_vel < 5000 mm/s (HMPL table 8.3.26.1).
+const MAX_TRANS_VEL: f64 = 5000.0;
+/// trans_curv < 1e7 1/mm (HMPL table 8.3.26.1).
+const MAX_TRANS_CURV: f64 = 1e7;
 
 /// A junction turning less than this has no corner, rad.
 pub const MIN_TURN: f64 = 1e-9;

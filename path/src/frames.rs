@@ -13,11 +13,16 @@ use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vecto
 
 use crate::segment::Pose;
 
+// The flags of HMPL table 8.1.2.1, with the values of api's `CS_*` constants.
+/// The machine coordinate system, where the group's targets finally are.
 pub const CS_MCS: i64 = 0x1;
+/// The product coordinate system, innermost of the chain MCS → OFFSET → WCSn → PCS.
 pub const CS_PCS: i64 = 0x2;
+/// The temporary zero, outermost of the chain, placed directly in MCS.
 pub const CS_OFFSET: i64 = 0x4;
 /// Named by the manual, not supported: refused.
 pub const CS_GLOBAL: i64 = 0x8;
+/// The axes' own positions, where a command allows them (`CoordSys::parse`).
 pub const CS_ACS: i64 = 0x10;
 /// CS_WCSn = n << 8, n = 1..15.
 pub const CS_WCS_SHIFT: u32 = 8;
@@ -30,15 +35,18 @@ pub const WCS_COUNT: usize = 15;
 /// All fields off is MCS.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CoordSys {
+    /// CS_OFFSET is in the chain.
     pub offset: bool,
-    /// 1..=15.
+    /// The workpiece system n of CS_WCSn, 1..=15; `None` where no WCS is in the chain.
     pub wcs: Option<u8>,
+    /// CS_PCS is in the chain.
     pub pcs: bool,
     /// The axes' own positions; only where the caller allows it (`parse`).
     pub acs: bool,
 }
 
 impl CoordSys {
+    /// CS_MCS: no transform, the group's default system.
     pub const MCS: CoordSys = CoordSys { offset: false, wcs: None, pcs: false, acs: false };
 
     /// The system the flags name. `CmdCoordSysUnknown` for 0, unknown bits, CS_GLOBAL,
@@ -163,10 +171,12 @@ impl Frame {
         Frame { iso: self.iso * inner.iso, rotates: self.rotates || inner.rotates }
     }
 
+    /// A point of this system in MCS: rotated and translated.
     pub fn point_to_mcs(&self, p: [f64; 3]) -> [f64; 3] {
         (self.iso * Point3::from(p)).coords.into()
     }
 
+    /// A point of MCS in this system: the inverse of [`Self::point_to_mcs`].
     pub fn point_from_mcs(&self, p: [f64; 3]) -> [f64; 3] {
         self.iso.inverse_transform_point(&Point3::from(p)).coords.into()
     }
@@ -176,6 +186,7 @@ impl Frame {
         (self.iso.rotation * Vector3::from(v)).into()
     }
 
+    /// A direction of MCS in this system: the inverse of [`Self::vector_to_mcs`].
     pub fn vector_from_mcs(&self, v: [f64; 3]) -> [f64; 3] {
         self.iso.rotation.inverse_transform_vector(&Vector3::from(v)).into()
     }

@@ -13,12 +13,19 @@ use crate::segment::Pose;
 /// `jog`, a jog (off any path) moved the pose.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Sample {
+    /// The raw pose in MCS.
     pub pose: Pose,
+    /// grp_pg_pos: the path length travelled since `Planner::rest_at`, jogs included, mm.
     pub path_pos: f64,
+    /// grp_pg_vel: the velocity along the path, mm/s.
     pub path_vel: f64,
+    /// grp_pg_acc: the acceleration along the path, mm/s².
     pub path_acc: f64,
+    /// The generator still emits: a jog, velocity left, or queued segments not halted.
     pub moving: bool,
+    /// The corners without a blend the path passed in this cycle.
     pub corners: Corners,
+    /// A jog moved the pose in this cycle.
     pub jog: bool,
 }
 
@@ -27,15 +34,13 @@ pub struct Sample {
 /// where it is.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Corners {
+    /// Σ step: the change of dPose/ds at the corners, per coordinate.
     pub step: Pose,
+    /// Σ step·s_corner, per coordinate, mm.
     pub moment: Pose,
 }
 
 impl Corners {
-    pub fn is_none(&self) -> bool {
-        self.step == [0.0; 6] && self.moment == [0.0; 6]
-    }
-
     /// Counts one more corner, its step at path position `at`.
     pub(crate) fn add(&mut self, step: &[f64; 6], at: f64) {
         for ((sum, moment), &d) in self.step.iter_mut().zip(&mut self.moment).zip(step) {

@@ -11,17 +11,23 @@ pub type Pose = [f64; 6];
 /// A unit vector of the translation's direction (all zero where the segment only rotates).
 pub type Direction = [f64; 3];
 
+/// The geometry of one segment, by the command that made it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Segment {
+    /// LineAbs / LineRel (HMPL 8.2.9-8.2.12).
     Line(Line),
+    /// The arcs, circles and helices (HMPL 8.2.13-8.2.17).
     Arc(Arc),
+    /// A corner transition the planner inserted between two segments (HMPL 8.1.5).
     Blend(Blend),
 }
 
 /// A straight line in X, Y, Z with A, B, C moving linearly beside it (HMPL 8.2.9, 8.5.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Line {
+    /// The pose the line starts at, in MCS.
     pub start: Pose,
+    /// The commanded end, in MCS.
     pub end: Pose,
 }
 
@@ -36,6 +42,7 @@ pub struct Line {
 /// not closed-form (see [`Arc::tau`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Arc {
+    /// The pose the arc starts at, in MCS.
     pub start: Pose,
     /// The commanded end, returned as it is at `u = 1`.
     pub end: Pose,
@@ -45,6 +52,7 @@ pub struct Arc {
     pub normal: [f64; 3],
     /// Radius at the start, mm (> 0).
     pub radius: f64,
+    /// End radius minus start radius, mm; 0 for a true circle (see above).
     pub radius_change: f64,
     /// Signed turning angle, rad; its magnitude may exceed 2π (several turns).
     pub sweep: f64,
@@ -68,13 +76,17 @@ const BLEND_PANELS: usize = 16;
 /// it by Newton's method inside the panel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Blend {
+    /// Where it leaves the first segment, the trim d before the corner.
     pub start: Pose,
+    /// Where it joins the second segment, d after the corner.
     pub end: Pose,
+    /// The cubic Bézier's control points in X, Y, Z, mm; A, B, C move linearly.
     pub ctrl: [[f64; 3]; 4],
     table: [f64; BLEND_PANELS + 1],
 }
 
 impl Segment {
+    /// The pose at `u = 0`.
     pub fn start(&self) -> Pose {
         match self {
             Segment::Line(l) => l.start,
@@ -83,6 +95,7 @@ impl Segment {
         }
     }
 
+    /// The pose at `u = 1`, the commanded end.
     pub fn end(&self) -> Pose {
         match self {
             Segment::Line(l) => l.end,
@@ -314,6 +327,7 @@ pub fn sub3(b: &Pose, a: &Pose) -> [f64; 3] {
     [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
 }
 
+/// The Euclidean length of `v`.
 pub fn norm3(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
@@ -323,22 +337,25 @@ pub fn xyz(p: &Pose) -> [f64; 3] {
     [p[0], p[1], p[2]]
 }
 
+/// `a − b`.
 pub fn diff3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-pub fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(crate) fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
-pub fn scale3(a: [f64; 3], k: f64) -> [f64; 3] {
+pub(crate) fn scale3(a: [f64; 3], k: f64) -> [f64; 3] {
     [a[0] * k, a[1] * k, a[2] * k]
 }
 
+/// The scalar product `a · b`.
 pub fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The vector product `a × b`, right-handed.
 pub fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }

@@ -44,6 +44,8 @@ impl Entry {
     }
 }
 
+/// A group's moving average along the path over its smooth time Ts (see the module docs),
+/// fed one planner [`Sample`] a cycle.
 pub struct PathSmoother {
     ring: Vec<Entry>,
     /// Samples in the window (1: no smoothing).

@@ -10,7 +10,7 @@ use devices::ecat::Network;
 
 /// One analog output's settings.
 #[derive(Clone, Copy, Debug)]
-pub struct Output {
+pub(crate) struct Output {
     pub ty: ConversionType,
     /// `SetSlvAOMonitor`'s variable: its id as given and what it names (`follow`).
     var: Option<(i64, usize, AxisVariable)>,
@@ -77,7 +77,7 @@ impl Output {
 
 /// One slave's analog channels, channel n at n - 1.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct SlaveChannels {
+pub(crate) struct SlaveChannels {
     pub inputs: [ConversionType; MAX_ANALOG_CHANNELS],
     pub outputs: [Output; MAX_ANALOG_CHANNELS],
 }
@@ -94,7 +94,7 @@ impl Default for AnalogIo {
 }
 
 impl AnalogIo {
-    pub fn slave_mut(&mut self, slave: usize) -> &mut SlaveChannels {
+    pub(crate) fn slave_mut(&mut self, slave: usize) -> &mut SlaveChannels {
         &mut self.slaves[slave]
     }
 

@@ -18,6 +18,7 @@ const ORDERS_PER_CYCLE: usize = 8;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, FromPrimitive, IntoPrimitive)]
 #[repr(u32)]
 pub enum ControllerState {
+    /// Power-up, before the first switch.
     #[num_enum(default)]
     Initial = 0,
     /// A switch failed (here: the EtherCAT network is not in Op).
@@ -43,6 +44,7 @@ impl ControllerState {
     }
 }
 
+/// What a console asks the RT thread to do (DXMC A.3's program control and state registers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConsoleOrder {
     /// Start a task's program at its top level (its program path is in its slot).
@@ -52,7 +54,12 @@ pub enum ConsoleOrder {
     /// Switch the controller state (0x6A81).
     SwitchState(ControllerState),
     /// Set a task's run speed, 1..100 % (DXMC A.3, 0x6B03).
-    SetRunSpeed { task: u8, pct: u8 },
+    SetRunSpeed {
+        /// The task, 0..MAX_TASKS.
+        task: u8,
+        /// The run speed, percent.
+        pct: u8,
+    },
 }
 
 /// The console's end.
@@ -66,16 +73,20 @@ pub struct ConsoleInbox {
     orders: Arc<ArrayQueue<ConsoleOrder>>,
 }
 
+/// A console's two ends: the console (the Modbus server, the DRL console) keeps the
+/// `Console`, the controller takes the inbox (`RunOptions::console`).
 pub fn channel() -> (Console, ConsoleInbox) {
     let orders = Arc::new(ArrayQueue::new(CAPACITY));
     (Console { orders: orders.clone() }, ConsoleInbox { orders })
 }
 
+/// The queue to the RT thread is full: the order was not sent.
 #[derive(Debug, thiserror::Error)]
 #[error("the controller is busy: too many console orders in flight")]
 pub struct ConsoleBusy;
 
 impl Console {
+    /// Queues `order` for the next cycles without waiting.
     pub fn send(&self, order: ConsoleOrder) -> Result<(), ConsoleBusy> {
         self.orders.push(order).map_err(|_| ConsoleBusy)
     }

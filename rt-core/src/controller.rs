@@ -25,22 +25,41 @@ use kernel::Kernel;
 /// How long the tasks have to be stopped in order at shutdown before the rest are killed.
 const STOP_PATIENCE: Duration = Duration::from_secs(2);
 
+/// Why a controller could not run to its end.
 #[derive(Debug, thiserror::Error)]
 pub enum ControllerError {
+    /// The namespace or a shared-memory service could not be set up.
     #[error(transparent)]
     Ipc(#[from] ipc::IpcError),
+    /// The RT thread or the supervisor's link could not be set up; why.
     #[error("the RT thread failed to start: {0}")]
     RtStart(String),
+    /// The RT thread panicked or ended before its time; why.
     #[error("the RT thread died: {0}")]
     RtDied(String),
+    /// The data directory (`RunOptions::data_dir`) could not be created.
     #[error("cannot use the data directory {path}: {source}")]
-    DataDir { path: PathBuf, source: std::io::Error },
+    DataDir {
+        /// The directory.
+        path: PathBuf,
+        /// The OS's error.
+        source: std::io::Error,
+    },
+    /// The trace file (`--trace`) could not be created.
     #[error("cannot write the trace {path}: {source}")]
-    Trace { path: PathBuf, source: std::io::Error },
+    Trace {
+        /// The trace file.
+        path: PathBuf,
+        /// The OS's error.
+        source: std::io::Error,
+    },
 }
 
+/// How to run a controller (`run`, `controller::Background::start`).
 pub struct RunOptions {
+    /// The namespace of its shared-memory services: a second controller needs its own.
     pub ns: Namespace,
+    /// How the supervisor starts the script processes.
     pub launcher: ScriptLauncher,
     /// End when no task runs any more (`luamotion run`); otherwise run until interrupted.
     pub exit_when_tasks_end: bool,
@@ -81,8 +100,11 @@ impl RunOptions {
     }
 }
 
+/// What a finished run leaves.
 pub struct RunReport {
+    /// How each task's program ended, in the order they ended.
     pub tasks: Vec<TaskReport>,
+    /// The cycles' timing and counts.
     pub stats: CycleStats,
     /// The stop signal that ended the run, if one did.
     pub interrupted: Option<i32>,

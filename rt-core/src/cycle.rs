@@ -67,6 +67,7 @@ impl RtControl {
 
 /// Timing of the cycles run.
 pub struct CycleStats {
+    /// Cycles run.
     pub cycles: u64,
     /// Cycles whose work ran past the next deadline...
     pub overruns: u64,
@@ -82,12 +83,15 @@ pub struct CycleStats {
     /// is timed (`realtime::WokeCpuTime`), ns: what the machine charges as CPU time while
     /// the thread does next to nothing.
     pub wake_up_cpu: Histogram<u64>,
+    /// The core's requests, replies and notifications over the run.
     pub ipc: CoreIpcStats,
+    /// What the OS granted the RT thread (priority, CPU, locked memory).
     pub granted: Granted,
     /// What the kernel rebuilt in huge pages before the first cycle; none: not asked.
     pub huge_pages: Option<HugePages>,
     /// CPU time the RT thread used over the run, and the run's length, ns.
     pub cpu_ns: u64,
+    /// The run's length, wall time, ns.
     pub wall_ns: u64,
     /// Of the RT thread's time, the frame exchange with the simulated drives (their
     /// servo loops and plants), ns: on a real machine, the drives' own hardware.
@@ -157,6 +161,8 @@ pub struct CycleWork {
 }
 
 impl CycleWork {
+    /// The cycle's work on `machine`, answering the tasks through `endpoint`; a network that
+    /// failed to start leaves the controller in Fail (DXMC 3.6).
     pub fn new(machine: Machine, endpoint: CoreEndpoint) -> Self {
         let mut snapshot = Snapshot { period_ns: machine.period_ns, ..Snapshot::default() };
         master::describe_slaves(&machine.network, &mut snapshot);
@@ -194,7 +200,7 @@ impl CycleWork {
     }
 
     /// Records every cycle into `trace`.
-    pub fn with_trace(mut self, trace: Option<TraceSender>) -> Self {
+    pub(crate) fn with_trace(mut self, trace: Option<TraceSender>) -> Self {
         self.trace = trace;
         self
     }
@@ -205,6 +211,7 @@ impl CycleWork {
         self
     }
 
+    /// The machine between cycles, to change it there (the tests do).
     pub fn machine_mut(&mut self) -> &mut Machine {
         &mut self.machine
     }

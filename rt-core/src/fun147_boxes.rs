@@ -33,11 +33,17 @@ pub fn box_group(gp: usize) -> usize {
 /// The relays a box reads and writes, as its contacts and coils in a ladder.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Contacts {
+    /// EN: execution control; its rising edge starts, 0 stops.
     pub en: Relay,
+    /// PAU: pauses the output.
     pub pau: Relay,
+    /// ABT: aborts; the next start runs step 1.
     pub abt: Relay,
+    /// ACT, a coil: a move is under way.
     pub act: Relay,
+    /// ERR, a coil: the last start or step failed.
     pub err: Relay,
+    /// DN, a coil: a step completed (WR+1 B14).
     pub dn: Relay,
 }
 

@@ -9,13 +9,13 @@ pub mod cycle;
 pub mod dispatch;
 pub mod fun147_boxes;
 pub mod huge_pages;
-pub mod io;
+pub(crate) mod io;
 pub mod machine;
 pub mod master;
-pub mod output;
+pub(crate) mod output;
 pub mod overrun;
-pub mod ownership;
-pub mod pool;
+pub(crate) mod ownership;
+pub(crate) mod pool;
 pub mod position_trigger;
 pub mod realtime;
 pub mod replay;
@@ -24,7 +24,7 @@ pub mod signals;
 pub mod sim_clock;
 pub mod supervisor;
 pub mod tasks;
-pub mod trace;
+pub(crate) mod trace;
 
 /// The machine file lives in its own crate; re-exported so that `rt_core::config` and
 /// `crate::config` paths name it.

@@ -18,13 +18,18 @@ use kernel::Kernel;
 
 /// Everything the RT thread owns and steps.
 pub struct Machine {
+    /// The EtherCAT segment and its process image.
     pub network: Network,
+    /// The axes and groups.
     pub kernel: Kernel,
+    /// The HMPL tasks (ch. 16) and their link to the supervisor.
     pub tasks: Tasks,
-    pub io: ControllerIo,
+    pub(crate) io: ControllerIo,
     /// The slaves' analog conversion types and output bindings (HMPL ch. 10).
     pub analog: AnalogIo,
+    /// RxPDO values forced by ForceWritePDO (HMPL 17.2.8), written after the kernel.
     pub forces: PdoForces,
+    /// The cycle time, ns.
     pub period_ns: u64,
     /// The cycle being run.
     pub cycle: u64,
@@ -42,6 +47,7 @@ pub struct Machine {
 }
 
 impl Machine {
+    /// In Run, every task's run speed 100 %, no FUN147 box and no position trigger.
     pub fn new(network: Network, kernel: Kernel, tasks: Tasks, period_ns: u64) -> Self {
         Machine {
             network,

@@ -44,7 +44,7 @@ impl PdoForces {
         }
     }
 
-    pub fn apply(&self, outputs: &mut [u8]) {
+    pub(crate) fn apply(&self, outputs: &mut [u8]) {
         for (field, value) in self.slots.iter().flatten() {
             field.write(outputs, *value);
         }

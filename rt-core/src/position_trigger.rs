@@ -46,6 +46,7 @@ pub enum PtError {
 /// One pulse: the point crossed and when.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pulse {
+    /// The trigger point crossed, axis units.
     pub pos: f64,
     /// Controller time of the crossing, ms: cycle start plus the fraction of the cycle.
     pub time_ms: f64,
@@ -221,6 +222,7 @@ pub struct PositionTriggers {
 }
 
 impl PositionTriggers {
+    /// A trigger for each axis the machine file gives one (`pt`), all disabled.
     pub fn new(config: &MachineConfig) -> Self {
         let axes = config.axes.iter().map(|a| a.pt.as_ref().map(|pt| Box::new(AxisTrigger::new(pt.output)))).collect();
         PositionTriggers { axes, high: 0 }
@@ -245,15 +247,15 @@ impl PositionTriggers {
         Ok(())
     }
 
-    pub fn set_start_pos(&mut self, axis: usize, pos: f64) -> Result<(), PtError> {
+    pub(crate) fn set_start_pos(&mut self, axis: usize, pos: f64) -> Result<(), PtError> {
         self.equidistant(axis, |s| s.start = pos)
     }
 
-    pub fn set_end_pos(&mut self, axis: usize, pos: f64) -> Result<(), PtError> {
+    pub(crate) fn set_end_pos(&mut self, axis: usize, pos: f64) -> Result<(), PtError> {
         self.equidistant(axis, |s| s.end = pos)
     }
 
-    pub fn set_interval(&mut self, axis: usize, interval: f64) -> Result<(), PtError> {
+    pub(crate) fn set_interval(&mut self, axis: usize, interval: f64) -> Result<(), PtError> {
         if interval <= 0.0 {
             return Err(PtError::InvalidParameter);
         }
@@ -270,11 +272,11 @@ impl PositionTriggers {
         Ok(())
     }
 
-    pub fn set_pos_array(&mut self, axis: usize, index: i64, pos: f64) -> Result<(), PtError> {
+    pub(crate) fn set_pos_array(&mut self, axis: usize, index: i64, pos: f64) -> Result<(), PtError> {
         self.array(axis, index, ARRAY_LEN, |s, i| s.positions[i] = pos)
     }
 
-    pub fn set_state_array(&mut self, axis: usize, index: i64, state: i64) -> Result<(), PtError> {
+    pub(crate) fn set_state_array(&mut self, axis: usize, index: i64, state: i64) -> Result<(), PtError> {
         // A 32-bit word: C's int, or its bits read as unsigned.
         let word = u32::try_from(state).or_else(|_| i32::try_from(state).map(|w| w as u32));
         let word = word.map_err(|_| PtError::InvalidParameter)?;
@@ -284,11 +286,11 @@ impl PositionTriggers {
         Ok(())
     }
 
-    pub fn set_start_index(&mut self, axis: usize, index: i64) -> Result<(), PtError> {
+    pub(crate) fn set_start_index(&mut self, axis: usize, index: i64) -> Result<(), PtError> {
         self.array(axis, index, ARRAY_LEN, |s, i| s.start_index = i)
     }
 
-    pub fn set_end_index(&mut self, axis: usize, index: i64) -> Result<(), PtError> {
+    pub(crate) fn set_end_index(&mut self, axis: usize, index: i64) -> Result<(), PtError> {
         self.array(axis, index, ARRAY_LEN, |s, i| s.end_index = i)
     }
 
@@ -323,7 +325,7 @@ impl PositionTriggers {
     /// Runs every trigger on this cycle's feedback and drives the PT outputs: a GPO is
     /// high in a cycle in which one of its axes pulsed, and the triggers take it low again
     /// in the next (a pulse of at most 80 µs is shorter than any cycle).
-    pub fn step(&mut self, cycle: u64, period_ns: u64, kernel: &Kernel, io: &mut ControllerIo) {
+    pub(crate) fn step(&mut self, cycle: u64, period_ns: u64, kernel: &Kernel, io: &mut ControllerIo) {
         let period_ms = period_ns as f64 * 1e-6;
         let samples = (period_ns * SAMPLING_HZ / 1_000_000_000).max(1);
         let mut high = 0u8;

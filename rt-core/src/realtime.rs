@@ -7,8 +7,11 @@ use crate::config::{RtConfig, ScriptCpus};
 /// What the OS granted, for the logs and the soak report.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Granted {
+    /// The SCHED_FIFO priority; `None`: refused, or not asked for.
     pub fifo_priority: Option<u8>,
+    /// The CPU the thread is pinned to; `None`: refused, or not asked for.
     pub cpu: Option<usize>,
+    /// The process' memory is locked (mlockall).
     pub memory_locked: bool,
     /// Idle CPUs poll (`IdlePoll` held).
     pub idle_poll: bool,

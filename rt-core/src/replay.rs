@@ -35,23 +35,59 @@ const QUEUE: usize = 4096;
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Input {
     /// A Modbus write of one word of DV, DH (DXMC A.1) or the FUN147 image, by address.
-    Modbus { address: u16, value: u16 },
+    Modbus {
+        /// The word's Modbus address.
+        address: u16,
+        /// The word written.
+        value: u16,
+    },
     /// Bytes serial port 1 received from its peer (after the line's settings were checked).
     Serial(Vec<u8>),
     /// The electrical level of controller input `pin` (1..8), as `SimSetGPI` sets it.
-    Gpi { pin: u8, on: bool },
+    Gpi {
+        /// 1..8.
+        pin: u8,
+        /// High.
+        on: bool,
+    },
     /// The level of input `pin` of the digital I/O terminal at slave `slave` (HMPL 9.5),
     /// as `SimSetSlvGPI` sets it.
-    SlvGpi { slave: u16, pin: u16, on: bool },
+    SlvGpi {
+        /// The terminal's slave position.
+        slave: u16,
+        /// The terminal's input, from 1.
+        pin: u16,
+        /// High.
+        on: bool,
+    },
     /// The word on input `channel` (1..4) of the analog terminal at slave `slave`, as
     /// `SimSetSlvAIRaw` sets it.
-    Ai { slave: u16, channel: u8, raw: u16 },
+    Ai {
+        /// The terminal's slave position.
+        slave: u16,
+        /// 1..4.
+        channel: u8,
+        /// The raw word, as the terminal's ADC gives it.
+        raw: u16,
+    },
     /// What a `FreePort.Eth` session of task `task` got from its socket (the task records
     /// it and replays it itself; the record keeps it).
-    Eth { task: u8, session: i64, event: EthEvent },
+    Eth {
+        /// The task whose session it is.
+        task: u8,
+        /// The session's handle, as `FreePort.Eth` returned it.
+        session: i64,
+        /// What the socket gave.
+        event: EthEvent,
+    },
     /// What an HMPL ch. 22 client call of task `task` returned (the task records it and
     /// replays it itself).
-    Client { task: u8, outcome: ClientOutcome },
+    Client {
+        /// The task that called.
+        task: u8,
+        /// What the call returned.
+        outcome: ClientOutcome,
+    },
 }
 
 impl Input {
@@ -65,17 +101,26 @@ impl Input {
 /// An input and the cycle it takes effect at.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Stamped {
+    /// The cycle it takes effect at.
     pub cycle: u64,
+    /// The input.
     pub input: Input,
 }
 
 /// A record file that cannot be replayed; `line` counts from 1.
 #[derive(Debug, thiserror::Error)]
 pub enum RecordError {
+    /// The file could not be read: its path and the OS's error.
     #[error("cannot read {0}: {1}")]
     Io(String, std::io::Error),
+    /// A line is not a record.
     #[error("line {line}: {what}")]
-    Line { line: usize, what: String },
+    Line {
+        /// The line's number, from 1.
+        line: usize,
+        /// What is wrong with it.
+        what: String,
+    },
 }
 
 /// Whether `address` is a word an outside Modbus write of data reaches (DV, DH, FUN147).
@@ -266,6 +311,7 @@ impl Inputs {
         self.landing.clone()
     }
 
+    /// The inputs come from a record file (`run --replay`), not from outside.
     pub fn replaying(&self) -> bool {
         self.replaying
     }

@@ -9,6 +9,7 @@ use ipc::shm::Region;
 use schema::Snapshot;
 use schema::shared::SharedData;
 
+/// The RT thread's writer of the scope ring: the channels asked for and this cycle's values.
 pub struct ScopeSampler {
     ring: Region<ScopeRing>,
     vars: [Option<Var>; CHANNELS],
@@ -17,6 +18,7 @@ pub struct ScopeSampler {
 }
 
 impl ScopeSampler {
+    /// Samples into `ring`, no channel asked for yet.
     pub fn new(ring: Region<ScopeRing>) -> Self {
         ScopeSampler { ring, vars: [None; CHANNELS], len: 0, values: [0.0; CHANNELS] }
     }

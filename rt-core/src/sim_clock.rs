@@ -52,7 +52,10 @@ pub enum Clock {
     #[default]
     RealTime,
     /// Cycles in lockstep with the programs, at most `speed` times real time.
-    Sim { speed: Speed },
+    Sim {
+        /// How fast the cycles may go.
+        speed: Speed,
+    },
 }
 
 /// How fast the simulation clock may go.
@@ -64,6 +67,7 @@ pub enum Speed {
     Max,
 }
 
+/// A `--speed` that is neither a number above 0 nor `max`; the text given.
 #[derive(Debug, thiserror::Error)]
 #[error("speed must be a number > 0 or `max`, not `{0}`")]
 pub struct SpeedError(String);
@@ -138,7 +142,7 @@ impl Lockstep {
         }
     }
 
-    pub fn speed(&self) -> Speed {
+    pub(crate) fn speed(&self) -> Speed {
         self.speed
     }
 

@@ -28,7 +28,9 @@ use crate::tasks::{AlarmReport, Entry, Exit, Order, Report, SupervisorEnd};
 /// How a script process is started: the luamotion binary and its hidden subcommand.
 #[derive(Clone, Debug)]
 pub struct ScriptLauncher {
+    /// The luamotion binary (the CLI passes its own, `std::env::current_exe`).
     pub executable: PathBuf,
+    /// The arguments before the task's own: the hidden subcommand.
     pub subcommand: Vec<String>,
 }
 
@@ -43,10 +45,14 @@ pub enum Outcome {
     Stopped,
 }
 
+/// How one task's program ended, for the run's report.
 #[derive(Clone, Debug)]
 pub struct TaskReport {
+    /// The task, 0..MAX_TASKS.
     pub id: u8,
+    /// Its program file.
     pub program: PathBuf,
+    /// How it ended.
     pub outcome: Outcome,
 }
 
@@ -74,7 +80,7 @@ const IDLE_LOOK: Duration = Duration::from_millis(10);
 /// started yet, which nothing rings for.
 const BUSY_LOOK: Duration = Duration::from_millis(1);
 
-pub struct Supervisor {
+pub(crate) struct Supervisor {
     ns: Namespace,
     launcher: ScriptLauncher,
     data_dir: PathBuf,
@@ -330,7 +336,7 @@ impl Supervisor {
         self.ended.push(TaskReport { id: task.id, program: task.program, outcome });
     }
 
-    pub fn running(&self) -> usize {
+    pub(crate) fn running(&self) -> usize {
         self.running.len()
     }
 

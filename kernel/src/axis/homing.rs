@@ -55,6 +55,7 @@ impl Axis {
         &self.home_state
     }
 
+    /// For SetHomedStatus (HMPL 20.9) and to take MoveHome's result once the run is over.
     pub fn home_state_mut(&mut self) -> &mut HomeState {
         &mut self.home_state
     }
@@ -95,6 +96,7 @@ impl Axis {
         Ok(())
     }
 
+    /// IsHoming (HMPL 20.11): a MoveHome run is under way.
     pub fn is_homing(&self) -> bool {
         self.source.is_homing()
     }

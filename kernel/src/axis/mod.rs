@@ -43,6 +43,7 @@ use status::Settle;
 /// Below this fraction of the axis' velocity limit the motor counts as standing.
 const STANDSTILL: f64 = 1e-3;
 
+/// One axis and its drive, stepped by the kernel in the stages of `Kernel::step`.
 pub struct Axis {
     id: u8,
     link: DriveLink,
@@ -74,7 +75,7 @@ pub struct Axis {
 }
 
 impl Axis {
-    pub fn new(id: u8, config: &AxisConfig, network: &Network, period_s: f64) -> Self {
+    pub(crate) fn new(id: u8, config: &AxisConfig, network: &Network, period_s: f64) -> Self {
         let settings = Settings::new(config);
         let max_samples = (MAX_SMOOTH_TIME_MS / 1000.0 / period_s).round() as usize + 1;
         let mut axis = Axis {
@@ -102,12 +103,9 @@ impl Axis {
         axis
     }
 
+    /// The axis id scripts use: its place in the machine file, from 0.
     pub fn id(&self) -> u8 {
         self.id
-    }
-
-    pub fn link(&self) -> &DriveLink {
-        &self.link
     }
 
     /// HMPL ch. 13: the axis' touch probes.
@@ -115,18 +113,22 @@ impl Axis {
         &mut self.touch_probes
     }
 
-    pub fn settings(&self) -> &Settings {
+    pub(crate) fn settings(&self) -> &Settings {
         &self.settings
     }
 
+    /// The power sequence reached Operation enabled: the axis takes motion commands.
     pub fn is_enabled(&self) -> bool {
         self.link.is_enabled()
     }
 
+    /// The power sequence is at Disabled: not enabled, nor on its way in or out.
     pub fn is_disabled(&self) -> bool {
         self.link.is_disabled()
     }
 
+    /// IsMoving (HMPL 5.4.2): a coupled axis while its reference moves, else while the
+    /// profile generator plans or the filter chain has not settled.
     pub fn is_moving(&self) -> bool {
         if self.source.engagement().is_some() || self.source.is_group_synced() {
             self.reference.vel != 0.0
@@ -146,22 +148,27 @@ impl Axis {
         self.filters.reset(pos);
     }
 
-    pub fn source(&self) -> &ReferenceSource {
+    pub(crate) fn source(&self) -> &ReferenceSource {
         &self.source
     }
 
+    /// IsErrorStop (HMPL 5.4.4): a fault or a limit stopped the axis, until Reset.
     pub fn is_error_stop(&self) -> bool {
         self.errors.is_error_stop()
     }
 
+    /// IsGearSlave (HMPL 6.9): EnableGear linked it to a master, engaged or not.
     pub fn is_gear_slave(&self) -> bool {
         self.source.gear_master().is_some()
     }
 
+    /// GetRefPos, GetRefVel, GetRefAcc (HMPL 5.3.27 to 5.3.29): the reference after the
+    /// filter chain, before compensation, axis units.
     pub fn reference(&self) -> Kinematics {
         self.reference
     }
 
+    /// GetPosFb (HMPL 5.3.20): the feedback position, axis units, after the axis' offset.
     pub fn pos_fb(&self) -> f64 {
         self.sensed.pos_fb
     }
@@ -197,6 +204,7 @@ impl Axis {
         result.map_err(|e| self.fail(e))
     }
 
+    /// ClearAxisLastErr (HMPL 18.4).
     pub fn clear_last_err(&mut self) {
         self.errors.record(0);
     }
@@ -207,6 +215,8 @@ impl Axis {
 
     // --- power (HMPL 5.2.1 to 5.2.3) ---
 
+    /// Enable (HMPL 5.2.1): starts the power sequence; refused without the PDOs it needs
+    /// or in ErrorStop. Clears an E-stop.
     pub fn enable(&mut self) -> Result<(), AxisError> {
         if !self.link.can_enable() {
             return Err(self.fail(AxisError::CmdInvalidNoSpecificPdo));
@@ -225,6 +235,7 @@ impl Axis {
         self.errors.set_emergency_stopped(true);
     }
 
+    /// An E-stop disabled the axis and no Enable followed yet (HMPL 2.9).
     pub fn is_emergency_stopped(&self) -> bool {
         self.errors.is_emergency_stopped()
     }
@@ -307,6 +318,7 @@ impl Axis {
         Ok(())
     }
 
+    /// MoveAbs (HMPL 5.2.4), axis units; with rollover the shortest way within a turn.
     pub fn move_abs(&mut self, pos: f64) -> Result<(), AxisError> {
         self.check_can_move()?;
         let target = if self.settings.rollover > 0.0 { self.shortest_way_to(pos) } else { pos };
@@ -398,6 +410,7 @@ impl Axis {
         }
     }
 
+    /// Halt (HMPL 5.2.10): decelerates to rest keeping the target, for Resume.
     pub fn halt(&mut self) -> Result<(), AxisError> {
         if self.errors.is_error_stop() {
             return Err(self.fail(AxisError::CmdInvalidErrorState));
@@ -406,6 +419,7 @@ impl Axis {
         Ok(())
     }
 
+    /// Resume (HMPL 5.2.11): on to the target a Halt kept.
     pub fn resume(&mut self) -> Result<(), AxisError> {
         if self.errors.is_error_stop() {
             return Err(self.fail(AxisError::CmdInvalidErrorState));
@@ -419,18 +433,21 @@ impl Axis {
     // The ranges of the arguments are checked before (`ranges.rs`); the setters check
     // what depends on the axis' state.
 
+    /// SetVel (HMPL 5.3.2), axis units/s; the move under way is re-planned.
     pub fn set_vel(&mut self, vel: f64) -> Result<(), AxisError> {
         self.settings.vel = vel;
         self.generator.set_profile(self.settings.profile());
         Ok(())
     }
 
+    /// SetAcc (HMPL 5.3.4), axis units/s²; the move under way is re-planned.
     pub fn set_acc(&mut self, acc: f64) -> Result<(), AxisError> {
         self.settings.acc = acc;
         self.generator.set_profile(self.settings.profile());
         Ok(())
     }
 
+    /// SetDec (HMPL 5.3.7), axis units/s²; the move under way is re-planned.
     pub fn set_dec(&mut self, dec: f64) -> Result<(), AxisError> {
         self.settings.dec = dec;
         self.generator.set_profile(self.settings.profile());
@@ -443,16 +460,19 @@ impl Axis {
         self.set_acc(acc)
     }
 
+    /// HMPL 5.3.8: deceleration from a time: dec = vel / time.
     pub fn set_dec_time(&mut self, ms: f64) -> Result<(), AxisError> {
         let dec = self.check(rate_from_time(self.settings.vel, ms, self.settings.max_acc, AxisError::CmdInvalidDec))?;
         self.set_dec(dec)
     }
 
+    /// SetKillDec (HMPL 5.3.10): the deceleration of StopAll, limits and fault reactions.
     pub fn set_kill_dec(&mut self, kill_dec: f64) -> Result<(), AxisError> {
         self.settings.kill_dec = kill_dec;
         Ok(())
     }
 
+    /// SetSWRL (HMPL 5.3.12): the right software limit, above the left one.
     pub fn set_swrl(&mut self, pos: f64) -> Result<(), AxisError> {
         if pos <= self.settings.swll {
             return Err(self.fail(AxisError::CmdInvalidPos));
@@ -461,6 +481,7 @@ impl Axis {
         Ok(())
     }
 
+    /// SetSWLL (HMPL 5.3.14): the left software limit, below the right one.
     pub fn set_swll(&mut self, pos: f64) -> Result<(), AxisError> {
         if pos >= self.settings.swrl {
             return Err(self.fail(AxisError::CmdInvalidPos));
@@ -508,6 +529,7 @@ impl Axis {
         Ok(())
     }
 
+    /// IgnoreHWL, IgnoreSWL, IgnorePE (HMPL 5.3.33 to 5.3.35).
     pub fn set_ignore(&mut self, which: Ignore, on: bool) -> Result<(), AxisError> {
         match which {
             Ignore::HardwareLimits => self.settings.ignore_hwl = on,
@@ -564,11 +586,14 @@ impl Axis {
         Ok(())
     }
 
+    /// SetPosWindow (HMPL 5.3.45): how near the target counts as in position, axis units.
     pub fn set_pos_window(&mut self, window: f64) -> Result<(), AxisError> {
         self.settings.pos_window = window;
         Ok(())
     }
 
+    /// SetPosWindowTime (HMPL 5.3.47): how long the axis stays in the window before it is
+    /// in position, ms.
     pub fn set_pos_window_time(&mut self, ms: f64) -> Result<(), AxisError> {
         self.settings.pos_window_time_ms = ms;
         Ok(())
@@ -778,10 +803,6 @@ impl Axis {
         self.compensation = value;
     }
 
-    pub fn compensation(&self) -> f64 {
-        self.compensation
-    }
-
     /// HMPL 14.1: the compensation passed its limit (0x83II0802): the axis' own motion
     /// stops with the kill deceleration in ErrorStop, as at a software limit
     /// (docs/decisions.md, "Compensation").
@@ -828,7 +849,10 @@ fn cycles(ms: f64, period_s: f64) -> u64 {
 /// The three notifications a user may switch off (HMPL 5.3.33 to 5.3.35).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Ignore {
+    /// IgnoreHWL (HMPL 5.3.33): the drive's limit switches.
     HardwareLimits,
+    /// IgnoreSWL (HMPL 5.3.34): the software limits.
     SoftwareLimits,
+    /// IgnorePE (HMPL 5.3.35): the position error limit (`HCV_ID_max_pos_err`).
     PositionError,
 }

@@ -10,7 +10,9 @@ use crate::shaping::{SHAPER_NORMAL, SHAPER_ROBUST, ShaperParams, Vibration, VsfP
 /// Which of the two filters a command addresses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VibrationFilter {
+    /// The vibration suppression filter, a notch (HMPL 15.2 to 15.4).
     Vsf,
+    /// The input shaper, ZV or ZVD (HMPL 15.5 to 15.7).
     InShape,
 }
 

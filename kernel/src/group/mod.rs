@@ -31,13 +31,19 @@ use settings::{GroupSettings, KIN_CARTESIAN, MAX_SMOOTH_MS};
 /// MCS coordinates: X, Y, Z, A, B, C (HMPL 8.1.2).
 pub const COORDINATES: usize = 6;
 
+/// A group's state (HMPL 3.3, 8.2; see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GroupState {
+    /// Not enabled: each grouped axis runs on its own generator.
     Disabled,
+    /// Enabled: the interpolator gives the axes' references, moving or not.
     Standby,
+    /// An axis faulted or hit a limit; the axes left sync until ResetGroup.
     ErrorStop,
 }
 
+/// One axis group (HMPL ch. 8): its axes, settings, interpolator and the smoothing and
+/// shaping after it.
 pub struct Group {
     axes: [u8; MAX_GROUP_AXES],
     count: usize,
@@ -67,14 +73,14 @@ pub struct Group {
 
 /// A pose with its velocity and acceleration, per coordinate.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Kinematics6 {
+pub(crate) struct Kinematics6 {
     pub pos: Pose,
     pub vel: Pose,
     pub acc: Pose,
 }
 
 impl Group {
-    pub fn new(period_s: f64) -> Self {
+    pub(crate) fn new(period_s: f64) -> Self {
         let max_samples = (MAX_SMOOTH_MS / 1000.0 / period_s).round() as usize + 1;
         Group {
             axes: [0; MAX_GROUP_AXES],
@@ -107,10 +113,12 @@ impl Group {
         (self.axes, self.count)
     }
 
+    /// Where the group is among its states (IsGrpEnabled, IsGrpErrorStop: HMPL 8.4.1, 8.4.4).
     pub fn state(&self) -> GroupState {
         self.state
     }
 
+    /// Not `Disabled`: EnableGroup has run, and an ErrorStop counts as enabled.
     pub fn is_enabled(&self) -> bool {
         self.state != GroupState::Disabled
     }
@@ -121,7 +129,7 @@ impl Group {
             && (self.planner.is_moving() || !self.smoother.settled() || !self.shapers_settled())
     }
 
-    pub fn commander(&self) -> Option<u8> {
+    pub(crate) fn commander(&self) -> Option<u8> {
         self.commander
     }
 
@@ -137,7 +145,7 @@ impl Group {
         }
     }
 
-    pub fn claim(&mut self, task: u8) {
+    pub(crate) fn claim(&mut self, task: u8) {
         self.commander = Some(task);
     }
 
@@ -277,6 +285,7 @@ impl super::Kernel {
         code
     }
 
+    /// The groups, by id, all [`crate::MAX_GROUPS`] of them, used or not.
     pub fn groups(&self) -> &[Group] {
         &self.groups
     }

@@ -19,20 +19,62 @@ use crate::Kernel;
 /// A path command as the script gave it, in the coordinate system it names.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PathCommand {
-    /// LineAbs2D/3D, LineAbs: the coordinates given; the others keep the start's.
-    LineAbs { target: [Option<f64>; COORDINATES] },
-    /// LineRel2D/3D, LineRel.
-    LineRel { distance: Pose },
-    /// Arc2D: through `border` to `end`.
-    Arc2D { border: [f64; 2], end: [f64; 2] },
-    /// ArcCW2D, ArcCCW2D.
-    ArcCenter2D { center: [f64; 2], end: [f64; 2], ccw: bool },
-    /// ArcAngle2D, deg.
-    ArcAngle2D { center: [f64; 2], angle: f64 },
-    /// Circle2D.
-    Circle2D { center: [f64; 2], end: [f64; 2], turns: i64 },
-    /// CircleAbs, CircleRel (`relative`: the target is a distance).
-    Circle { center: [f64; 3], normal: [f64; 3], turns: i64, target: Pose, relative: bool },
+    /// LineAbs2D/3D, LineAbs (HMPL 8.2.9, 8.2.10, 8.5.1): the coordinates given; the others
+    /// keep the start's.
+    LineAbs {
+        /// X, Y, Z mm, A, B, C deg; `None` where the command gives no coordinate.
+        target: [Option<f64>; COORDINATES],
+    },
+    /// LineRel2D/3D, LineRel (HMPL 8.2.11, 8.2.12, 8.5.2).
+    LineRel {
+        /// The displacement X, Y, Z mm, A, B, C deg; 0 where the command gives none.
+        distance: Pose,
+    },
+    /// Arc2D (HMPL 8.2.13): through `border` to `end`.
+    Arc2D {
+        /// A point the arc passes, (x, y) mm.
+        border: [f64; 2],
+        /// Where it ends, (x, y) mm.
+        end: [f64; 2],
+    },
+    /// ArcCW2D, ArcCCW2D (HMPL 8.2.14, 8.2.15).
+    ArcCenter2D {
+        /// The arc's center, (x, y) mm.
+        center: [f64; 2],
+        /// Where it ends, (x, y) mm.
+        end: [f64; 2],
+        /// ArcCCW2D: counter-clockwise; else ArcCW2D.
+        ccw: bool,
+    },
+    /// ArcAngle2D (HMPL 8.2.16).
+    ArcAngle2D {
+        /// The arc's center, (x, y) mm.
+        center: [f64; 2],
+        /// The turning angle, deg, > 0 counter-clockwise; several turns allowed.
+        angle: f64,
+    },
+    /// Circle2D (HMPL 8.2.17).
+    Circle2D {
+        /// The circle's center, (x, y) mm.
+        center: [f64; 2],
+        /// Where it ends, (x, y) mm.
+        end: [f64; 2],
+        /// The manual's turns rule: ≥ 1 counter-clockwise, < 0 clockwise, 0 as 1.
+        turns: i64,
+    },
+    /// CircleAbs, CircleRel (HMPL 8.5.3, 8.5.4).
+    Circle {
+        /// A point of the axis it turns about, mm.
+        center: [f64; 3],
+        /// That axis' direction (right-hand rule for the turning sense).
+        normal: [f64; 3],
+        /// The turns rule of Circle2D.
+        turns: i64,
+        /// The 6-DOF end, or with `relative` the distance to it.
+        target: Pose,
+        /// CircleRel: `target` is a distance from the start.
+        relative: bool,
+    },
 }
 
 impl PathCommand {
@@ -86,10 +128,15 @@ impl PathCommand {
 /// transition modes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Advanced {
+    /// `motion_profile`: the command's own linear profile (HMPL 8.5).
     pub profile: Profile,
+    /// `coord_sys`: the system its points are in (HMPL 8.1.2).
     pub coord_sys: CoordSys,
+    /// `buff_mode`: how it joins the next command (HMPL table 8.1.4.1).
     pub buffer: BufferMode,
+    /// `trans_mode`: the corner transition before it (HMPL table 8.1.5.1).
     pub trans_mode: TransitionMode,
+    /// `trans_par`: that transition's parameters (HMPL 8.3.26).
     pub trans: TransitionParams,
 }
 

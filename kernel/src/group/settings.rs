@@ -26,12 +26,19 @@ const MAX_QUEUE_EXPONENT: i64 = 10;
 /// HMPL table 8.1.3.1: kinematics ids; only Cartesian is available.
 pub const KIN_CARTESIAN: i64 = 1;
 
+/// What a group's setters set, the defaults of HMPL 8.3 until then; a path command without
+/// its own profile moves with them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GroupSettings {
+    /// The linear (TCP) profile, mm/s, mm/s², and the group's smooth time (HMPL 8.3.6).
     pub lin: Profile,
+    /// The angular profile, deg/s, deg/s² (HMPL 8.3.7).
     pub ang: Profile,
+    /// The buffer mode of later commands (HMPL 8.3.23).
     pub buffer: BufferMode,
+    /// The velocity override, percent, 0 to 100 (HMPL 8.3.28).
     pub vel_scale: f64,
+    /// SetGrpLookAheadPrm's parameters (HMPL 8.3.34).
     pub look_ahead: LookAhead,
 }
 

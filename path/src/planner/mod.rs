@@ -73,9 +73,14 @@ impl TryFrom<i64> for BufferMode {
 /// One motion profile (HMPL 8.3.6/8.3.7): mm or deg per s, per s², and the smooth time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Profile {
+    /// The feed: the cruise velocity along the path.
     pub vel: f64,
+    /// The acceleration up to the feed.
     pub acc: f64,
+    /// The deceleration down from the feed to a stop or a slower junction.
     pub dec: f64,
+    /// The group's smooth time Ts, ms (0: no smoothing): the planner holds every full stop
+    /// this long and keeps corner velocity steps within what Ts spreads.
     pub smooth_ms: f64,
 }
 
@@ -83,8 +88,11 @@ pub struct Profile {
 /// joins the next command.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Motion {
+    /// X, Y, Z in mm/s, mm/s².
     pub lin: Profile,
+    /// A, B, C in deg/s, deg/s², for the segments that rotate.
     pub ang: Profile,
+    /// How this command joins the next.
     pub buffer: BufferMode,
 }
 
@@ -92,8 +100,11 @@ pub struct Motion {
 /// and the chord error (mm, 0 = off).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LookAhead {
+    /// The acceleration a corner's velocity step may cause per coordinate, mm/s².
     pub corner_acc: f64,
+    /// The centripetal acceleration on arcs, v²/r, mm/s².
     pub arc_acc: f64,
+    /// The largest distance of a cycle's chord from an arc, mm; 0 leaves the speed unbounded by it.
     pub chord_error: f64,
 }
 
@@ -107,11 +118,14 @@ impl Default for LookAhead {
 /// The machine's limits per MCS coordinate (X, Y, Z, A, B, C); `INFINITY` where none.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
+    /// The velocity of each coordinate, mm/s or deg/s.
     pub max_vel: [f64; 6],
+    /// The acceleration and deceleration of each coordinate, mm/s² or deg/s².
     pub max_acc: [f64; 6],
 }
 
 impl Limits {
+    /// No limit on any coordinate.
     pub const NONE: Limits = Limits { max_vel: [f64::INFINITY; 6], max_acc: [f64::INFINITY; 6] };
 }
 
@@ -136,6 +150,8 @@ struct Jog {
     dec: [f64; 6],
 }
 
+/// A group's path planner: its command buffer and the motion along it, stepped once per
+/// cycle by the group, which smooths its output (`crate::smoothing`).
 pub struct Planner {
     period: f64,
     queue: Ring<Entry>,
@@ -190,6 +206,7 @@ impl Planner {
         Ok(())
     }
 
+    /// How many commands the buffer takes: 512 until SetGrpQueueSize (HMPL 8.3.35).
     pub fn queue_size(&self) -> usize {
         self.queue_size
     }
@@ -365,10 +382,6 @@ impl Planner {
         self.look_ahead = look_ahead;
     }
 
-    pub fn look_ahead(&self) -> LookAhead {
-        self.look_ahead
-    }
-
     /// HaltGroup (HMPL 8.2.5): velocity to 0 along the path; the plan is kept.
     pub fn halt(&mut self) {
         self.halted = true;
@@ -380,6 +393,7 @@ impl Planner {
         self.halted = false;
     }
 
+    /// Whether HaltGroup holds the path, until ResumeGroup or StopGroup.
     pub fn is_halted(&self) -> bool {
         self.halted
     }
@@ -414,10 +428,6 @@ impl Planner {
         self.scale = percent.clamp(0.0, 100.0) / 100.0;
     }
 
-    pub fn velocity_scale(&self) -> f64 {
-        self.scale * 100.0
-    }
-
     /// JogGroup (HMPL 8.2.7): MCS coordinate `coordinate` (0..=5 X..C) at a signed velocity,
     /// with the translation's or the rotation's profile, until a jog at 0, halt or stop.
     /// Ignored while path segments are queued (the group refuses it with CmdInvalidMoving).
@@ -437,6 +447,8 @@ impl Planner {
         self.jog.dec[coordinate] = p.dec.min(max_acc);
     }
 
+    /// Whether the path generator still emits (IsGrpMoving, HMPL 8.4.2): a jog, velocity
+    /// left, or segments queued and not halted.
     pub fn is_moving(&self) -> bool {
         self.jog.active || self.v != 0.0 || (!self.queue.is_empty() && !self.halted)
     }

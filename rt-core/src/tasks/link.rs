@@ -22,6 +22,7 @@ pub struct Entry {
 }
 
 impl Entry {
+    /// The program's top level (`StartTask`).
     pub const TOP_LEVEL: Entry = Entry { len: 0, name: [0; ENTRY_BYTES] };
 
     /// A function entry; `None` when the name is empty or too long.
@@ -48,8 +49,11 @@ impl Entry {
 /// An alarm for the supervisor to log and publish on the event stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AlarmReport {
+    /// The alarm's code (`api::alarms`).
     pub alarm: u32,
+    /// The task it concerns.
     pub task: u8,
+    /// The cycle it was raised in.
     pub cycle: u64,
     /// The Lua line the task was at, when known (0: unknown).
     pub line: u32,
@@ -58,26 +62,36 @@ pub struct AlarmReport {
     pub detail: i64,
 }
 
+/// What the RT thread asks of the supervisor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Order {
     /// Start the task's script process.
     Start {
+        /// The task.
         task: u8,
+        /// Where its program starts.
         entry: Entry,
     },
     /// The core handed the task to the pool's waiting process `pid` on place `place` of
     /// the board: forward its output and reap it (or, when it died first, start one).
     Handed {
+        /// The task.
         task: u8,
+        /// Where its program starts.
         entry: Entry,
+        /// The board place the process waits on.
         place: usize,
+        /// The waiting process.
         pid: u32,
     },
     /// End the task's process at once (SIGKILL).
     Kill {
+        /// The task.
         task: u8,
+        /// Its process, so that a process started since is spared.
         pid: u32,
     },
+    /// Log an alarm and publish it on the event stream.
     Alarm(AlarmReport),
 }
 
@@ -88,16 +102,38 @@ pub enum Exit {
     Finished,
     /// The program failed; `end_code` is what it wrote into its slot (an HMPL code or an
     /// `ipc::task_table::EndCode`; 0 when it could not say).
-    Failed { end_code: u32 },
+    Failed {
+        /// What the program wrote into its slot.
+        end_code: u32,
+    },
     /// Killed by a signal.
     Signal(i32),
 }
 
+/// What the supervisor tells the RT thread about the script processes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Report {
-    Spawned { task: u8, pid: u32 },
-    SpawnFailed { task: u8 },
-    Exited { task: u8, pid: u32, exit: Exit },
+    /// The task's process started.
+    Spawned {
+        /// The task.
+        task: u8,
+        /// Its process.
+        pid: u32,
+    },
+    /// The task's process could not be started.
+    SpawnFailed {
+        /// The task.
+        task: u8,
+    },
+    /// The task's process ended.
+    Exited {
+        /// The task.
+        task: u8,
+        /// The process that ended.
+        pid: u32,
+        /// How it ended.
+        exit: Exit,
+    },
 }
 
 /// The RT thread's end.
@@ -105,7 +141,6 @@ pub struct CoreLink {
     orders: Arc<ArrayQueue<Order>>,
     reports: Arc<ArrayQueue<Report>>,
     bell: Arc<OrderBell>,
-    lost_orders: u64,
 }
 
 /// The supervisor's end.
@@ -152,31 +187,26 @@ pub fn link() -> std::io::Result<(CoreLink, SupervisorEnd)> {
     let reports = Arc::new(ArrayQueue::new(CAPACITY));
     let bell = Arc::new(OrderBell::new()?);
     Ok((
-        CoreLink { orders: orders.clone(), reports: reports.clone(), bell: bell.clone(), lost_orders: 0 },
+        CoreLink { orders: orders.clone(), reports: reports.clone(), bell: bell.clone() },
         SupervisorEnd { orders, reports, bell },
     ))
 }
 
 impl CoreLink {
-    /// Never blocks; an order that finds the queue full is counted and dropped.
+    /// Never blocks; an order that finds the queue full is dropped.
     pub fn order(&mut self, order: Order) {
-        match self.orders.push(order) {
-            Ok(()) => self.bell.ring(),
-            Err(_) => self.lost_orders += 1,
+        if self.orders.push(order).is_ok() {
+            self.bell.ring();
         }
     }
 
-    pub fn next_report(&self) -> Option<Report> {
+    pub(crate) fn next_report(&self) -> Option<Report> {
         self.reports.pop()
-    }
-
-    pub fn lost_orders(&self) -> u64 {
-        self.lost_orders
     }
 }
 
 impl SupervisorEnd {
-    pub fn next_order(&self) -> Option<Order> {
+    pub(crate) fn next_order(&self) -> Option<Order> {
         self.orders.pop()
     }
 

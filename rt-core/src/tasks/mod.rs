@@ -58,6 +58,8 @@ struct Task {
     watchdog: Watchdog,
 }
 
+/// The 64 HMPL tasks (ch. 16): each one's state, program and process, and the RT thread's
+/// end of the link to the supervisor.
 pub struct Tasks {
     tasks: [Task; MAX_TASKS],
     link: CoreLink,
@@ -89,10 +91,13 @@ fn runtime_error(exit: Exit) -> SystemError {
 pub enum StopCause {
     /// `StopTask`, `StopAllTask` or an E-stop.
     Stopped,
+    /// An alarm ended it (a watchdog, a lost process, a fault of its motion).
     Fault(Alarm),
 }
 
 impl Tasks {
+    /// The tasks of the machine file (`configs`), none running, ordering the supervisor
+    /// through `link`.
     pub fn new(configs: &[TaskConfig], period_ns: u64, link: CoreLink) -> Self {
         let empty = Task {
             spec: None,
@@ -134,6 +139,7 @@ impl Tasks {
         u8::try_from(id).ok().filter(|&t| (t as usize) < MAX_TASKS).ok_or(SystemError::NotValidTaskid)
     }
 
+    /// Where task `task` is in its life (what IsTaskStop, HMPL 16.6, reads).
     pub fn state(&self, task: u8) -> TaskState {
         self.tasks[task as usize].state
     }
@@ -443,10 +449,6 @@ impl Tasks {
                 run_speed_pct,
             };
         }
-    }
-
-    pub fn lost_orders(&self) -> u64 {
-        self.link.lost_orders()
     }
 }
 
