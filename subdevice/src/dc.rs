@@ -119,9 +119,12 @@ impl DistributedClock {
         registers.set_byte(DC_ACTIVATION_STATUS, status);
     }
 
-    /// Whether SYNC0 runs: armed with a cycle (a single shot does not clock a drive).
-    pub fn cyclic(&self) -> bool {
-        matches!(self.sync0, Sync0::Armed { cycle_ns, .. } if cycle_ns > 0)
+    /// The SYNC0 cycle when SYNC0 runs cyclically (a single shot does not clock a drive).
+    pub fn cycle_ns(&self) -> Option<u32> {
+        match self.sync0 {
+            Sync0::Armed { cycle_ns, .. } if cycle_ns > 0 => Some(cycle_ns),
+            _ => None,
+        }
     }
 
     /// The SYNC0 pulses up to `now`, at most `cap`: a longer gap skips the pulses beyond
@@ -142,7 +145,7 @@ impl DistributedClock {
             return Pulses { count: 1, cycle_ns: 0 };
         }
         let passed = (system - *next) / u64::from(cycle) + 1;
-        *next += passed * u64::from(cycle);
+        *next = next.saturating_add(passed.saturating_mul(u64::from(cycle)));
         *pulsed = true;
         self.pulse_seen = true;
         registers.set_byte(DC_ACTIVATION_STATUS, 0);
@@ -214,7 +217,7 @@ mod tests {
         registers.set_u32(DC_SYNC0_CYCLE, 1_000_000);
         registers.set_byte(DC_ACTIVATION, 0b11);
         clock.activate(&mut registers, 0);
-        assert!(clock.cyclic());
+        assert_eq!(clock.cycle_ns(), Some(1_000_000));
         assert_eq!(registers.byte(DC_ACTIVATION_STATUS), FIRST_PULSE_PENDING);
         assert_eq!(clock.pulses(&mut registers, 1_999_999, 100).count, 0);
         assert_eq!(clock.pulses(&mut registers, 2_000_000, 100), Pulses { count: 1, cycle_ns: 1_000_000 });
@@ -237,7 +240,7 @@ mod tests {
         registers.set_u64(DC_START_TIME, 10);
         registers.set_byte(DC_ACTIVATION, 0b11);
         clock.activate(&mut registers, 1_000);
-        assert!(!clock.cyclic());
+        assert_eq!(clock.cycle_ns(), None);
         assert_eq!(registers.byte(DC_ACTIVATION_STATUS), START_OUT_OF_RANGE);
         assert_eq!(clock.pulses(&mut registers, 2_000_000, 10).count, 0);
     }

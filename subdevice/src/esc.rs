@@ -190,6 +190,12 @@ impl Esc {
         self.render_status();
     }
 
+    /// Whether the slave runs on SYNC0: it runs cyclically at a cycle the device takes
+    /// (a drive synchronises to the DC cycles of its manual only).
+    fn synchronised(&self) -> bool {
+        self.dc.cycle_ns().is_some_and(|cycle| self.slave.device().accepts_cycle_time(i64::from(cycle)))
+    }
+
     /// A frame reaches the ESC: the SYNC0 pulses until now step the slave first, so that
     /// the frame reads the inputs of the last pulse (DC mode; docs/decisions.md, "When the
     /// drives step").
@@ -197,6 +203,9 @@ impl Esc {
         self.arrival = arrival;
         self.process_data = false;
         let pulses = self.dc.pulses(&mut self.registers, arrival.port0, MAX_PULSES_PER_FRAME);
+        if !self.synchronised() {
+            return;
+        }
         for _ in 0..pulses.count {
             self.step(f64::from(pulses.cycle_ns) * 1e-9);
         }
@@ -205,10 +214,10 @@ impl Esc {
         }
     }
 
-    /// The frame has passed: without cyclic SYNC0, a frame that reached the process data
-    /// steps the slave once, by the time since its last step (free run).
+    /// The frame has passed: not synchronised to SYNC0, a frame that reached the process
+    /// data steps the slave once, by the time since its last step (free run).
     pub fn frame_leaves(&mut self) {
-        if self.dc.cyclic() || !self.process_data {
+        if self.synchronised() || !self.process_data {
             return;
         }
         let now = self.arrival.port0;
@@ -311,10 +320,11 @@ impl Esc {
         }
     }
 
-    /// The enabled SyncManager whose window holds `address`, if any.
+    /// The enabled SyncManager whose window holds `address`, if any. A window not wholly
+    /// in the process RAM guards nothing (no application memory is behind it).
     fn guard(&self, address: u32) -> Option<(usize, SmConfig)> {
         let address = u16::try_from(address).ok()?;
-        (0..SM_COUNT).map(|n| (n, self.sm(n))).find(|(_, c)| c.enabled() && c.contains(address))
+        (0..SM_COUNT).map(|n| (n, self.sm(n))).find(|(_, c)| c.enabled() && c.contains(address) && window(c).is_some())
     }
 
     fn sm(&self, n: usize) -> SmConfig {
@@ -440,8 +450,7 @@ impl Esc {
     /// A buffer or message completed by EtherCAT: the application takes it at once.
     fn sm_completed(&mut self, n: usize) {
         let config = self.sm(n);
-        let window =
-            usize::from(config.start) - RAM_START as usize..usize::from(config.last()) - RAM_START as usize + 1;
+        let Some(window) = window(&config) else { return };
         match (config.mode(), config.direction()) {
             (Some(SmMode::Mailbox), Some(SmDirection::Write)) => {
                 let message = self.ram[window].to_vec();
@@ -471,8 +480,8 @@ impl Esc {
 
     fn put_reply(&mut self, reply: &[u8]) {
         let config = self.sm(1);
-        let start = usize::from(config.start) - RAM_START as usize;
-        let window = &mut self.ram[start..start + usize::from(config.length)];
+        let Some(window) = window(&config) else { return };
+        let window = &mut self.ram[window];
         window.fill(0);
         let len = reply.len().min(window.len());
         window[..len].copy_from_slice(&reply[..len]);
@@ -528,7 +537,7 @@ impl Esc {
                 && usize::from(config.length) == len
                 && config.mode() == Some(SmMode::Buffered)
                 && config.direction() == Some(direction)
-                && usize::from(config.start) + len <= RAM_START as usize + RAM_LEN
+                && window(config).is_some()
         };
         let code = if !fits(&outputs, rx_len, SmDirection::Write) {
             Some(INVALID_OUTPUT_CONFIGURATION)
@@ -559,11 +568,11 @@ impl Esc {
                 && config.mode() == Some(SmMode::Mailbox)
                 && config.direction() == Some(direction)
                 && usize::from(config.length) >= MAILBOX_HEADER_LEN + SDO_LEN
-                && u32::from(config.start) >= RAM_START
-                && usize::from(config.start) + usize::from(config.length) <= RAM_START as usize + RAM_LEN
+                && window(&config).is_some()
         };
         let (out, input) = (self.sm(0), self.sm(1));
-        let apart = out.start + out.length <= input.start || input.start + input.length <= out.start;
+        let end = |c: SmConfig| u32::from(c.start) + u32::from(c.length);
+        let apart = end(out) <= u32::from(input.start) || end(input) <= u32::from(out.start);
         fits(out, SmDirection::Write) && fits(input, SmDirection::Read) && apart
     }
 
@@ -596,9 +605,9 @@ impl Esc {
         self.outputs.resize(rx_len, 0);
         self.inputs.resize(tx_len, 0);
         self.slave.cycle(&self.outputs, &mut self.inputs, period_s);
-        if let Some([_, inputs]) = self.accepted {
-            let start = usize::from(inputs.start) - RAM_START as usize;
-            self.ram[start..start + self.inputs.len()].copy_from_slice(&self.inputs);
+        if let Some(window) = self.accepted.and_then(|[_, inputs]| window(&inputs)) {
+            let len = self.inputs.len().min(window.len());
+            self.ram[window][..len].copy_from_slice(&self.inputs[..len]);
         }
     }
 
@@ -622,6 +631,13 @@ impl Esc {
             self.registers.set_byte(SM_BASE + (n * SM_REGISTER_LEN) as u16 + 5, status);
         }
     }
+}
+
+/// A SyncManager's window as a range of the process RAM, if it lies wholly in it.
+fn window(config: &SmConfig) -> Option<std::ops::Range<usize>> {
+    let start = usize::from(config.start).checked_sub(RAM_START as usize)?;
+    let end = start + usize::from(config.length);
+    (config.length > 0 && end <= RAM_LEN).then_some(start..end)
 }
 
 /// Which sides of an access an operation has: (reads, writes).
