@@ -19,6 +19,7 @@ mod replay_cli;
 mod scope;
 mod soak;
 mod stdout;
+mod subdevices_cli;
 mod test_runner;
 mod tools;
 mod web;
@@ -114,6 +115,9 @@ enum Cmd {
         #[arg(long)]
         count: Option<usize>,
     },
+    /// Serve the machine file's drives and I/O slaves as an EtherCAT segment on a network
+    /// interface (raw socket: CAP_NET_RAW), for a master on the other end of the wire.
+    Subdevices(subdevices_cli::SubdevicesArgs),
     /// Soak-test the IPC and the cycle: latency and jitter under N scripts, beside this
     /// machine's floors measured in the same run.
     Soak(soak::SoakArgs),
@@ -336,6 +340,7 @@ fn main() -> ExitCode {
         Cmd::Serve(args) => drl_cli::serve(args),
         Cmd::Drl(args) => drl_cli::drl(args),
         Cmd::Soak(args) => soak::soak(args),
+        Cmd::Subdevices(args) => subdevices_cli::subdevices(args),
         Cmd::SoakWorker { ns, task, axis, duration_ms, controller_pid, out } => {
             soak::worker::run(soak::worker::WorkerArgs { ns, task, axis, duration_ms, controller_pid, out })
                 .map(|()| ExitCode::SUCCESS)

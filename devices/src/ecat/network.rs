@@ -157,6 +157,12 @@ impl Network {
         &mut self.slaves
     }
 
+    /// The slaves in ring order, for another transport to carry (the wire's ESCs,
+    /// `subdevice`): the same devices, without this network's master.
+    pub fn into_slaves(self) -> Vec<Slave> {
+        self.slaves
+    }
+
     /// The master's start-up (CoE manual 2.3): scan, every slave to PreOp, PDO mapping
     /// and the DC cycle configured over the mailbox, SafeOp (mapping and sync checked),
     /// process image laid out from the mapping objects, Op. A failure leaves the network

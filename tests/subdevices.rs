@@ -1,0 +1,199 @@
+//! Issue 38: the simulated drives on a real (virtual) wire, with a master nobody here wrote.
+//! `luamotion subdevices` serves the built-in machine's drives on one end of a veth pair;
+//! SOEM (pysoem, tests/python/soem_master.py) is the master on the other end, in a network
+//! namespace. The test makes the namespace and the pair itself, with names of its own, and
+//! removes them when it ends, also when it fails. It needs root or CAP_NET_ADMIN and
+//! CAP_NET_RAW; with `CI=true` a missing capability or install fails, never skips.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::Duration;
+
+use common::{BIN, finish, in_ci, pymodbus_python, repo_path, try_debian_tool};
+use config::MachineConfig;
+
+/// A network namespace with one end of a veth pair in it, the other end up in ours;
+/// both gone when dropped (deleting the namespace deletes its end, and the pair with it).
+struct Wire {
+    ip: PathBuf,
+    namespace: String,
+    outside: String,
+    inside: String,
+}
+
+impl Wire {
+    /// A new namespace and pair, or why they cannot be made here.
+    fn new() -> Result<Wire, String> {
+        static NEXT: AtomicU32 = AtomicU32::new(0);
+        let ip = try_debian_tool("ip")?;
+        // Interface names have at most 15 bytes: "lmv" + pid (7 digits at most) + n + a/b.
+        let tag = format!("{}{}", std::process::id(), NEXT.fetch_add(1, Ordering::Relaxed));
+        let wire = Wire {
+            ip,
+            namespace: format!("luamotion-wire-{tag}"),
+            outside: format!("lmv{tag}a"),
+            inside: format!("lmv{tag}b"),
+        };
+        wire.run(&["netns", "add", &wire.namespace])?;
+        wire.run(&["link", "add", &wire.outside, "type", "veth", "peer", "name", &wire.inside])?;
+        wire.run(&["link", "set", &wire.inside, "netns", &wire.namespace])?;
+        wire.run(&["link", "set", &wire.outside, "up"])?;
+        wire.run(&["-n", &wire.namespace, "link", "set", &wire.inside, "up"])?;
+        Ok(wire)
+    }
+
+    fn run(&self, args: &[&str]) -> Result<(), String> {
+        let output = Command::new(&self.ip).args(args).output().map_err(|e| format!("ip {}: {e}", args.join(" ")))?;
+        if output.status.success() {
+            Ok(())
+        } else {
+            Err(format!("ip {}: {}", args.join(" "), String::from_utf8_lossy(&output.stderr).trim()))
+        }
+    }
+}
+
+impl Drop for Wire {
+    fn drop(&mut self) {
+        let _ = self.run(&["link", "del", &self.outside]);
+        let _ = self.run(&["netns", "del", &self.namespace]);
+    }
+}
+
+/// The wire, or: in CI a failure, elsewhere a skip (None) that says why.
+fn wire() -> Option<Wire> {
+    match Wire::new() {
+        Ok(wire) => Some(wire),
+        Err(why) if in_ci() => panic!("the test needs root or CAP_NET_ADMIN and CAP_NET_RAW: {why}"),
+        Err(why) => {
+            eprintln!("skipped: the test needs root or CAP_NET_ADMIN and CAP_NET_RAW: {why}");
+            None
+        }
+    }
+}
+
+/// `luamotion subdevices` on the outside end, killed when dropped.
+struct Segment(Option<Child>);
+
+impl Segment {
+    /// Started; returns once it serves, or fails saying what it printed.
+    fn start(interface: &str) -> Segment {
+        let mut child = Command::new(BIN)
+            .args(["-v", "subdevices", "--interface", interface])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start luamotion subdevices");
+        let lines = common::lines_of(child.stdout.take().unwrap());
+        match lines.recv_timeout(Duration::from_secs(30)) {
+            Ok(line) if line.starts_with("serving ") => Segment(Some(child)),
+            other => {
+                let _ = child.kill();
+                let finished = finish(child, Duration::from_secs(5));
+                panic!("luamotion subdevices did not serve within 30 s: {other:?}\n{}", finished.stderr)
+            }
+        }
+    }
+
+    /// SIGTERM, and what it said as it ended.
+    fn stop(mut self) -> common::Finished {
+        let child = self.0.take().expect("running");
+        // SAFETY: asking our own child to end.
+        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+        finish(child, Duration::from_secs(10))
+    }
+}
+
+impl Drop for Segment {
+    fn drop(&mut self) {
+        if let Some(child) = &mut self.0 {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+/// The master's script in the namespace, with a deadline; its JSON report.
+fn soem_master(wire: &Wire, counts_per_mm: f64) -> serde_json::Value {
+    let python = pymodbus_python();
+    let child = Command::new(&wire.ip)
+        .args(["netns", "exec", &wire.namespace])
+        .arg(python)
+        .arg(repo_path("tests/python/soem_master.py"))
+        .arg(&wire.inside)
+        .arg(counts_per_mm.to_string())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start the pysoem master");
+    let finished = finish(child, Duration::from_secs(120));
+    assert!(
+        finished.status.success(),
+        "the pysoem master failed or ran past its 120 s ({}):\n{}",
+        finished.status,
+        finished.stderr
+    );
+    serde_json::from_str(finished.stdout.trim()).unwrap_or_else(|e| panic!("its report: {e}\n{}", finished.stdout))
+}
+
+/// Issue 38 item 2, each point against the machine file and the CoE manual.
+#[test]
+fn soem_scans_configures_and_moves_the_simulated_drives() {
+    let Some(wire) = wire() else { return };
+    let machine = MachineConfig::default();
+    let axes = machine.axes.len();
+    let segment = Segment::start(&wire.outside);
+    let report = soem_master(&wire, machine.axes[0].counts_per_unit);
+    let stopped = segment.stop();
+    let int = |key: &str| report[key].as_i64().unwrap_or_else(|| panic!("{key} in {report}"));
+    let list = |key: &str| -> Vec<i64> {
+        report[key].as_array().unwrap_or_else(|| panic!("{key}")).iter().map(|v| v.as_i64().unwrap()).collect()
+    };
+
+    // config_init: every drive, with the identity of its 0x1018 (CoE manual tables 4-1, 4-2).
+    assert_eq!(int("count"), axes as i64, "{report}");
+    for (slave, identity) in report["identity"].as_array().unwrap().iter().enumerate() {
+        let product = i64::from(machine.axes[slave].drive.product_code());
+        assert_eq!(identity, &serde_json::json!([0xAAAA, product, 1]), "slave {slave}");
+    }
+    assert_eq!(list("after_init"), vec![2; axes], "PreOp after config_init");
+    // config_map: the default mapping (CoE manual table 2-4): RxPDO controlword and target
+    // position, 6 bytes; TxPDO statusword, position, following error, 10 bytes.
+    assert_eq!(int("image"), 16 * axes as i64);
+    assert_eq!(int("expected_wkc"), 3 * axes as i64, "LRW: outputs 2, inputs 1 per slave");
+    // OP via SafeOp.
+    assert_eq!(int("safe_op"), 4);
+    assert_eq!(list("after_map"), vec![4; axes]);
+    assert_eq!(int("op"), 8);
+    assert_eq!(list("after_op"), vec![8; axes]);
+    // SDOs (CoE manual tables 4-1 and 4-15) and the aborts.
+    let sdo = &report["sdo"];
+    assert_eq!(sdo["0x1000"], 0x0002_0192, "device type");
+    assert_eq!(sdo["0x1018"], serde_json::json!([0xAAAA, machine.axes[0].drive.product_code(), 1, 0]));
+    assert_eq!(sdo["0x6060"], 8, "modes of operation: csp by default");
+    assert_eq!(sdo["0x6502"], 0x03AD, "supported drive modes");
+    assert_eq!(int("abort_missing"), 0x0602_0000, "a missing object");
+    assert_eq!(int("abort_read_only"), 0x0601_0002, "a write to a read-only object");
+    // The DC.
+    assert_eq!(report["dc"], 1, "config_dc found DC-capable slaves");
+    assert!(report["dc_time"].as_u64().unwrap() > 0, "the reference clock's system time came back");
+    // The second variant: raw FPRD of the AL status (PreOp then) and the EEPROM by word.
+    assert_eq!(list("al_status_fprd"), vec![2; axes]);
+    for words in report["eeprom"].as_array().unwrap() {
+        let rx_mailbox = 0x1800 | 246 << 16;
+        assert_eq!(words, &serde_json::json!([0xAAAA, 2, 1, rx_mailbox, 0x0004]), "identity, mailbox, CoE");
+    }
+    // The CSP loop: Operation enabled, 10 mm, 0x6064 following within 0x6065.
+    assert_eq!(int("statusword_enabled") & 0x6F, 0x27, "Operation enabled");
+    assert!(!report["fault"].as_bool().unwrap(), "no fault, no following error bit: {report}");
+    let moved = int("end") - int("start");
+    assert!((moved - int("distance")).abs() <= 50, "moved {moved} counts of {}", int("distance"));
+    assert!(int("worst_following_error") <= int("window"), "{report}");
+    assert!(int("worst_following_error") > 0, "the drive followed a moving target");
+    assert!(int("wkc_low") * 100 <= int("frames"), "process data frames short of the working counter: {report}");
+    assert!(stopped.status.success(), "the segment ends on SIGTERM: {}", stopped.stderr);
+    let answered = stopped.stderr.lines().find(|l| l.contains("frames answered")).unwrap_or_default().to_string();
+    assert!(answered.contains(" 0 dropped"), "{answered}");
+}
