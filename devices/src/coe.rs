@@ -227,7 +227,8 @@ impl ObjectStore {
         self.def(id).variants & self.variant != 0
     }
 
-    pub(crate) fn def(&self, id: ObjId) -> &'static ObjectDef {
+    /// The definition of object `id`: its name, type, access and PDO flags.
+    pub fn def(&self, id: ObjId) -> &'static ObjectDef {
         &self.table[id.0]
     }
 
@@ -236,7 +237,8 @@ impl ObjectStore {
         self.table.iter().position(|o| o.index == index && o.sub == sub).map(ObjId).filter(|&id| self.has(id))
     }
 
-    pub(crate) fn get(&self, id: ObjId) -> i64 {
+    /// The stored value of object `id`, as the device last set it or a master wrote it.
+    pub fn get(&self, id: ObjId) -> i64 {
         self.values[id.0]
     }
 

@@ -5,7 +5,7 @@ pub mod device;
 pub mod esm;
 pub mod mailbox;
 pub mod network;
-pub(crate) mod pdo;
+pub mod pdo;
 pub mod slave;
 
 pub use device::Device;

@@ -3,19 +3,24 @@
 
 use crate::coe::{Access, DataType, ObjId, ObjectStore};
 
-/// At most 7 entries and 20 bytes per PDO (CoE manual 2.4).
+/// At most 7 entries per PDO (CoE manual 2.4).
 pub const MAX_ENTRIES: usize = 7;
+/// At most 20 bytes of process data per PDO (CoE manual 2.4).
 pub const MAX_BYTES: usize = 20;
 
 /// One mapping entry, `0xIIII SS LL` on the wire: index, sub-index, bit length.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PdoEntry {
+    /// The mapped object's index (`0xIIII`).
     pub index: u16,
+    /// Its sub-index (`SS`).
     pub sub: u8,
+    /// Its length in bits (`LL`), which must be the object's type's.
     pub bits: u8,
 }
 
 impl PdoEntry {
+    /// The entry a mapping object's sub-index holds (`0xIIIISSLL`).
     pub const fn from_u32(v: u32) -> Self {
         PdoEntry { index: (v >> 16) as u16, sub: (v >> 8) as u8, bits: v as u8 }
     }
@@ -24,19 +29,29 @@ impl PdoEntry {
 /// A mapped object and its byte offset in the slave's process data.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Mapped {
+    /// The object in the device's dictionary.
     pub obj: ObjId,
+    /// Its data type, which sets its width in the process data.
     pub ty: DataType,
+    /// Its first byte in the slave's process data of this direction.
     pub offset: usize,
 }
 
+/// Why a PDO's mapping is refused (CoE manual 2.4; the master sees an SDO abort or the
+/// SafeOp refusal).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MappingError {
+    /// More than `MAX_ENTRIES` entries.
     TooManyEntries,
+    /// More than `MAX_BYTES` bytes of process data.
     TooLong,
+    /// The entry names an object the device does not have.
     UnknownObject(PdoEntry),
+    /// The object exists but may not be mapped into a PDO.
     NotMappable(PdoEntry),
     /// A read-only object in the RxPDO: the master could not write it.
     NotWritable(PdoEntry),
+    /// The entry's bit length is not the object's type's.
     LengthMismatch(PdoEntry),
     /// An assignment names no mapping object of its direction, or one twice.
     NotAPdo(u16),

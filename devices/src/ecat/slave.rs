@@ -33,7 +33,8 @@ pub struct Slave {
 }
 
 impl Slave {
-    pub(crate) fn new(device: Box<dyn Device>) -> Self {
+    /// A slave in Init holding `device`, its PDO mapping not yet laid out.
+    pub fn new(device: Box<dyn Device>) -> Self {
         Slave {
             esm: Esm::default(),
             device,
