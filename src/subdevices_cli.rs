@@ -54,7 +54,8 @@ pub fn subdevices(args: SubdevicesArgs) -> Result<ExitCode> {
         signal_hook::flag::register(signal, Arc::clone(&stop)).context("signal handler")?;
     }
     tracing::info!("{count} subdevices on {}", args.interface);
-    crate::stdout::outln!("serving {count} subdevices on {}", args.interface)?;
+    // A segment is machinery a master drives: a log reader that goes away must not stop it.
+    crate::stdout::sayln!("serving {count} subdevices on {}", args.interface);
     let served = subdevice::serve(&mut segment, &socket, &stop).context("the raw socket")?;
     tracing::info!("{} frames answered, {} dropped", served.answered, served.dropped);
     Ok(ExitCode::SUCCESS)

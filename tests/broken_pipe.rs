@@ -14,7 +14,8 @@ use std::time::Duration;
 use common::*;
 
 /// The commands this file runs with a closed stdout, as `luamotion --help` lists them.
-const COVERED: [&str; 10] = ["run", "test", "scope", "serve", "drl", "tasks", "events", "soak", "api", "help"];
+const COVERED: [&str; 11] =
+    ["run", "test", "scope", "serve", "subdevices", "drl", "tasks", "events", "soak", "api", "help"];
 
 /// What the shell shows for a writer that SIGPIPE ended, and what a tool exits with here.
 const CLOSED: i32 = 128 + libc::SIGPIPE;
@@ -52,6 +53,25 @@ fn goes_on(ns: &str, args: &[&str], exit_code: i32, out: Finished) {
     assert_eq!(out.status.code(), Some(exit_code), "{args:?}:\n{}", out.stderr);
     assert_eq!(out.stderr.matches("stdout is closed").count(), 1, "{args:?} says it once:\n{}", out.stderr);
     assert_eq!(shm_files(ns), Vec::<String>::new(), "{args:?} left shared memory");
+}
+
+/// `subdevices` serves its segment on after its line went into the closed pipe (a master
+/// may be driving its drives), and ends on SIGTERM as it would with a reader.
+#[test]
+fn subdevices_serve_on_until_stopped() {
+    let Some(wire) = common::wire::wire() else { return };
+    let args = ["subdevices", "--interface", &wire.outside];
+    let mut child = Command::new(BIN).args(args).stdout(closed_stdout()).stderr(Stdio::piped()).spawn().unwrap();
+    let running = |child: &mut std::process::Child| child.try_wait().unwrap().is_none();
+    // Its one line is written (and dropped) once the socket is bound.
+    std::thread::sleep(Duration::from_millis(1500));
+    let still_up = running(&mut child);
+    // SAFETY: plain kill(2) of our own child.
+    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
+    let out = finish(child, Duration::from_secs(30));
+    assert!(still_up, "subdevices ended with its stdout closed:\n{}", out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{}", out.stderr);
+    assert_eq!(out.stderr.matches("stdout is closed").count(), 1, "it says so once:\n{}", out.stderr);
 }
 
 /// Every command of `luamotion --help` is run below: a new one needs its row.

@@ -7,72 +7,12 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 
-use common::{BIN, finish, in_ci, pymodbus_python, repo_path, try_debian_tool};
+use common::wire::{Wire, wire};
+use common::{BIN, finish, pymodbus_python, repo_path};
 use config::MachineConfig;
-
-/// A network namespace with one end of a veth pair in it, the other end up in ours;
-/// both gone when dropped (deleting the namespace deletes its end, and the pair with it).
-struct Wire {
-    ip: PathBuf,
-    namespace: String,
-    outside: String,
-    inside: String,
-}
-
-impl Wire {
-    /// A new namespace and pair, or why they cannot be made here.
-    fn new() -> Result<Wire, String> {
-        static NEXT: AtomicU32 = AtomicU32::new(0);
-        let ip = try_debian_tool("ip")?;
-        // Interface names have at most 15 bytes: "lmv" + pid (7 digits at most) + n + a/b.
-        let tag = format!("{}{}", std::process::id(), NEXT.fetch_add(1, Ordering::Relaxed));
-        let wire = Wire {
-            ip,
-            namespace: format!("luamotion-wire-{tag}"),
-            outside: format!("lmv{tag}a"),
-            inside: format!("lmv{tag}b"),
-        };
-        wire.run(&["netns", "add", &wire.namespace])?;
-        wire.run(&["link", "add", &wire.outside, "type", "veth", "peer", "name", &wire.inside])?;
-        wire.run(&["link", "set", &wire.inside, "netns", &wire.namespace])?;
-        wire.run(&["link", "set", &wire.outside, "up"])?;
-        wire.run(&["-n", &wire.namespace, "link", "set", &wire.inside, "up"])?;
-        Ok(wire)
-    }
-
-    fn run(&self, args: &[&str]) -> Result<(), String> {
-        let output = Command::new(&self.ip).args(args).output().map_err(|e| format!("ip {}: {e}", args.join(" ")))?;
-        if output.status.success() {
-            Ok(())
-        } else {
-            Err(format!("ip {}: {}", args.join(" "), String::from_utf8_lossy(&output.stderr).trim()))
-        }
-    }
-}
-
-impl Drop for Wire {
-    fn drop(&mut self) {
-        let _ = self.run(&["link", "del", &self.outside]);
-        let _ = self.run(&["netns", "del", &self.namespace]);
-    }
-}
-
-/// The wire, or: in CI a failure, elsewhere a skip (None) that says why.
-fn wire() -> Option<Wire> {
-    match Wire::new() {
-        Ok(wire) => Some(wire),
-        Err(why) if in_ci() => panic!("the test needs root or CAP_NET_ADMIN and CAP_NET_RAW: {why}"),
-        Err(why) => {
-            eprintln!("skipped: the test needs root or CAP_NET_ADMIN and CAP_NET_RAW: {why}");
-            None
-        }
-    }
-}
 
 /// `luamotion subdevices` on the outside end, killed when dropped.
 struct Segment(Option<Child>);

@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod serve;
+pub mod wire;
 
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
