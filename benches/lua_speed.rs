@@ -102,7 +102,8 @@ fn in_task(luamotion: &str, dir: &Path, body: &str) -> (f64, String) {
     .unwrap();
     std::fs::write(
         dir.join("machine.toml"),
-        "[[tasks]]\nid = 0\nprogram = \"task.lua\"\nautorun = true\nwatchdog_ms = 60000\n",
+        // No script pool: the task's process is the controller's only child, the one timed.
+        "[rt]\nscript_pool = 0\n[[tasks]]\nid = 0\nprogram = \"task.lua\"\nautorun = true\nwatchdog_ms = 60000\n",
     )
     .unwrap();
     let ns = common::unique_ns("lua-speed");
