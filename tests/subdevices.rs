@@ -7,53 +7,12 @@
 
 mod common;
 
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use common::wire::{Wire, wire};
-use common::{BIN, finish, pymodbus_python, repo_path};
+use common::wire::{End, Segment, Wire, wire};
+use common::{finish, pymodbus_python, repo_path};
 use config::MachineConfig;
-
-/// `luamotion subdevices` on the outside end, killed when dropped.
-struct Segment(Option<Child>);
-
-impl Segment {
-    /// Started; returns once it serves, or fails saying what it printed.
-    fn start(interface: &str) -> Segment {
-        let mut child = Command::new(BIN)
-            .args(["-v", "subdevices", "--interface", interface])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start luamotion subdevices");
-        let lines = common::lines_of(child.stdout.take().unwrap());
-        match lines.recv_timeout(Duration::from_secs(30)) {
-            Ok(line) if line.starts_with("serving ") => Segment(Some(child)),
-            other => {
-                let _ = child.kill();
-                let finished = finish(child, Duration::from_secs(5));
-                panic!("luamotion subdevices did not serve within 30 s: {other:?}\n{}", finished.stderr)
-            }
-        }
-    }
-
-    /// SIGTERM, and what it said as it ended.
-    fn stop(mut self) -> common::Finished {
-        let child = self.0.take().expect("running");
-        // SAFETY: asking our own child to end.
-        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
-        finish(child, Duration::from_secs(10))
-    }
-}
-
-impl Drop for Segment {
-    fn drop(&mut self) {
-        if let Some(child) = &mut self.0 {
-            let _ = child.kill();
-            let _ = child.wait();
-        }
-    }
-}
 
 /// The master's script in the namespace, with a deadline; its JSON report.
 fn soem_master(wire: &Wire, counts_per_mm: f64) -> serde_json::Value {
@@ -84,7 +43,7 @@ fn soem_scans_configures_and_moves_the_simulated_drives() {
     let Some(wire) = wire() else { return };
     let machine = MachineConfig::default();
     let axes = machine.axes.len();
-    let segment = Segment::start(&wire.outside);
+    let segment = Segment::serve(&wire, End::Outside);
     let report = soem_master(&wire, machine.axes[0].counts_per_unit);
     let stopped = segment.stop();
     let int = |key: &str| report[key].as_i64().unwrap_or_else(|| panic!("{key} in {report}"));

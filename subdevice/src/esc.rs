@@ -251,14 +251,14 @@ impl Esc {
     }
 
     /// Register and RAM access by address: reads replace the datagram's bytes (broadcast
-    /// reads OR into them), writes take the datagram as it arrived.
+    /// reads OR into them), writes take the datagram as it arrived (each byte is written
+    /// before it is read into, so it is still the one that arrived).
     fn physical(&mut self, ado: u16, data: &mut [u8], operation: Operation, or: bool) -> Done {
         let mut done = Done::default();
-        let arrived = data.to_vec();
         let (reads, writes) = sides(operation);
         for (i, byte) in data.iter_mut().enumerate() {
             let address = u32::from(ado) + i as u32;
-            if writes && self.ecat_write(address, arrived[i]) {
+            if writes && self.ecat_write(address, *byte) {
                 done.written = true;
             }
             if reads && let Some(value) = self.ecat_read(address) {
@@ -269,26 +269,20 @@ impl Esc {
         done
     }
 
-    /// Logical access through the FMMUs: writes first, from the datagram as it arrived,
-    /// then reads into it, so that overlapping inputs replace outputs.
+    /// Logical access through the FMMUs: all writes first, from the datagram as it
+    /// arrived, then the reads into it, so that overlapping inputs replace outputs.
     fn logical(&mut self, address: u32, data: &mut [u8], operation: Operation) -> Done {
         let mut done = Done::default();
-        let arrived = data.to_vec();
         let (reads, writes) = sides(operation);
-        let fmmus: Vec<Fmmu> = (0..FMMU_COUNT)
-            .map(|n| {
-                Fmmu::from_registers(
-                    self.registers.bytes::<FMMU_REGISTER_LEN>(FMMU_BASE + (n * FMMU_REGISTER_LEN) as u16),
-                )
-            })
-            .filter(Fmmu::active)
-            .collect();
+        let fmmus: [Fmmu; FMMU_COUNT] = std::array::from_fn(|n| {
+            Fmmu::from_registers(self.registers.bytes::<FMMU_REGISTER_LEN>(FMMU_BASE + (n * FMMU_REGISTER_LEN) as u16))
+        });
         for fmmu in fmmus.iter().filter(|f| writes && f.writes()) {
             for run in fmmu.runs(address, data.len()) {
                 let mask = (((1u16 << run.count) - 1) << run.physical_bit) as u8;
                 let bits = (0..run.count).fold(0u8, |acc, k| {
                     let bit = run.datagram_bit + usize::from(k);
-                    acc | ((arrived[bit / 8] >> (bit % 8)) & 1) << (run.physical_bit + k)
+                    acc | ((data[bit / 8] >> (bit % 8)) & 1) << (run.physical_bit + k)
                 });
                 let value = (self.peek(run.physical) & !mask) | bits;
                 if self.ecat_write(run.physical, value) {

@@ -2,10 +2,12 @@
 //! removed when dropped, also when the test fails. Making one needs root or CAP_NET_ADMIN.
 
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use super::{in_ci, try_debian_tool};
+use std::time::Duration;
+
+use super::{BIN, Finished, finish, in_ci, lines_of, try_debian_tool};
 
 /// A network namespace with one end of a veth pair in it, the other end up in ours;
 /// both gone when dropped (deleting the namespace deletes its end, and the pair with it).
@@ -66,6 +68,68 @@ pub fn wire() -> Option<Wire> {
         Err(why) => {
             eprintln!("skipped: the test needs root or CAP_NET_ADMIN and CAP_NET_RAW: {why}");
             None
+        }
+    }
+}
+
+/// Which end of the wire a program runs on.
+#[derive(Clone, Copy, Debug)]
+pub enum End {
+    /// The end in the test's own namespace.
+    Outside,
+    /// The end in the wire's namespace (`ip netns exec`).
+    Inside,
+}
+
+/// `luamotion subdevices` on one end of the wire, killed when dropped.
+pub struct Segment(Option<Child>);
+
+impl Segment {
+    /// Started; returns once it serves, or fails saying what it printed.
+    pub fn serve(wire: &Wire, end: End) -> Segment {
+        let mut command = match end {
+            End::Outside => Command::new(BIN),
+            End::Inside => {
+                let mut command = Command::new(&wire.ip);
+                command.args(["netns", "exec", &wire.namespace, BIN]);
+                command
+            }
+        };
+        let interface = match end {
+            End::Outside => &wire.outside,
+            End::Inside => &wire.inside,
+        };
+        let mut child = command
+            .args(["-v", "subdevices", "--interface", interface])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start luamotion subdevices");
+        let lines = lines_of(child.stdout.take().unwrap());
+        match lines.recv_timeout(Duration::from_secs(30)) {
+            Ok(line) if line.starts_with("serving ") => Segment(Some(child)),
+            other => {
+                let _ = child.kill();
+                let finished = finish(child, Duration::from_secs(5));
+                panic!("luamotion subdevices did not serve within 30 s: {other:?}\n{}", finished.stderr)
+            }
+        }
+    }
+
+    /// SIGTERM, and what it said as it ended.
+    pub fn stop(mut self) -> Finished {
+        let child = self.0.take().expect("running");
+        // SAFETY: asking our own child to end.
+        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+        finish(child, Duration::from_secs(10))
+    }
+}
+
+impl Drop for Segment {
+    fn drop(&mut self) {
+        if let Some(child) = &mut self.0 {
+            let _ = child.kill();
+            let _ = child.wait();
         }
     }
 }

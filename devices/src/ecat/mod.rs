@@ -11,4 +11,4 @@ pub mod slave;
 pub use device::Device;
 pub use esm::{AlState, AlStatusCode};
 pub use mailbox::{SdoAbort, SdoError};
-pub use network::{Field, Network, SlaveSetup, StartError};
+pub use network::{Field, Network, SdoDownload, SlaveSetup, StartError};

@@ -89,6 +89,18 @@ impl SlaveSetup {
     }
 }
 
+/// One SDO download of the master's start-up list: the object and the value's bytes, as
+/// wide as the object.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SdoDownload {
+    /// The object's index.
+    pub index: u16,
+    /// Its sub-index.
+    pub sub: u8,
+    /// The value, little-endian.
+    pub data: Vec<u8>,
+}
+
 /// The custom PDO mapping of one slave, written by the master in PreOp: per direction the
 /// first PDO's entries and the second's.
 #[derive(Clone, Debug, Default)]
@@ -195,44 +207,58 @@ impl Network {
         Ok(())
     }
 
-    /// PreOp configuration of one slave: its custom PDO mapping (CoE manual 2.4 steps 2-4)
-    /// and DC SYNC0 at the controller's cycle (2.5).
+    /// PreOp configuration of one slave: the start-up list, downloaded through its
+    /// mailbox, then SYNC0 activated.
     fn configure(&mut self, slave: usize, cycle_ns: u64) -> Result<(), StartError> {
+        for SdoDownload { index, sub, data } in self.startup_list(slave, cycle_ns) {
+            self.slaves[slave].sdo_write(index, sub, &data).map_err(|error| StartError::Sdo {
+                slave,
+                index,
+                sub,
+                error,
+            })?;
+        }
+        self.slaves[slave].write_esc_register(ESC_SYNC_ACTIVATION, ESC_DC_SYNC0);
+        Ok(())
+    }
+
+    /// The SDO downloads a master makes to `slave` in PreOp, in order: its custom PDO
+    /// mapping (CoE manual 2.4 steps 2-4) and DC SYNC0 at the controller's cycle (2.5). A
+    /// second PDO assigned beforehand (through SDO) stays assigned. Every transport downloads this list,
+    /// made before the start-up from the slave's dictionary as it stands.
+    pub fn startup_list(&self, slave: usize, cycle_ns: u64) -> Vec<SdoDownload> {
         let Mapping { rx, tx } = self.mappings[slave].clone();
-        // A second PDO assigned beforehand (through SDO) stays assigned.
         let assigned = |index: u16| self.slaves[slave].sdo_read(index, 0).map_or(1, |(n, _)| n.max(1) as u8);
-        let (rx_assigned, tx_assigned) = (assigned(0x1C12), assigned(0x1C13));
-        let mut write = |index: u16, sub: u8, data: &[u8]| {
-            self.slaves[slave].sdo_write(index, sub, data).map_err(|error| StartError::Sdo { slave, index, sub, error })
-        };
+        let assigned = [assigned(0x1C12), assigned(0x1C13)];
+        let mut list = Vec::new();
+        let mut write = |index: u16, sub: u8, data: &[u8]| list.push(SdoDownload { index, sub, data: data.to_vec() });
         for ([first, second], mapping, assignment, assigned) in
-            [(rx, 0x1600u16, 0x1C12, rx_assigned), (tx, 0x1A00, 0x1C13, tx_assigned)]
+            [(rx, 0x1600u16, 0x1C12, assigned[0]), (tx, 0x1A00, 0x1C13, assigned[1])]
         {
             if first.is_none() && second.is_none() {
                 continue;
             }
-            write(assignment, 0, &[0])?;
+            write(assignment, 0, &[0]);
             for (pdo, entries) in [(mapping, first), (mapping + 1, second.clone())] {
                 let Some(entries) = entries else { continue };
-                write(pdo, 0, &[0])?;
+                write(pdo, 0, &[0]);
                 for (i, entry) in entries.iter().enumerate() {
-                    write(pdo, i as u8 + 1, &entry.to_le_bytes())?;
+                    write(pdo, i as u8 + 1, &entry.to_le_bytes());
                 }
-                write(pdo, 0, &[entries.len() as u8])?;
+                write(pdo, 0, &[entries.len() as u8]);
             }
             let assigned = match second {
                 Some(entries) if !entries.is_empty() => {
-                    write(assignment, 2, &(mapping + 1).to_le_bytes())?;
+                    write(assignment, 2, &(mapping + 1).to_le_bytes());
                     2
                 }
                 _ => assigned,
             };
-            write(assignment, 0, &[assigned])?;
+            write(assignment, 0, &[assigned]);
         }
-        write(0x1C32, 2, &(cycle_ns as u32).to_le_bytes())?;
-        write(0x1C32, 1, &2u16.to_le_bytes())?;
-        self.slaves[slave].write_esc_register(ESC_SYNC_ACTIVATION, ESC_DC_SYNC0);
-        Ok(())
+        write(0x1C32, 2, &(cycle_ns as u32).to_le_bytes());
+        write(0x1C32, 1, &2u16.to_le_bytes());
+        list
     }
 
     /// Each slave's part of the image, one after the other in ring order.
