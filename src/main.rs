@@ -425,8 +425,12 @@ fn init_logging(verbose: u8) {
         1 => "info",
         _ => "debug",
     };
+    // ethercrab says "failed to claim receiving frame" as an error for every frame that
+    // matches nothing in flight; the master counts those (`luamotion tasks`), so they
+    // show from -vv on.
+    let frames = if verbose >= 2 { "" } else { ",ethercrab::pdu_loop::frame_element=off" };
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
-        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(default));
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(format!("{default}{frames}")));
     let ansi = std::io::IsTerminal::is_terminal(&std::io::stderr());
     tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).with_ansi(ansi).init();
     ipc::quiet_transport_logs();

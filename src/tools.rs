@@ -26,6 +26,16 @@ pub fn tasks(ns: &str) -> Result<ExitCode> {
     let mut monitor = Monitor::open(&ns).context("read the controller's state")?;
     let snapshot = *monitor.snapshot()?;
     outln!("cycle {} ({} ms), {} overruns", snapshot.cycle, snapshot.time_in_ms, snapshot.overruns)?;
+    let wire = snapshot.wire;
+    if wire.on_wire != 0 {
+        outln!(
+            "EtherCAT on a wire: {} frames back, {} missing, {} short of the working counter, {} matching nothing sent",
+            wire.good,
+            wire.missing,
+            wire.short,
+            wire.unmatched
+        )?;
+    }
     outln!(
         "{:<4} {:<9} {:>7} {:>8} {:>9}  {:<10}  program",
         "task",

@@ -13,19 +13,9 @@ fn machine_file(dir: &std::path::Path, text: &str) -> std::path::PathBuf {
 #[test]
 fn an_integrator_walks_the_fsa_by_sdo() {
     let dir = tempfile::tempdir().unwrap();
-    let script = std::fs::read_to_string(repo_path("tests/lua/sdo_fsa_walk.lua")).unwrap();
-    program(dir.path(), "walk.lua", &script);
-    let config = machine_file(
-        dir.path(),
-        "[[axes]]\n[[axes]]\nrx_pdo = [0x607A0020]\n[[tasks]]\nid = 0\nprogram = \"walk.lua\"\nautorun = true\n",
-    );
+    let config = machine_file(dir.path(), &e2e::fsa_walk(dir.path()));
     let out = run(&unique_ns("sdo"), &["--config", config.to_str().unwrap()]);
-    assert!(out.status.success(), "{}\n{}", out.stdout, out.stderr);
-    let lines = out.lines_of_task(0);
-    assert_eq!(lines.first().map(String::as_str), Some("0x0006 -> ready to switch on"));
-    assert!(lines.iter().any(|l| l == "0x000F -> operation enabled"));
-    assert_eq!(lines.last().map(String::as_str), Some("done"));
-    assert!(out.stderr.contains("attempt to write a read-only object"), "the SDO abort is explained: {}", out.stderr);
+    e2e::check_fsa_walk(&out);
 }
 
 #[test]

@@ -5,21 +5,6 @@ mod common;
 
 use common::*;
 
-/// Every cycle's reference positions of axes 0 and 1 from a trace file.
-fn trace_xy(path: &std::path::Path) -> Vec<(f64, f64)> {
-    let text = std::fs::read_to_string(path).expect("trace written");
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (x, y) = (col("a0_ref_pos"), col("a1_ref_pos"));
-    lines
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            (f[x].parse().unwrap(), f[y].parse().unwrap())
-        })
-        .collect()
-}
-
 #[test]
 fn the_contour_example_moves_both_axes_together_along_the_path() {
     let ns = unique_ns("contour");
@@ -27,23 +12,7 @@ fn the_contour_example_moves_both_axes_together_along_the_path() {
     let trace = dir.path().join("contour.csv");
     let script = repo_path("scripts/examples/contour.lua");
     let out = run(&ns, &["--trace", trace.to_str().unwrap(), script.to_str().unwrap()]);
-    assert!(out.status.success(), "{}\n{}", out.stdout, out.stderr);
-    let lines = out.lines_of_task(0);
-    assert!(lines.iter().any(|l| l.contains("contour done at (0.000, 0.000)")), "{}", out.stdout);
-    let xy = trace_xy(&trace);
-    let changes =
-        |f: fn(&(f64, f64)) -> f64| -> Vec<usize> { (1..xy.len()).filter(|&i| f(&xy[i]) != f(&xy[i - 1])).collect() };
-    let (x, y) = (changes(|p| p.0), changes(|p| p.1));
-    assert!(!x.is_empty() && !y.is_empty(), "both axes move");
-    assert_eq!(x.last(), y.last(), "HMPL 8.1: the axes of a group stop in the same cycle");
-    let far_right = xy.iter().map(|p| p.0).fold(f64::MIN, f64::max);
-    let top = xy.iter().map(|p| p.1).fold(f64::MIN, f64::max);
-    assert!((far_right - 190.0).abs() < 0.5, "the half circle of radius 40 about (150, 40) reaches X 190: {far_right}");
-    assert!((top - 80.0).abs() < 1e-6, "the top edge at Y 80: {top}");
-    // The path speed stays within the profile's 200 mm/s (1 ms cycles).
-    let fastest = xy.windows(2).map(|w| ((w[1].0 - w[0].0).powi(2) + (w[1].1 - w[0].1).powi(2)).sqrt() / 1e-3);
-    let fastest = fastest.fold(0.0, f64::max);
-    assert!(fastest <= 200.0 + 1e-6 && fastest > 150.0, "path speed {fastest} mm/s");
+    e2e::check_contour(&out, &trace);
 }
 
 #[test]

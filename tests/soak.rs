@@ -224,3 +224,23 @@ fn a_soak_with_64_scripts() {
         assert!(stdout.contains("scripts on every CPU"), "{stdout}");
     }
 }
+
+/// Issue 39: the soak over a wire (`--interface`), against `luamotion subdevices` on the
+/// far end of a veth pair with as many drives as axes: the same report, with the frames
+/// the wire carried counted in it.
+#[test]
+fn a_soak_over_the_wire() {
+    let wire = common::wire::wire().expect("CI=true: the wire");
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("machine.toml");
+    std::fs::write(&machine, "[[axes]]\n".repeat(4)).unwrap();
+    let segment = common::wire::Segment::serve_machine(&wire, common::wire::End::Inside, Some(&machine));
+    let json = dir.path().join("soak.json");
+    let args = ["--duration", "3", "--scripts", "2", "--axes", "4", "--interface", &wire.outside];
+    let (report, stdout) = soak(&args, &json);
+    drop(segment);
+    let counts = &report["counters"]["wire"];
+    assert_eq!(counts["interface"], wire.outside.as_str(), "{stdout}");
+    assert!(u(&counts["back"]) > 1000, "frames came back: {stdout}");
+    assert!(stdout.contains(&format!("EtherCAT on {}: ", wire.outside)), "{stdout}");
+}

@@ -44,6 +44,9 @@ pub enum Event {
     ProcessDied = 0x4104,
     /// The task's process did not start in time.
     StartTimeout = 0x1772,
+    /// The EtherCAT segment stopped answering while running (DXMC manual ch. 9, event
+    /// 0x6103 "EtherCAT disconnected"; remedy: the connection restarted).
+    EtherCatDisconnected = 0x6103,
     /// An HMPL runtime error that stops a task, with its HMPL code (0x13EC: mutex locked twice).
     #[num_enum(catch_all)]
     Hmpl(u16),
@@ -69,6 +72,7 @@ impl Event {
             Event::Hmpl(0x13EC) => "a mutex locked twice by the same task",
             Event::Hmpl(_) => "an HMPL runtime error",
             Event::StartTimeout => "the task's process did not start in time",
+            Event::EtherCatDisconnected => "EtherCAT disconnected: the segment stopped answering in Op",
         }
     }
 }
@@ -86,6 +90,16 @@ impl Alarm {
     /// An alarm of the script runtime about task `task`.
     pub fn task(task: u8, event: Event) -> Self {
         Self::error(Source::RlCore, task as u16, event)
+    }
+
+    /// An alarm of the controller as a whole (the EtherCAT segment).
+    pub fn general(event: Event) -> Self {
+        Self::error(Source::General, 0, event)
+    }
+
+    /// Bits 30..28: the controller as a whole, not a task or an axis.
+    pub fn is_general(self) -> bool {
+        (self.0 >> 28) & 0x7 == Source::General as u32
     }
 
     /// An alarm of the motion core about axis `axis`.
@@ -122,7 +136,7 @@ mod tests {
     /// DXMC 9, alarm code format: the manual's examples and ours, as byte literals.
     #[test]
     fn layout() {
-        let rows: [(Alarm, u32, &str); 5] = [
+        let rows: [(Alarm, u32, &str); 6] = [
             (
                 Alarm::error(Source::MotionCore, 1, Event::Hmpl(0x0815)),
                 0x1001_0815,
@@ -132,6 +146,7 @@ mod tests {
             (Alarm::task(63, Event::Hmpl(0x13EC)), 0x303F_13EC, "RL core, task 63, mutex locked twice"),
             (Alarm::axis(0, Event::CommandBufferBusy), 0x1000_001F, "motion core, axis 0, 0x001F"),
             (Alarm::task(5, Event::ProcessDied), 0x3005_4104, "RL core, task 5, process died"),
+            (Alarm::general(Event::EtherCatDisconnected), 0x0000_6103, "DXMC 9: general, EtherCAT disconnected"),
         ];
         for (alarm, literal, what) in rows {
             assert_eq!(alarm.0, literal, "{what}");

@@ -10,6 +10,7 @@
 
 mod ascii;
 mod axis;
+mod bus;
 mod drl;
 mod error;
 mod freeport;
@@ -31,6 +32,7 @@ pub use axis::{
     AxisConfig, BUILT_IN_RX_PDO, BUILT_IN_TX_PDO, DriveModel, DriveSettings, MAX_LOAD_FREQUENCY_HZ, PlantConfig,
     PtConfig, TOUCH_PROBE_RX_PDO, TouchProbeKind, TravelConfig, Unit,
 };
+pub use bus::BusConfig;
 pub use drl::DrlConfig;
 pub use error::ConfigError;
 pub use freeport::FreePortConfig;
@@ -75,6 +77,8 @@ pub struct MachineConfig {
     pub freeport: FreePortConfig,
     /// The web view of `--http`.
     pub web: WebConfig,
+    /// `[bus]`: the EtherCAT segment in memory, or on a network interface.
+    pub bus: BusConfig,
 }
 
 impl Default for MachineConfig {
@@ -99,6 +103,7 @@ impl Default for MachineConfig {
             serial: SerialConfig::default(),
             freeport: FreePortConfig::default(),
             web: WebConfig::default(),
+            bus: BusConfig::default(),
         }
     }
 }
@@ -202,6 +207,7 @@ impl MachineConfig {
         self.serial.validate()?;
         self.ascii.validate()?;
         self.web.validate()?;
+        self.bus.validate()?;
         self.identity.validate()
     }
 }

@@ -24,6 +24,9 @@ impl Network {
 
     /// Simulation only: a drive fault of CoE manual table 4-16.
     pub fn inject_fault(&mut self, slave: usize, code: u16) -> Result<(), FaultInjectionError> {
+        if !self.is_simulated() {
+            return Err(FaultInjectionError::NotSimulated(slave));
+        }
         match self.slaves_mut().get_mut(slave).and_then(|s| s.device_mut_as::<Drive>()) {
             Some(drive) => drive.inject_fault(code),
             None => Err(FaultInjectionError::NotADrive(slave)),
@@ -31,22 +34,32 @@ impl Network {
     }
 
     /// Simulation only: where the flexible load behind the drive at `slave` is (counts, drive
-    /// coordinates); `None` for a rigid load or a slave that is not a drive.
+    /// coordinates); `None` for a rigid load, a slave that is not a drive, or on a wire.
     pub fn load_position(&self, slave: usize) -> Option<f64> {
+        if !self.is_simulated() {
+            return None;
+        }
         self.slaves().get(slave).and_then(|s| s.device_as::<Drive>()).and_then(Drive::load_position)
     }
 
     /// Simulation only: the switch on input `channel` of the digital I/O terminal at
-    /// `slave` (a drive's inputs are not simulated).
+    /// `slave` (a drive's inputs are not simulated, nor is any input on a wire).
     pub fn set_terminal_input(&mut self, slave: usize, channel: i64, on: bool) -> Result<(), NoSuchChannel> {
+        if !self.is_simulated() {
+            return Err(NoSuchChannel(channel));
+        }
         match self.slaves_mut().get_mut(slave).and_then(|s| s.device_mut_as::<DigitalIoTerminal>()) {
             Some(terminal) => terminal.set_input(channel, on),
             None => Err(NoSuchChannel(channel)),
         }
     }
 
-    /// Simulation only: the word on input `channel` of the analog I/O terminal at `slave`.
+    /// Simulation only: the word on input `channel` of the analog I/O terminal at `slave`
+    /// (none on a wire).
     pub fn set_analog_input(&mut self, slave: usize, channel: i64, word: i64) -> Result<(), NoSuchChannel> {
+        if !self.is_simulated() {
+            return Err(NoSuchChannel(channel));
+        }
         match self.slaves_mut().get_mut(slave).and_then(|s| s.device_mut_as::<AnalogIoTerminal>()) {
             Some(terminal) => terminal.set_input(channel, word),
             None => Err(NoSuchChannel(channel)),

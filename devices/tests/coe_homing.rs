@@ -68,7 +68,9 @@ fn status(b: &mut Bench) -> u16 {
 /// Runs the homing to its end (attained or error), at most 60 s.
 fn run_to_end(b: &mut Bench) -> u16 {
     b.cw(0x001F);
-    b.until(60_000, |b| matches!(b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & 0x3400, ATTAINED | ERROR_STOPPED));
+    b.until(60_000, |b| {
+        matches!(b.net.sdo_read_local(0, 0x6041, 0).unwrap().0 as u16 & 0x3400, ATTAINED | ERROR_STOPPED)
+    });
     status(b)
 }
 
@@ -127,7 +129,7 @@ fn status_bits_and_search_speed() {
     assert_eq!(status(&mut b), IN_PROGRESS, "CoE 3.2: in progress");
     let v = b.read(0x606C, 0);
     assert!((45_000..55_000).contains(&v), "CoE 3.2: slow + at 50000 counts/s, got {v}");
-    assert!(b.until(10_000, |b| b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & 0x3400 == ATTAINED));
+    assert!(b.until(10_000, |b| b.net.sdo_read_local(0, 0x6041, 0).unwrap().0 as u16 & 0x3400 == ATTAINED));
     // CoE 3.2: with 0x607C = 1000, 0x6064 reads 1000 at the home.
     b.cycles(100);
     assert!((b.position() - OFFSET).abs() < 20);
@@ -166,7 +168,7 @@ fn errors() {
     b.write(0x6060, 0, 1);
     b.cycle();
     assert_eq!(status(&mut b), ERROR_DECELERATING, "CoE 3.2: decelerating");
-    assert!(b.until(100, |b| b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & 0x3400 == ERROR_STOPPED));
+    assert!(b.until(100, |b| b.net.sdo_read_local(0, 0x6041, 0).unwrap().0 as u16 & 0x3400 == ERROR_STOPPED));
     assert_eq!(b.read(0x603F, 0), 0x8613, "CoE 3.2: 0x8613");
     assert_ne!(b.read(0x2101, 0) & (1 << 31), 0, "0x2101 bit 31: CiA-402 home failed");
 

@@ -30,7 +30,7 @@ fn set_point(b: &mut Bench, target: i64, cw: u16) {
 }
 
 fn settle(b: &mut Bench) {
-    assert!(b.until(5000, |b| b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & REACHED != 0), "target reached");
+    assert!(b.until(5000, |b| b.net.sdo_read_local(0, 0x6041, 0).unwrap().0 as u16 & REACHED != 0), "target reached");
     b.cycles(100);
 }
 
@@ -94,7 +94,7 @@ fn pp_set_point_buffer() {
     set_point(&mut b, 40_000, 0x000F);
     b.cw(0x000F);
     assert_ne!(b.sw() & ACK, 0, "buffer full: bit 12 stays 1");
-    assert!(b.until(3000, |b| b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & ACK == 0), "bit 12 clears");
+    assert!(b.until(3000, |b| b.net.sdo_read_local(0, 0x6041, 0).unwrap().0 as u16 & ACK == 0), "bit 12 clears");
     assert!(b.position() > 19_000, "when the first set-point completes");
     settle(&mut b);
     assert!((b.position() - 40_000).abs() <= 20, "the buffered one ran");
@@ -196,7 +196,7 @@ fn following_error() {
     // A step of 5000 counts: the error lasts far longer than 10 ms.
     b.set_target(b.position() + 5_000);
     b.cycle();
-    assert!(b.until(20, |b| b.net.sdo_read(0, 0x6041, 0).unwrap().0 as u16 & 0x4F == 0x08), "Fault");
+    assert!(b.until(20, |b| b.net.sdo_read_local(0, 0x6041, 0).unwrap().0 as u16 & 0x4F == 0x08), "Fault");
     assert_eq!(b.read(0x603F, 0), 0x8611);
     assert_ne!(b.read(0x2100, 0) & (1 << 6), 0, "0x2100 bit 6");
 

@@ -195,8 +195,9 @@ impl DriveLink {
     }
 
     /// One step of the power sequence against the drive's statusword.
-    pub fn sequence(&mut self, statusword: u16, cycle: u64, timeout_cycles: u64, at_rest: bool) -> PowerEvent {
-        let (cw, event) = self.power.step(State::from_statusword(statusword), cycle, timeout_cycles, at_rest);
+    pub fn sequence(&mut self, statusword: Option<u16>, cycle: u64, timeout_cycles: u64, at_rest: bool) -> PowerEvent {
+        let drive = statusword.and_then(State::from_statusword);
+        let (cw, event) = self.power.step(drive, cycle, timeout_cycles, at_rest);
         self.controlword = cw;
         event
     }

@@ -7,6 +7,7 @@ use api::AxisError;
 
 use crate::drive_link::{DriveLink, Feedback, MODE_CSP, MODE_HOMING};
 use devices::cia402::controlword::NEW_SET_POINT;
+use devices::ecat::{Network, SdoError};
 
 /// Table 3-7, `sw & 0x3400`.
 const ATTAINED: u16 = 0x1400;
@@ -16,6 +17,12 @@ const ERROR: u16 = 0x2000;
 /// reference source while it lasts (`motion/source.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Homing {
+    /// Writing the homing objects by SDO, `written` of them done: at once in memory, one
+    /// mailbox transfer after the other on a wire.
+    Configuring {
+        since: u64,
+        written: usize,
+    },
     /// Waiting for 0x6061 to show homing mode.
     Entering {
         since: u64,
@@ -30,12 +37,34 @@ pub enum Homing {
 }
 
 impl Homing {
-    /// A run starting in `cycle`; `enter` asks the drive for homing mode.
+    /// A run starting in `cycle`: the homing objects first (`configure`).
     pub fn new(cycle: u64) -> Self {
-        Homing::Entering { since: cycle }
+        Homing::Configuring { since: cycle, written: 0 }
     }
 
-    pub fn enter(link: &mut DriveLink) {
+    /// Writes the homing objects `writes` (index, sub-index, bytes) to `slave` as far as
+    /// its mailbox takes them now; once all are written, asks the drive for homing mode.
+    /// A refused write fails the run.
+    pub fn configure(
+        &mut self,
+        link: &mut DriveLink,
+        network: &mut Network,
+        writes: &[(u16, u8, &[u8])],
+    ) -> Result<(), AxisError> {
+        let Homing::Configuring { since, written } = self else { return Ok(()) };
+        while let Some(&(index, sub, data)) = writes.get(*written) {
+            match network.sdo_write(link.slave(), index, sub, data) {
+                Ok(()) => *written += 1,
+                Err(SdoError::Pending | SdoError::MailboxBusy) => return Ok(()),
+                Err(_) => return Err(AxisError::DriveHomeFailed),
+            }
+        }
+        *self = Homing::Entering { since: *since };
+        Self::enter(link);
+        Ok(())
+    }
+
+    fn enter(link: &mut DriveLink) {
         link.set_extra_bits(0);
         link.set_mode(MODE_HOMING);
     }
@@ -56,6 +85,12 @@ impl Homing {
     ) -> Option<Result<(), AxisError>> {
         let status = fb.statusword & 0x3400;
         match *self {
+            Homing::Configuring { since, .. } => {
+                if cycle.saturating_sub(since) > timeout_cycles {
+                    self.leave(link, Err(AxisError::DriveHomeTout));
+                }
+                None
+            }
             Homing::Entering { since } => {
                 if fb.mode_display == Some(MODE_HOMING) {
                     link.set_extra_bits(NEW_SET_POINT);

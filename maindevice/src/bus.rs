@@ -1,19 +1,29 @@
-//! The MainDevice's threads: "ecat-txrx" moves ethercrab's frames through the raw socket,
+//! The MainDevice's threads: "ecat-txrx" moves ethercrab's frames through the raw socket
+//! (`txrx.rs`),
 //! "ecat-master" runs the start-up and then one process-data frame each time the cycle
-//! rings it. The cycle holds a `WireBus` and only hands images over.
+//! rings it, and "ecat-mailbox" the SDO transfers the cycle queues. The cycle holds a
+//! `WireBus` and only hands images and requests over.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use ethercrab::subdevice_group::DcConfiguration;
-use ethercrab::{DcSync, MainDevice, MainDeviceConfig, PduStorage, SubDeviceGroup, Timeouts, std::ethercat_now};
+use ethercrab::{
+    DcSync, MainDevice, MainDeviceConfig, PduStorage, RegisterAddress, RetryBehaviour, SubDeviceGroup, SubDeviceState,
+    Timeouts, std::ethercat_now,
+};
+
+use devices::ecat::{AlState, Exchange, Remote, SdoAnswer, SdoError, SdoRequest};
+use futures_lite::future::block_on;
 
 use crate::error::WireError;
-use crate::handoff::{self, CycleSide, Exchange, MasterSide};
+use crate::handoff::{self, CycleSide, MasterSide};
+use crate::mailbox::{self, CycleMailbox, WireMailbox};
 use crate::plan::{Identity, Plan};
+use crate::txrx::TxRx;
 
 /// Slaves ethercrab's group can hold.
 const MAX_SUBDEVICES: usize = 128;
@@ -22,8 +32,18 @@ const MAX_PDI: usize = 4096;
 /// Frames in flight, and the room of each.
 const MAX_FRAMES: usize = 16;
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
-/// How long the master waits for the first cycle's ring before it looks at its stop flag.
-const IDLE: Duration = Duration::from_millis(100);
+/// How long the cycle may go without a complete frame before the segment counts as lost:
+/// longer than a lost frame's resends take, well inside a drive's 100 ms process data
+/// watchdog (ETG.1000.4 6.3).
+pub const LOST_AFTER: Duration = Duration::from_millis(20);
+
+/// The shortest wait for a frame before it is sent again, and how often it is.
+const MIN_PDU_TIMEOUT: Duration = Duration::from_millis(2);
+const PDU_RETRIES: usize = 3;
+/// AL control: Op with the error acknowledged (ETG.1000.6 table 9).
+const OP_ACKNOWLEDGED: u16 = 0x08 | 0x10;
+/// How often the master asks slaves that fell out of Op to come back.
+const RECOVERY_INTERVAL: Duration = Duration::from_millis(100);
 /// How long the segment may take from SafeOp to Op with process data running.
 const OP_DEADLINE: Duration = Duration::from_secs(10);
 
@@ -32,11 +52,18 @@ type Storage = PduStorage<MAX_FRAMES, MAX_PDU_DATA>;
 /// The segment on a wire, in Op, for the cycle.
 pub struct WireBus {
     cycle: CycleSide,
+    mailbox: CycleMailbox,
+    unmatched: Arc<AtomicU64>,
     stop: Arc<AtomicBool>,
     master: Option<JoinHandle<()>>,
 }
 
 impl WireBus {
+    /// `LOST_AFTER` in cycles of `cycle_ns`.
+    pub fn lost_after_cycles(cycle_ns: u64) -> u32 {
+        (LOST_AFTER.as_nanos() as u64).div_ceil(cycle_ns.max(1)) as u32
+    }
+
     /// Scans the segment on `interface`, checks it against `plan`, downloads each slave's
     /// start-up list in PreOp, configures SYNC0 at `cycle_ns` and brings every slave to Op.
     /// Returns once the segment is in Op, or with what stopped it.
@@ -44,26 +71,24 @@ impl WireBus {
         let stop = Arc::new(AtomicBool::new(false));
         let (started_tx, started_rx) = mpsc::channel();
         let (interface, thread_stop) = (interface.to_string(), Arc::clone(&stop));
+        let (cycle_mailbox, wire_mailbox) = mailbox::queues();
+        let unmatched = Arc::new(AtomicU64::new(0));
+        let counted = Arc::clone(&unmatched);
         let master = std::thread::Builder::new()
             .name("ecat-master".into())
             .stack_size(8 << 20)
             .spawn(move || {
                 let (cycle, master) =
                     handoff::handoff(plan.outputs_len, plan.inputs_len, plan.working_counter(), std::thread::current());
-                // The TX/RX thread drives async-io's reactor; this one parks between frames.
-                futures_lite::future::block_on(run(
-                    &interface,
-                    &plan,
-                    cycle_ns,
-                    cycle,
-                    master,
-                    &thread_stop,
-                    started_tx,
-                ));
+                let lowest = AtomicU8::new(AlState::Op.code());
+                let wire = Wire { interface: &interface, plan: &plan, cycle_ns, stop: &thread_stop, lowest, unmatched };
+                wire.run(cycle, master, wire_mailbox, started_tx);
             })
             .map_err(|error| WireError::Thread { name: "ecat-master", error })?;
         match started_rx.recv() {
-            Ok(Ok(cycle)) => Ok(WireBus { cycle, stop, master: Some(master) }),
+            Ok(Ok(cycle)) => {
+                Ok(WireBus { cycle, mailbox: cycle_mailbox, unmatched: counted, stop, master: Some(master) })
+            }
             Ok(Err(error)) => {
                 let _ = master.join();
                 Err(error)
@@ -82,6 +107,28 @@ impl WireBus {
     }
 }
 
+impl Remote for WireBus {
+    fn exchange(&mut self, outputs: &[u8], inputs: &mut [u8]) -> Exchange {
+        WireBus::exchange(self, outputs, inputs)
+    }
+
+    fn request(&mut self, request: SdoRequest) -> Result<(), SdoError> {
+        self.mailbox.request(request)
+    }
+
+    fn answer(&mut self) -> Option<SdoAnswer> {
+        self.mailbox.answer()
+    }
+
+    fn state(&self) -> AlState {
+        self.cycle.state()
+    }
+
+    fn unmatched(&self) -> u64 {
+        self.unmatched.load(Ordering::Relaxed)
+    }
+}
+
 impl Drop for WireBus {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
@@ -92,85 +139,178 @@ impl Drop for WireBus {
     }
 }
 
-/// The master thread: start-up, then frames on the cycle's rings until `stop`.
-async fn run(
-    interface: &str,
-    plan: &Plan,
+/// What the master thread works with.
+struct Wire<'a> {
+    interface: &'a str,
+    plan: &'a Plan,
     cycle_ns: u64,
-    cycle: CycleSide,
-    mut side: MasterSide,
-    stop: &AtomicBool,
-    started: mpsc::Sender<Result<CycleSide, WireError>>,
-) {
-    // One storage per bus, for the life of the process: ethercrab splits it once.
-    let storage: &'static Storage = Box::leak(Box::new(Storage::new()));
-    let Ok((tx, rx, pdu_loop)) = storage.try_split() else {
-        let _ = started.send(Err(WireError::ThreadEnded));
-        return;
-    };
-    let cycle_time = Duration::from_nanos(cycle_ns);
-    let timeouts = Timeouts {
-        // A frame lost in the cycle costs the master this long; the cycle does not wait.
-        pdu: Duration::from_millis(50),
-        state_transition: Duration::from_secs(5),
-        mailbox_response: Duration::from_secs(1),
-        ..Timeouts::default()
-    };
-    let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
-    let task = match ethercrab::std::tx_rx_task(interface, tx, rx) {
-        Ok(task) => task,
-        Err(error) => {
-            let _ = started.send(Err(WireError::Interface { interface: interface.to_string(), error }));
+    stop: &'a AtomicBool,
+    /// The lowest AL state of the last frame back, as its code (ETG.1000.6 table 9).
+    lowest: AtomicU8,
+    /// Frames back that matched nothing in flight (`TxRx`).
+    unmatched: Arc<AtomicU64>,
+}
+
+impl Wire<'_> {
+    /// The master thread: start-up, then frames on the cycle's rings and the mailbox's
+    /// transfers beside them until `stop`.
+    fn run(
+        &self,
+        cycle: CycleSide,
+        side: MasterSide,
+        mailbox: WireMailbox,
+        started: mpsc::Sender<Result<CycleSide, WireError>>,
+    ) {
+        // One storage per bus, for the life of the process: ethercrab splits it once.
+        let storage: &'static Storage = Box::leak(Box::new(Storage::new()));
+        let Ok((tx, rx, pdu_loop)) = storage.try_split() else {
+            let _ = started.send(Err(WireError::ThreadEnded));
+            return;
+        };
+        let timeouts = Timeouts {
+            // A frame lost costs the master this long before it sends it again, and the
+            // cycle that many frames; the cycle itself does not wait.
+            pdu: Duration::from_nanos(self.cycle_ns * 3).max(MIN_PDU_TIMEOUT),
+            state_transition: Duration::from_secs(5),
+            mailbox_response: Duration::from_secs(1),
+            ..Timeouts::default()
+        };
+        let config =
+            MainDeviceConfig { retry_behaviour: RetryBehaviour::Count(PDU_RETRIES), ..MainDeviceConfig::default() };
+        let maindevice = MainDevice::new(pdu_loop, timeouts, config);
+        let socket = match subdevice::RawSocket::bind(self.interface) {
+            Ok(socket) => socket,
+            Err(error) => {
+                let _ = started.send(Err(WireError::Interface { interface: self.interface.to_string(), error }));
+                return;
+            }
+        };
+        let task = match TxRx::new(socket, tx, rx, Arc::clone(&self.unmatched)) {
+            Ok(task) => task,
+            Err(error) => {
+                let _ = started.send(Err(WireError::Thread { name: "ecat-txrx", error }));
+                return;
+            }
+        };
+        // This thread drives async-io's reactor (the socket and ethercrab's timeouts).
+        let txrx = std::thread::Builder::new().name("ecat-txrx".into()).spawn(move || async_io::block_on(task));
+        if let Err(error) = txrx {
+            let _ = started.send(Err(WireError::Thread { name: "ecat-txrx", error }));
             return;
         }
-    };
-    // This thread drives async-io's reactor (the socket and ethercrab's timeouts).
-    let txrx = std::thread::Builder::new().name("ecat-txrx".into()).spawn(move || {
-        if let Err(error) = async_io::block_on(task) {
-            tracing::error!("EtherCAT TX/RX stopped: {error}");
+        match block_on(start_up(&maindevice, self.plan, Duration::from_nanos(self.cycle_ns))) {
+            Ok(group) => {
+                let _ = started.send(Ok(cycle));
+                std::thread::scope(|scope| {
+                    let transfers = std::thread::Builder::new()
+                        .name("ecat-mailbox".into())
+                        .spawn_scoped(scope, || self.serve_mailbox(&maindevice, &group, mailbox));
+                    if let Err(error) = transfers {
+                        tracing::error!(
+                            "the EtherCAT mailbox thread could not start: {error}; SDOs will not be answered"
+                        );
+                    }
+                    self.exchange_process_data(&maindevice, &group, side);
+                });
+                // A master that ends takes its slaves out of Op, so that their process
+                // data watchdogs do not fault the drives (a crash leaves them to it).
+                let down = block_on(async {
+                    let group = group.into_safe_op(&maindevice).await?;
+                    group.into_pre_op(&maindevice).await?.into_init(&maindevice).await
+                });
+                if let Err(error) = down {
+                    tracing::warn!("EtherCAT: the slaves did not go back to Init: {error}");
+                }
+            }
+            Err(error) => {
+                let _ = started.send(Err(error));
+            }
         }
-    });
-    if let Err(error) = txrx {
-        let _ = started.send(Err(WireError::Thread { name: "ecat-txrx", error }));
-        return;
+        // SAFETY: the group is gone; this wakes the TX/RX thread to end it.
+        let _ = unsafe { maindevice.release_all() };
     }
-    let group = match start_up(&maindevice, plan, cycle_time).await {
-        Ok(group) => group,
-        Err(error) => {
-            let _ = started.send(Err(error));
-            // SAFETY: the group is gone; nothing else uses the storage.
-            let _ = unsafe { maindevice.release_all() };
-            return;
+
+    /// One frame each time the cycle rings with new outputs; the inputs it brought back
+    /// published with its working counter.
+    fn exchange_process_data(&self, maindevice: &MainDevice<'_>, group: &OpGroup, mut side: MasterSide) {
+        let mut sequence = 0;
+        // Without a ring in two cycles the last outputs go again: the slaves' process data
+        // watchdogs must not run out while the cycle is not running (yet, or any more).
+        let keep_alive = Duration::from_nanos(2 * self.cycle_ns);
+        while !self.stop.load(Ordering::Relaxed) {
+            std::thread::park_timeout(keep_alive);
+            side.outputs.update();
+            let outputs = side.outputs.output_buffer_mut();
+            for (slave, subdevice) in self.plan.slaves.iter().zip(group.iter(maindevice)) {
+                let mut io = subdevice.io_raw_mut();
+                let n = io.outputs().len().min(slave.outputs.len());
+                io.outputs()[..n].copy_from_slice(&outputs[slave.outputs.start..slave.outputs.start + n]);
+            }
+            let response = block_on(group.tx_rx_dc(maindevice)).ok();
+            let lowest = response.as_ref().and_then(|r| r.subdevice_states.iter().map(|&s| al_state(s)).min());
+            sequence += 1;
+            let returned = side.returned.input_buffer_mut();
+            returned.sequence = sequence;
+            returned.working_counter = response.as_ref().map(|r| r.working_counter);
+            if let Some(lowest) = lowest {
+                returned.lowest = lowest;
+                self.lowest.store(lowest.code(), Ordering::Relaxed);
+            }
+            for (slave, subdevice) in self.plan.slaves.iter().zip(group.iter(maindevice)) {
+                let io = subdevice.io_raw();
+                let n = io.inputs().len().min(slave.inputs.len());
+                returned.inputs[slave.inputs.start..slave.inputs.start + n].copy_from_slice(&io.inputs()[..n]);
+            }
+            side.returned.publish();
         }
-    };
-    let _ = started.send(Ok(cycle));
-    let mut sequence = 0;
-    while !stop.load(Ordering::Relaxed) {
-        std::thread::park_timeout(IDLE);
-        if !side.outputs.update() {
-            continue;
-        }
-        let outputs = side.outputs.output_buffer_mut();
-        for (slave, subdevice) in plan.slaves.iter().zip(group.iter(&maindevice)) {
-            let mut io = subdevice.io_raw_mut();
-            let n = io.outputs().len().min(slave.outputs.len());
-            io.outputs()[..n].copy_from_slice(&outputs[slave.outputs.start..slave.outputs.start + n]);
-        }
-        let working_counter = group.tx_rx_dc(&maindevice).await.ok().map(|response| response.working_counter);
-        sequence += 1;
-        let returned = side.returned.input_buffer_mut();
-        returned.sequence = sequence;
-        returned.working_counter = working_counter;
-        for (slave, subdevice) in plan.slaves.iter().zip(group.iter(&maindevice)) {
-            let io = subdevice.io_raw();
-            let n = io.inputs().len().min(slave.inputs.len());
-            returned.inputs[slave.inputs.start..slave.inputs.start + n].copy_from_slice(&io.inputs()[..n]);
-        }
-        side.returned.publish();
     }
-    drop(group);
-    // SAFETY: the group is gone; this wakes the TX/RX thread to end it.
-    let _ = unsafe { maindevice.release_all() };
+
+    /// The cycle's SDO transfers, one after the other, until `stop`; and slaves that fell
+    /// out of Op (the cable was out, their watchdog ran out) asked back, error acknowledged,
+    /// as a master restores its slaves' states.
+    fn serve_mailbox(&self, maindevice: &MainDevice<'_>, group: &OpGroup, mailbox: WireMailbox) {
+        let mut last_recovery = Instant::now();
+        while !self.stop.load(Ordering::Relaxed) {
+            if self.lowest.load(Ordering::Relaxed) != AlState::Op.code() && last_recovery.elapsed() > RECOVERY_INTERVAL
+            {
+                last_recovery = Instant::now();
+                self.recover(maindevice, group);
+            }
+            let Ok(request) = mailbox.requests.recv_timeout(RECOVERY_INTERVAL) else { continue };
+            let result = match group.subdevice(maindevice, usize::from(request.slave)) {
+                Ok(subdevice) => block_on(mailbox::transfer(&subdevice, request)),
+                Err(_) => Err(SdoError::NoSlave(usize::from(request.slave))),
+            };
+            if mailbox.answers.send(SdoAnswer { request, result }).is_err() {
+                return;
+            }
+        }
+    }
+}
+
+impl Wire<'_> {
+    /// Each slave not in Op asked for Op with its error acknowledged.
+    fn recover(&self, maindevice: &MainDevice<'_>, group: &OpGroup) {
+        for subdevice in group.iter(maindevice) {
+            // ethercrab gives a status with the error flag as an error holding its code.
+            let status = block_on(subdevice.status());
+            if !matches!(status, Ok((SubDeviceState::Op, _))) {
+                let address = subdevice.configured_address();
+                tracing::warn!("EtherCAT slave {address:#06x}: {status:?}; asked back to Op");
+                let _ = block_on(subdevice.register_write(RegisterAddress::AlControl, OP_ACKNOWLEDGED));
+            }
+        }
+    }
+}
+
+/// ethercrab's AL state as the devices' one; a state no slave should be in as Init.
+fn al_state(state: SubDeviceState) -> AlState {
+    match state {
+        SubDeviceState::Op => AlState::Op,
+        SubDeviceState::SafeOp => AlState::SafeOp,
+        SubDeviceState::PreOp => AlState::PreOp,
+        _ => AlState::Init,
+    }
 }
 
 type OpGroup = SubDeviceGroup<

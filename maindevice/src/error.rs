@@ -5,13 +5,13 @@ use crate::plan::Identity;
 /// What stopped the start-up; the message names the slave and what was expected.
 #[derive(Debug, thiserror::Error)]
 pub enum WireError {
-    /// The raw socket or the master's threads could not be opened.
-    #[error("the EtherCAT interface {interface:?}: {error} (a raw socket needs CAP_NET_RAW)")]
+    /// The raw socket could not be opened on the interface.
+    #[error("the EtherCAT interface {interface:?}: {error}")]
     Interface {
         /// The interface asked for.
         interface: String,
-        /// What the OS said.
-        error: std::io::Error,
+        /// Why (the socket says which capability it needs).
+        error: subdevice::SocketError,
     },
     /// ethercrab's scan or a state change failed.
     #[error("EtherCAT {step}: {error}")]

@@ -9,35 +9,20 @@
 
 use std::thread::Thread;
 
+use devices::ecat::{AlState, Exchange};
 use triple_buffer::{Input, Output, TripleBuffer};
 
 /// What the master's thread publishes after each frame.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Returned {
     /// Frames exchanged since start-up; the cycle tells a fresh frame by it.
     pub sequence: u64,
     /// The working counter of the process data, `None` when no frame came back in time.
     pub working_counter: Option<u16>,
+    /// The lowest AL state the slaves reported in the frame.
+    pub lowest: AlState,
     /// The input image, as the cycle lays it out.
     pub inputs: Vec<u8>,
-}
-
-/// What one exchange gave the cycle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Exchange {
-    /// A frame came back since the last exchange, and every slave counted in it.
-    Fresh,
-    /// A frame came back, but short of the working counter planned: a slave is lost, or
-    /// its process data is not in the image.
-    WorkingCounter {
-        /// What came back.
-        found: u16,
-        /// What the plan expects.
-        expected: u16,
-    },
-    /// No frame came back in time: the cable, a lost frame, or the master's thread was
-    /// late. The inputs are the last ones.
-    Missing,
 }
 
 /// The cycle's side.
@@ -47,6 +32,7 @@ pub struct CycleSide {
     master: Thread,
     last_sequence: u64,
     expected_working_counter: u16,
+    state: AlState,
 }
 
 /// The master thread's side.
@@ -65,10 +51,17 @@ pub fn handoff(
     master: Thread,
 ) -> (CycleSide, MasterSide) {
     let (outputs_in, outputs_out) = TripleBuffer::new(&vec![0u8; outputs_len]).split();
-    let initial = Returned { sequence: 0, working_counter: None, inputs: vec![0; inputs_len] };
+    let initial = Returned { sequence: 0, working_counter: None, lowest: AlState::Init, inputs: vec![0; inputs_len] };
     let (returned_in, returned_out) = TripleBuffer::new(&initial).split();
     (
-        CycleSide { outputs: outputs_in, returned: returned_out, master, last_sequence: 0, expected_working_counter },
+        CycleSide {
+            outputs: outputs_in,
+            returned: returned_out,
+            master,
+            last_sequence: 0,
+            expected_working_counter,
+            state: AlState::Op,
+        },
         MasterSide { outputs: outputs_out, returned: returned_in },
     )
 }
@@ -89,6 +82,7 @@ impl CycleSide {
             Some(_) => Exchange::Fresh,
         };
         if result != Exchange::Missing {
+            self.state = returned.lowest;
             let n = inputs.len().min(returned.inputs.len());
             inputs[..n].copy_from_slice(&returned.inputs[..n]);
         }
@@ -98,6 +92,11 @@ impl CycleSide {
         self.outputs.publish();
         self.master.unpark();
         result
+    }
+
+    /// The lowest AL state of the last frame back (Op, as the start-up left it, before).
+    pub fn state(&self) -> AlState {
+        self.state
     }
 }
 
@@ -117,6 +116,7 @@ mod tests {
             let slot = master.returned.input_buffer_mut();
             slot.sequence = sequence;
             slot.working_counter = wkc;
+            slot.lowest = AlState::Op;
             slot.inputs = outputs.iter().map(|b| b + 1).collect();
             master.returned.publish();
         };

@@ -9,9 +9,11 @@
 pub mod bus;
 pub mod error;
 pub mod handoff;
+pub mod mailbox;
 pub mod plan;
+pub mod txrx;
 
 pub use bus::WireBus;
+pub use devices::ecat::Exchange;
 pub use error::WireError;
-pub use handoff::Exchange;
 pub use plan::{Identity, Plan, SlavePlan};

@@ -70,7 +70,7 @@ impl Plan {
             .into_iter()
             .enumerate()
             .map(|(slave, startup)| {
-                let read = |sub| network.sdo_read(slave, 0x1018, sub).map_or(0, |(v, _)| v as u32);
+                let read = |sub| network.sdo_read_local(slave, 0x1018, sub).map_or(0, |(v, _)| v as u32);
                 let (rx, tx) = network.image_entries(slave);
                 let (out, inp) = network.slave_images(slave);
                 let plan = SlavePlan {

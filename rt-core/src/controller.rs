@@ -53,6 +53,26 @@ pub enum ControllerError {
         /// The OS's error.
         source: std::io::Error,
     },
+    /// `[bus] interface`: the segment on the wire is not the machine file's, or could
+    /// not be brought to Op; the controller does not start.
+    #[error("EtherCAT on {interface}: {error}")]
+    Wire {
+        /// The interface of `[bus]`.
+        interface: String,
+        /// What stopped the start-up.
+        error: maindevice::WireError,
+    },
+    /// The machine's own network could not lay out the image the wire must carry.
+    #[error("EtherCAT on {interface}: the machine file's devices did not start: {error}")]
+    Plan {
+        /// The interface of `[bus]`.
+        interface: String,
+        /// Where the in-memory start-up stopped.
+        error: devices::ecat::StartError,
+    },
+    /// A machine on a wire runs on the wall clock: its drives do not wait for a program.
+    #[error("a machine on a wire ([bus] interface) runs on the real-time clock, not the simulation clock")]
+    WireNeedsRealTime,
 }
 
 /// How to run a controller (`run`, `controller::Background::start`).
@@ -120,6 +140,29 @@ pub fn run(config: MachineConfig, options: RunOptions) -> Result<RunReport, Cont
     result
 }
 
+/// The machine's EtherCAT network: in memory, started here (a failed start-up leaves
+/// the controller up, in Fail, as `ScanNetwork` can retry it); or on the wire of `[bus]
+/// interface`, whose start-up must succeed before the controller starts.
+fn bus(config: &MachineConfig, clock: Clock) -> Result<Network, ControllerError> {
+    let mut network = Network::for_machine(config);
+    let Some(interface) = &config.bus.interface else {
+        if let Err(e) = network.start(config.period_ns()) {
+            tracing::error!("EtherCAT start-up stopped in {:?}: {e}", network.state());
+        }
+        return Ok(network);
+    };
+    if clock != Clock::RealTime {
+        return Err(ControllerError::WireNeedsRealTime);
+    }
+    let plan = maindevice::Plan::new(&mut network, config.period_ns())
+        .map_err(|error| ControllerError::Plan { interface: interface.clone(), error })?;
+    let wire = maindevice::WireBus::start(interface, plan, config.period_ns())
+        .map_err(|error| ControllerError::Wire { interface: interface.clone(), error })?;
+    tracing::info!("EtherCAT on {interface}: {} slaves in Op", network.slaves().len());
+    network.put_on_wire(Box::new(wire), maindevice::WireBus::lost_after_cycles(config.period_ns()));
+    Ok(network)
+}
+
 fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, ControllerError> {
     ipc::room::check_room()?;
     std::fs::create_dir_all(&options.data_dir)
@@ -132,10 +175,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         }
         None => (None, None),
     };
-    let mut network = Network::for_machine(&config);
-    if let Err(e) = network.start(config.period_ns()) {
-        tracing::error!("EtherCAT start-up stopped in {:?}: {e}", network.state());
-    }
+    let network = bus(&config, options.clock)?;
     let kernel = Kernel::new(&config, &network);
     let (core_link, supervisor_end) =
         tasks::link().map_err(|e| ControllerError::RtStart(format!("the supervisor's bell: {e}")))?;

@@ -224,6 +224,7 @@ impl CycleWork {
         let period = self.machine.period_ns;
         let exchange_start = monotonic_ns();
         self.machine.network.exchange(period as f64 * 1e-9);
+        self.machine.watch_bus();
         self.simulation_ns += monotonic_ns() - exchange_start;
         let machine = &mut self.machine;
         self.endpoint.serve(cycle, |task, request, reply| dispatch::execute(machine, task, request, reply));

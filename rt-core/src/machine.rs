@@ -2,7 +2,8 @@
 //! tasks, the controller's I/O, and the controller state of DXMC 3.6 with each task's run
 //! speed. The cycle (`cycle.rs`) steps it; dispatch (`dispatch/`) applies commands to it.
 
-use api::SystemError;
+use api::alarms::Event;
+use api::{ErrorCode, SystemError};
 use schema::MAX_TASKS;
 
 use crate::analog::AnalogIo;
@@ -44,6 +45,8 @@ pub struct Machine {
     /// HMPL ch. 12: the axes' position triggers, stepped after the kernel (none until
     /// `with_position_triggers`).
     pub triggers: PositionTriggers,
+    /// On a wire: whether the segment answered in Op last cycle (`watch_bus`).
+    bus_up: bool,
 }
 
 impl Machine {
@@ -63,6 +66,7 @@ impl Machine {
             boxes: Boxes::default(),
             rescanned: false,
             triggers: PositionTriggers::default(),
+            bus_up: true,
         }
     }
 
@@ -102,6 +106,10 @@ impl Machine {
         if enabled || self.state == ControllerState::Initial {
             return Err(SystemError::HmplMotionNotReady);
         }
+        // On a wire the master restores its slaves itself; a new scan is a new start.
+        if !self.network.is_simulated() {
+            return Err(SystemError::HmplNotSupported);
+        }
         let result = self.network.start(self.period_ns);
         self.rescanned = true;
         match result {
@@ -116,6 +124,20 @@ impl Machine {
                 Err(SystemError::NicInitTout)
             }
         }
+    }
+
+    /// On a wire, after each exchange: the segment that stops answering in Op raises DXMC
+    /// event 0x6103 (EtherCAT disconnected) once, and records 0x012C (the fieldbus network
+    /// not ready) as the system's last error; the axes see no drive (`Network::inputs_valid`)
+    /// and count as faulted. Once it answers again the master has its slaves back in Op;
+    /// the drives need `Reset` and `Enable`.
+    pub fn watch_bus(&mut self) {
+        let up = self.network.inputs_valid();
+        if self.bus_up && !up {
+            self.tasks.general_alarm(Event::EtherCatDisconnected, self.cycle);
+            self.kernel.record_system_error(ErrorCode::System(SystemError::NicInitTout).code());
+        }
+        self.bus_up = up;
     }
 
     /// The console watches the tasks' states in the snapshot: a refused start or stop

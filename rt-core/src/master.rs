@@ -3,10 +3,11 @@
 
 use schema::{
     AnalogSnapshot, MAX_ANALOG_TERMINALS, MAX_PDO_BYTES, MAX_PDO_ENTRIES, PdoEntrySnapshot, SlaveSnapshot, Snapshot,
+    WireSnapshot,
 };
 
 use devices::ecat::network::ImageEntry;
-use devices::ecat::{Field, Network};
+use devices::ecat::{Field, Network, WireCounters};
 
 /// How many objects may be forced at once.
 pub const MAX_FORCES: usize = 32;
@@ -93,12 +94,21 @@ pub fn describe_slaves(network: &Network, snapshot: &mut Snapshot) {
     }
 }
 
-/// What changes every cycle: AL states and the process data.
+/// What changes every cycle: AL states, the process data, and on a wire its frames.
 pub fn update_slaves(network: &Network, snapshot: &mut Snapshot) {
     snapshot.ecat_state = network.state().code() as u32;
+    if let Some(counters) = network.wire_counters() {
+        let WireCounters { good, missing, short, unmatched, .. } = counters;
+        snapshot.wire = WireSnapshot { on_wire: 1, good, missing, short, unmatched };
+    }
     for (i, (slot, slave)) in snapshot.slaves.iter_mut().zip(network.slaves()).enumerate() {
-        slot.al_state = slave.esm().state().code();
-        slot.al_status_code = slave.esm().error().map_or(0, |c| c.code());
+        // On a wire the master knows the segment's lowest state, not each slave's code.
+        let (state, code) = match network.is_simulated() {
+            true => (slave.esm().state(), slave.esm().error().map_or(0, |c| c.code())),
+            false => (network.state(), 0),
+        };
+        slot.al_state = state.code();
+        slot.al_status_code = code;
         let (outputs, inputs) = network.slave_images(i);
         let n = outputs.len().min(MAX_PDO_BYTES);
         slot.outputs[..n].copy_from_slice(&outputs[..n]);

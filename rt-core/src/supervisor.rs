@@ -289,7 +289,8 @@ impl Supervisor {
     fn alarm(&mut self, report: &AlarmReport) {
         let text = describe(report);
         tracing::warn!(task = report.task, cycle = report.cycle, "{text}");
-        let record = EventRecord::new(EventKind::Alarm, report.task as u32, report.cycle, report.alarm, &text);
+        let who = if Alarm(report.alarm).is_general() { ipc::event_record::CONTROLLER } else { report.task as u32 };
+        let record = EventRecord::new(EventKind::Alarm, who, report.cycle, report.alarm, &text);
         if let Err(e) = self.events.send(&record) {
             tracing::debug!("alarm not published: {e}");
         }
@@ -424,6 +425,9 @@ pub fn describe(report: &AlarmReport) -> String {
         Event::Hmpl(code) => format!("stopped by {}", api::errors::describe(code as u32)),
         other => other.meaning().to_string(),
     };
+    if alarm.is_general() {
+        return format!("controller: {what} (alarm {alarm})");
+    }
     format!("task {}: {what} (alarm {alarm})", report.task)
 }
 

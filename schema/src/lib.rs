@@ -33,5 +33,5 @@ pub use slave::{
     MAX_ANALOG_TERMINALS, MAX_PDO_BYTES, MAX_PDO_ENTRIES, MAX_SLAVES, PDOS_PER_DIRECTION, PdoEntrySnapshot,
     SLAVE_DIGITAL_INPUTS, SLAVE_DIGITAL_OUTPUTS, SlaveSnapshot, channel_mask,
 };
-pub use snapshot::{GPIO_PINS, GpioSnapshot, PtSnapshot, Snapshot};
+pub use snapshot::{GPIO_PINS, GpioSnapshot, PtSnapshot, Snapshot, WireSnapshot};
 pub use task::{TaskSnapshot, TaskState};

@@ -67,6 +67,24 @@ pub struct Snapshot {
     pub analog: [AnalogSnapshot; MAX_ANALOG_TERMINALS],
     /// Every axis' position trigger (HMPL ch. 12).
     pub position_triggers: [PtSnapshot; MAX_AXES],
+    /// The process data frames on a wire (`[bus] interface`); zero in memory.
+    pub wire: WireSnapshot,
+}
+
+/// What the process data on a wire did since start-up, as `luamotion tasks` reports it.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C)]
+pub struct WireSnapshot {
+    /// 1 when the segment is on a wire.
+    pub on_wire: u64,
+    /// Cycles whose frame came back complete.
+    pub good: u64,
+    /// Cycles without a frame back (lost, late, the cable).
+    pub missing: u64,
+    /// Frames back short of the working counter (a slave did not take part).
+    pub short: u64,
+    /// Frames back that matched nothing sent (duplicated on the way, or late).
+    pub unmatched: u64,
 }
 
 /// An axis' position trigger (HMPL ch. 12), its last pass.
@@ -103,6 +121,7 @@ impl Default for Snapshot {
             slaves: [SlaveSnapshot::default(); MAX_SLAVES],
             position_triggers: [PtSnapshot::default(); MAX_AXES],
             analog: [AnalogSnapshot::default(); MAX_ANALOG_TERMINALS],
+            wire: WireSnapshot::default(),
         }
     }
 }

@@ -24,12 +24,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-use config::{AxisConfig, DC_CYCLES_US, MachineConfig, RtConfig, ScriptCpus, TaskConfig};
+use config::{AxisConfig, BusConfig, DC_CYCLES_US, MachineConfig, RtConfig, ScriptCpus, TaskConfig};
 use ipc::{Monitor, Namespace};
 use rt_core::supervisor::ScriptLauncher;
 
 use metrics::{Merged, WorkerResult};
-use report::{Counters, CycleReport, Fairness, Fractions, MemoryReport, Report, Row, RunInfo, ScriptRow, Target};
+use report::{
+    Counters, CycleReport, Fairness, Fractions, MemoryReport, Report, Row, RunInfo, ScriptRow, Target, WireCounts,
+};
 
 #[derive(clap::Args, Debug)]
 pub struct SoakArgs {
@@ -76,6 +78,10 @@ pub struct SoakArgs {
     /// Namespace of the soak's controller.
     #[arg(long)]
     pub ns: Option<String>,
+    /// Run the controller's EtherCAT over this interface (`[bus] interface`): a segment of
+    /// as many D1 drives as axes must answer on it (`luamotion subdevices`).
+    #[arg(long)]
+    pub interface: Option<String>,
 }
 
 /// Background work on every CPU at normal priority, until dropped.
@@ -170,7 +176,7 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         in_namespace(&format!("{ns}-floor"), |ns| floor::iceoryx2(ns, period_ns, floor_time))?;
     let futex_wake = in_namespace(&format!("{ns}-futex"), |ns| floor::futex(ns, period_ns, floor_time))?;
 
-    let Measured { merged, workers, stats, memory, script_cpus } = run(&args, &rt, axes, &ns)?;
+    let Measured { wire, master_cpu_ns, merged, workers, stats, memory, script_cpus } = run(&args, &rt, axes, &ns)?;
     let granted = stats.granted;
 
     let floor_one_way = Row::new(floor::ONE_WAY, &one_way);
@@ -210,6 +216,14 @@ pub fn soak(args: SoakArgs) -> Result<ExitCode> {
         task_waker_cpu_percent: percent(stats.ipc.waker_cpu_ns),
         task_wakes: stats.ipc.wakes,
         futex_wakes: stats.ipc.futex_wakes,
+        wire: args.interface.clone().map(|interface| WireCounts {
+            interface,
+            back: wire.good,
+            missing: wire.missing,
+            short: wire.short,
+            unmatched: wire.unmatched,
+            master_cpu_us_per_cycle: master_cpu_ns as f64 / 1000.0 / stats.cycles.max(1) as f64,
+        }),
     };
     let run_info = RunInfo {
         period_us: args.period_us,
@@ -280,12 +294,27 @@ const MEMORY_SAMPLES: u64 = 2;
 /// What the measured run gives: the merged metrics, each worker's own (task `i` at `i`),
 /// the cycle's statistics and the memory sample of the largest total PSS.
 struct Measured {
+    /// The frames on the wire, as the last snapshot of the run counted them.
+    wire: schema::WireSnapshot,
+    /// CPU time of the EtherCAT master's threads over the run.
+    master_cpu_ns: u64,
     merged: Merged,
     workers: Vec<WorkerResult>,
     stats: rt_core::cycle::CycleStats,
     memory: memory::Sample,
     /// The CPUs the workers were kept to; none: every CPU.
     script_cpus: Option<Vec<usize>>,
+}
+
+/// CPU time of this process' threads whose names start with `prefix` (their schedstat).
+fn threads_cpu_ns(prefix: &str) -> u64 {
+    let Ok(threads) = std::fs::read_dir("/proc/self/task") else { return 0 };
+    threads
+        .flatten()
+        .filter(|t| std::fs::read_to_string(t.path().join("comm")).is_ok_and(|name| name.starts_with(prefix)))
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|stat| stat.split_whitespace().next().and_then(|ns| ns.parse::<u64>().ok()))
+        .sum()
 }
 
 /// One row per script: its wake-ups, its CPU time, its memory.
@@ -356,6 +385,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
         tasks: (0..args.scripts as u8)
             .map(|id| TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(id, exe.clone()) })
             .collect(),
+        bus: BusConfig { interface: args.interface.clone() },
         ..MachineConfig::default()
     };
     config.validate()?;
@@ -398,9 +428,11 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
             .progress_chars("=> "),
     );
     let started = Instant::now();
+    let master_cpu_before = threads_cpu_ns("ecat-");
     let pids: Vec<u32> = workers.iter().map(|(child, _)| child.id()).collect();
     let mut memory = memory::Sample::default();
     let mut samples_taken = 0;
+    let mut wire = schema::WireSnapshot::default();
     while workers.iter_mut().any(|(child, _)| matches!(child.try_wait(), Ok(None))) {
         let next_sample = Duration::from_millis(args.duration * 1000 * (samples_taken + 1) / (MEMORY_SAMPLES + 1));
         if samples_taken < MEMORY_SAMPLES && started.elapsed() >= next_sample {
@@ -410,6 +442,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
         let snapshot = monitor.snapshot()?;
         bar.set_position(started.elapsed().as_secs().min(args.duration));
         bar.set_message(format!("cycle {}, overruns {}", snapshot.cycle, snapshot.overruns));
+        wire = snapshot.wire;
         if started.elapsed() > Duration::from_secs(args.duration + 60) {
             for (child, _) in &mut workers {
                 let _ = child.kill();
@@ -419,6 +452,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
         std::thread::sleep(Duration::from_millis(200));
     }
     bar.finish_and_clear();
+    let master_cpu_ns = threads_cpu_ns("ecat-") - master_cpu_before;
     // The tools' view goes before the controller removes its services.
     drop(monitor);
 
@@ -439,7 +473,7 @@ fn run(args: &SoakArgs, rt: &RtConfig, axes: usize, ns: &str) -> Result<Measured
     if !failures.is_empty() {
         bail!("soak workers failed: {}", failures.join(", "));
     }
-    Ok(Measured { merged, workers: results, stats: report.stats, memory, script_cpus })
+    Ok(Measured { wire, master_cpu_ns, merged, workers: results, stats: report.stats, memory, script_cpus })
 }
 
 /// The targets, evaluated on this run.

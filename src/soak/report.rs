@@ -80,6 +80,24 @@ pub struct Counters {
     pub task_wakes: u64,
     /// ...of which those that found the task asleep (woken by a futex wake of its bell).
     pub futex_wakes: u64,
+    /// `--interface`: the process data frames on the wire.
+    pub wire: Option<WireCounts>,
+}
+
+/// What the frames on a wire did over the run (`luamotion tasks` counts the same).
+#[derive(Debug, Serialize)]
+pub struct WireCounts {
+    pub interface: String,
+    /// Cycles whose frame came back complete.
+    pub back: u64,
+    /// Cycles without a frame back.
+    pub missing: u64,
+    /// Frames back short of the working counter.
+    pub short: u64,
+    /// Frames back that matched nothing sent.
+    pub unmatched: u64,
+    /// CPU time of the master's threads (ecat-master, ecat-mailbox, ecat-txrx) per cycle.
+    pub master_cpu_us_per_cycle: f64,
 }
 
 /// The cycle against its period: execution percentiles as fractions of it, and the
@@ -300,6 +318,18 @@ impl Report {
             c.task_wakes,
             c.futex_wakes
         );
+        if let Some(w) = &c.wire {
+            sayln!(
+                "EtherCAT on {}: {} frames back, {} missing, {} short of the working counter, {} matching nothing \
+                 sent; the master's threads {:.1} us of CPU per cycle",
+                w.interface,
+                w.back,
+                w.missing,
+                w.short,
+                w.unmatched,
+                w.master_cpu_us_per_cycle
+            );
+        }
         self.print_cycle();
         self.print_scripts();
         sayln!();

@@ -72,6 +72,14 @@ const BOOTSTRAP_NOT_SUPPORTED: u16 = 0x0013;
 const INVALID_MAILBOX_CONFIGURATION: u16 = 0x0016;
 const INVALID_OUTPUT_CONFIGURATION: u16 = 0x001D;
 const INVALID_INPUT_CONFIGURATION: u16 = 0x001E;
+/// The process data watchdog ran out (ETG.1000.6 table 11).
+const SYNC_MANAGER_WATCHDOG: u16 = 0x001B;
+/// SM control bit 6: the SyncManager's watchdog is on (SOEM's 0x64 for SM2 has it).
+const SM_WATCHDOG_ENABLE: u8 = 0x40;
+/// Power-up watchdog registers as an ESC has them: 2498 + 2 ticks of 40 ns make 100 us,
+/// and 1000 of those the process data watchdog's 100 ms.
+const WATCHDOG_DIVIDER_RESET: u16 = 2498;
+const WATCHDOG_TIME_PROCESS_DATA_RESET: u16 = 1000;
 /// SM PDI control bit 1: repeat acknowledge.
 const REPEAT_ACK: u8 = 0b10;
 /// The longest step of free run: a master that pauses does not see a drive leap.
@@ -120,6 +128,9 @@ pub struct Esc {
     inputs: Vec<u8>,
     /// Whether the frame under way reached the process data through an FMMU.
     process_data: bool,
+    /// When the outputs were last written in Op (segment time): the process data
+    /// watchdog's start.
+    outputs_written: Option<u64>,
     last_step: Option<u64>,
     arrival: FrameArrival,
     last_port: bool,
@@ -140,6 +151,8 @@ impl Esc {
         registers.set_byte(PORT_DESCRIPTOR, PORTS);
         registers.set_u16(FEATURES, FEATURES_SUPPORTED);
         registers.set_u32(DL_CONTROL, DL_CONTROL_RESET);
+        registers.set_u16(WATCHDOG_DIVIDER, WATCHDOG_DIVIDER_RESET);
+        registers.set_u16(WATCHDOG_TIME_PROCESS_DATA, WATCHDOG_TIME_PROCESS_DATA_RESET);
         let sii = SiiInterface::new(Eeprom::build(&sii_contents(slave.device().od(), name)), &mut registers);
         let mut esc = Esc {
             slave,
@@ -154,6 +167,7 @@ impl Esc {
             outputs: Vec::new(),
             inputs: Vec::new(),
             process_data: false,
+            outputs_written: None,
             last_step: None,
             arrival: FrameArrival::default(),
             last_port: true,
@@ -200,6 +214,7 @@ impl Esc {
     /// the frame reads the inputs of the last pulse (DC mode; docs/decisions.md, "When the
     /// drives step").
     pub fn frame_arrives(&mut self, arrival: FrameArrival) {
+        self.watch_process_data(arrival.port0);
         self.arrival = arrival;
         self.process_data = false;
         let pulses = self.dc.pulses(&mut self.registers, arrival.port0, MAX_PULSES_PER_FRAME);
@@ -211,6 +226,28 @@ impl Esc {
         }
         if pulses.count > 0 {
             self.last_step = Some(arrival.port0);
+        }
+    }
+
+    /// The process data watchdog (ETG.1000.4 6.3): in Op, outputs not written for its
+    /// time take the slave to SafeOp with 0x001B, and the device learns that the master's
+    /// frames stopped. Looked at when a frame arrives: until then nothing could see it.
+    fn watch_process_data(&mut self, now: u64) {
+        if self.slave.esm().state() != AlState::Op || self.sm(2).control & SM_WATCHDOG_ENABLE == 0 {
+            self.outputs_written = None;
+            return;
+        }
+        let unit_ns = (u64::from(self.registers.u16(WATCHDOG_DIVIDER)) + 2) * 40;
+        let time_ns = unit_ns * u64::from(self.registers.u16(WATCHDOG_TIME_PROCESS_DATA));
+        let Some(written) = self.outputs_written else {
+            self.outputs_written = Some(now);
+            return;
+        };
+        if time_ns > 0 && now.saturating_sub(written) > time_ns {
+            let _ = self.slave.request_state(AlState::SafeOp);
+            self.refuse(SYNC_MANAGER_WATCHDOG);
+            self.slave.process_data_lost();
+            self.outputs_written = None;
         }
     }
 
@@ -288,6 +325,7 @@ impl Esc {
                 if self.ecat_write(run.physical, value) {
                     done.written = true;
                     self.process_data = true;
+                    self.outputs_written = Some(self.arrival.port0);
                 }
             }
         }

@@ -277,7 +277,10 @@ impl Mailbox {
         match error {
             SdoError::Abort(abort) => self.abort(index, sub, abort),
             SdoError::NoMailbox => {}
-            SdoError::NoSlave(_) => self.abort(index, sub, SdoAbort::General),
+            // A slave behind an ESC is in memory: no wire's queue between them.
+            SdoError::NoSlave(_) | SdoError::MailboxBusy | SdoError::Pending => {
+                self.abort(index, sub, SdoAbort::General)
+            }
         }
     }
 

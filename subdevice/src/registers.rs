@@ -53,6 +53,10 @@ pub const SII_ADDRESS: u16 = 0x0504;
 pub const SII_DATA: u16 = 0x0508;
 /// The first FMMU (16 bytes each, table 57).
 pub const FMMU_BASE: u16 = 0x0600;
+/// Watchdog divider: 40 ns ticks, less 2, of one watchdog unit (ETG.1000.4 6.3).
+pub const WATCHDOG_DIVIDER: u16 = 0x0400;
+/// Process data watchdog time, in watchdog units; 0 turns it off (ETG.1000.4 6.3).
+pub const WATCHDOG_TIME_PROCESS_DATA: u16 = 0x0420;
 /// The first SyncManager (8 bytes each, table 59).
 pub const SM_BASE: u16 = 0x0800;
 /// Port 0 receive time; a write latches every port's (table 60).

@@ -200,7 +200,10 @@ impl Eeprom {
         let mut strings = vec![1, name.len() as u8];
         strings.extend_from_slice(name);
         let mut general = [0u8; 32];
-        general[3] = 1; // NameIdx: string 1.
+        // ETG.2010 table 6: OrderIdx and NameIdx both string 1 (SOEM names a slave by
+        // the name, ethercrab by the order number).
+        general[2] = 1;
+        general[3] = 1;
         general[5] = COE_DETAILS;
         let fmmu = [0x01, 0x02];
         let sms: Vec<u8> = contents
@@ -372,6 +375,7 @@ mod tests {
         assert_eq!([word(0x40), word(0x41), word(0x42)], [CATEGORY_STRINGS, 5, 0x0801]);
         assert_eq!(word(0x43), u16::from_le_bytes(*b"HI"));
         assert_eq!([word(0x47), word(0x48)], [CATEGORY_GENERAL, 16]);
+        assert_eq!(word(0x49 + 1), 0x0101, "bytes 2 and 3: OrderIdx and NameIdx, string 1");
         assert_eq!(word(0x49 + 2), u16::from(COE_DETAILS) << 8, "byte 5: CoE details");
         let fmmu = 0x49 + 16;
         assert_eq!([word(fmmu), word(fmmu + 1), word(fmmu + 2)], [CATEGORY_FMMU, 1, 0x0201]);

@@ -43,6 +43,13 @@ impl Wire {
         Ok(wire)
     }
 
+    /// `program` run in the wire's namespace.
+    pub fn in_namespace(&self, program: impl AsRef<std::ffi::OsStr>) -> Command {
+        let mut command = Command::new(&self.ip);
+        command.args(["netns", "exec", &self.namespace]).arg(program);
+        command
+    }
+
     pub fn run(&self, args: &[&str]) -> Result<(), String> {
         let output = Command::new(&self.ip).args(args).output().map_err(|e| format!("ip {}: {e}", args.join(" ")))?;
         if output.status.success() {
@@ -85,26 +92,28 @@ pub enum End {
 pub struct Segment(Option<Child>);
 
 impl Segment {
-    /// Started; returns once it serves, or fails saying what it printed.
+    /// The built-in machine's drives, started; returns once it serves, or fails saying
+    /// what it printed.
     pub fn serve(wire: &Wire, end: End) -> Segment {
-        let mut command = match end {
-            End::Outside => Command::new(BIN),
-            End::Inside => {
-                let mut command = Command::new(&wire.ip);
-                command.args(["netns", "exec", &wire.namespace, BIN]);
-                command
-            }
-        };
-        let interface = match end {
-            End::Outside => &wire.outside,
-            End::Inside => &wire.inside,
-        };
-        let mut child = command
-            .args(["-v", "subdevices", "--interface", interface])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start luamotion subdevices");
+        Segment::serve_machine(wire, end, None)
+    }
+
+    /// The drives and slaves of the machine file `config` (the built-in machine's without).
+    pub fn serve_machine(wire: &Wire, end: End, config: Option<&std::path::Path>) -> Segment {
+        match end {
+            End::Outside => Segment::serve_on(Command::new(BIN), &wire.outside, config),
+            End::Inside => Segment::serve_on(wire.in_namespace(BIN), &wire.inside, config),
+        }
+    }
+
+    /// `command` (the binary, or `ip netns exec` of it) serving on `interface`.
+    pub fn serve_on(mut command: Command, interface: &str, config: Option<&std::path::Path>) -> Segment {
+        command.args(["-v", "subdevices", "--interface", interface]);
+        if let Some(config) = config {
+            command.arg("--config").arg(config);
+        }
+        let mut child =
+            command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("start luamotion subdevices");
         let lines = lines_of(child.stdout.take().unwrap());
         match lines.recv_timeout(Duration::from_secs(30)) {
             Ok(line) if line.starts_with("serving ") => Segment(Some(child)),

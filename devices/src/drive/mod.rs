@@ -95,7 +95,19 @@ impl Device for Drive {
             DriveModel::Abily => (0, 5),
         }
     }
+
+    /// The master's frames stopped: CoE manual table 4-16, error 23 (0x7580, EtherCAT
+    /// interface not detected; drive error events 2 bit 30), and the fault reaction.
+    fn process_data_lost(&mut self) {
+        if let Some(fault) = faults::find(ETHERCAT_LOST) {
+            self.raise(fault);
+            self.fsa.fault();
+        }
+    }
 }
+
+/// CoE manual table 4-16, error 23: every model reports it.
+const ETHERCAT_LOST: u16 = 0x7580;
 
 /// Why the simulation could not inject a drive fault.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -109,6 +121,9 @@ pub enum FaultInjectionError {
     /// The slave at this position holds no drive.
     #[error("slave {0} is not a drive")]
     NotADrive(usize),
+    /// The drives are on a wire: a real drive's faults are its own.
+    #[error("slave {0} is on a wire, not simulated here")]
+    NotSimulated(usize),
 }
 
 /// A simulated HIWIN CoE drive and the motor behind it: the device of an axis' slave.

@@ -44,4 +44,8 @@ pub trait Device: Any + Send {
     fn analog_channels(&self) -> (u8, u8) {
         (0, 0)
     }
+
+    /// The ESC's process data watchdog ran out in Op: the master's frames stopped (the
+    /// cable, the master). A device that reacts to it does so here.
+    fn process_data_lost(&mut self) {}
 }

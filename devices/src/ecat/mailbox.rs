@@ -18,6 +18,13 @@ pub enum SdoError {
     /// No slave at this position in the ring.
     #[error("no slave {0}")]
     NoSlave(usize),
+    /// On a wire: the slave's mailbox has a transfer under way, or the queue to the wire
+    /// is full; asked again in a later cycle, it is taken.
+    #[error("the mailbox is busy")]
+    MailboxBusy,
+    /// On a wire: the transfer is queued, its answer comes in a later cycle.
+    #[error("the transfer is under way")]
+    Pending,
 }
 
 /// What the SDO information service tells of one object: how a master reads and maps it.

@@ -6,9 +6,11 @@ pub mod esm;
 pub mod mailbox;
 pub mod network;
 pub mod pdo;
+pub mod remote;
 pub mod slave;
 
 pub use device::Device;
 pub use esm::{AlState, AlStatusCode};
 pub use mailbox::{SdoAbort, SdoError};
-pub use network::{Field, Network, SdoDownload, SlaveSetup, StartError};
+pub use network::{Field, Network, SdoDownload, SlaveSetup, StartError, WireCounters};
+pub use remote::{Exchange, Remote, SdoAccess, SdoAnswer, SdoRequest};

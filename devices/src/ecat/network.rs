@@ -10,8 +10,9 @@ use std::ops::Range;
 use crate::coe::DataType;
 use crate::ecat::device::Device;
 use crate::ecat::esm::{AlState, AlStatusCode};
-use crate::ecat::mailbox::SdoError;
+use crate::ecat::mailbox::{SdoAbort, SdoError};
 use crate::ecat::pdo::{Direction, PdoEntry};
+use crate::ecat::remote::{Exchange, Remote, SdoAccess, SdoAnswer, SdoRequest};
 use crate::ecat::slave::{ESC_DC_SYNC0, ESC_SYNC_ACTIVATION, Slave};
 
 /// Where one mapped object sits in the master's process image.
@@ -131,6 +132,51 @@ struct SlaveImage {
     tx: Vec<ImageEntry>,
 }
 
+/// Where the slaves are that the image goes to.
+enum Transport {
+    /// In this process: each exchange steps the device models.
+    Memory,
+    /// Behind a wire (`Remote`): the device models are the plan of what is there.
+    Wire(Wire),
+}
+
+/// The master's side of a wire.
+struct Wire {
+    link: Box<dyn Remote>,
+    /// One transfer at a time per slave, as a mailbox carries them.
+    mailboxes: Vec<Mailbox>,
+    counters: WireCounters,
+    /// Exchanges in a row without a complete frame after which the segment counts as lost.
+    lost_after: u32,
+}
+
+/// A slave's mailbox as the master sees it over a wire.
+#[derive(Clone, Copy, Debug, Default)]
+enum Mailbox {
+    #[default]
+    Idle,
+    /// Queued or under way.
+    Busy(SdoRequest),
+    /// Finished, until the one who asked takes the answer.
+    Answered(SdoAnswer),
+}
+
+/// What the process data on a wire did since start-up (ETG.1000.4 5.4: a frame is good
+/// when it comes back with every slave's working counter).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WireCounters {
+    /// Exchanges with a fresh, complete frame.
+    pub good: u64,
+    /// Exchanges without a frame back since the last one.
+    pub missing: u64,
+    /// Frames back short of the working counter.
+    pub short: u64,
+    /// Frames back that matched nothing sent (duplicated on the way, or late).
+    pub unmatched: u64,
+    /// Bad exchanges in a row, now.
+    pub bad_in_a_row: u32,
+}
+
 /// The simulated segment as its master sees it: the slaves, their mappings and the
 /// process image of outputs and inputs.
 pub struct Network {
@@ -140,6 +186,7 @@ pub struct Network {
     inputs: Vec<u8>,
     images: Vec<SlaveImage>,
     start_error: Option<StartError>,
+    transport: Transport,
 }
 
 impl Network {
@@ -156,6 +203,29 @@ impl Network {
             inputs: Vec::new(),
             images: Vec::new(),
             start_error: None,
+            transport: Transport::Memory,
+        }
+    }
+
+    /// From now on the image goes over `link` (started, in Op) and the device models
+    /// only describe what it reaches. `lost_after` exchanges in a row without a complete
+    /// frame and the segment counts as lost (`state` Init) until frames come back.
+    pub fn put_on_wire(&mut self, link: Box<dyn Remote>, lost_after: u32) {
+        let mailboxes = vec![Mailbox::Idle; self.slaves.len()];
+        let counters = WireCounters::default();
+        self.transport = Transport::Wire(Wire { link, mailboxes, counters, lost_after: lost_after.max(1) });
+    }
+
+    /// True while the slaves are the device models in this process.
+    pub fn is_simulated(&self) -> bool {
+        matches!(self.transport, Transport::Memory)
+    }
+
+    /// What the process data on the wire did; `None` in memory.
+    pub fn wire_counters(&self) -> Option<WireCounters> {
+        match &self.transport {
+            Transport::Memory => None,
+            Transport::Wire(wire) => Some(WireCounters { unmatched: wire.link.unmatched(), ..wire.counters }),
         }
     }
 
@@ -302,13 +372,53 @@ impl Network {
         Ok((entries, len))
     }
 
-    /// The master state `GetECATSt` reports: the lowest state of any slave.
+    /// The master state `GetECATSt` reports: the lowest state of any slave. On a wire,
+    /// the lowest the last frame back reported, and Init while the segment is lost.
     pub fn state(&self) -> AlState {
-        self.slaves.iter().map(|s| s.esm().state()).min().unwrap_or(AlState::Init)
+        match &self.transport {
+            Transport::Memory => self.slaves.iter().map(|s| s.esm().state()).min().unwrap_or(AlState::Init),
+            Transport::Wire(wire) if wire.is_lost() => AlState::Init,
+            Transport::Wire(wire) => wire.link.state(),
+        }
     }
 
-    /// One frame: every slave takes its outputs, runs one cycle and returns its inputs.
+    /// Whether the input image holds what the slaves sent: in memory always; on a wire
+    /// while the segment is in Op and not lost (else the inputs are the last ones that
+    /// came, and say nothing of the drives now).
+    pub fn inputs_valid(&self) -> bool {
+        match &self.transport {
+            Transport::Memory => true,
+            Transport::Wire(wire) => !wire.is_lost() && wire.link.state() == AlState::Op,
+        }
+    }
+
+    /// One frame: every slave takes its outputs, runs one cycle and returns its inputs;
+    /// on a wire, the outputs are handed over and the last frame's inputs taken, and the
+    /// mailbox answers that came in are filed by slave.
     pub fn exchange(&mut self, period_s: f64) {
+        if let Transport::Wire(wire) = &mut self.transport {
+            let counters = &mut wire.counters;
+            match wire.link.exchange(&self.outputs, &mut self.inputs) {
+                Exchange::Fresh => {
+                    counters.good += 1;
+                    counters.bad_in_a_row = 0;
+                }
+                Exchange::WorkingCounter { .. } => {
+                    counters.short += 1;
+                    counters.bad_in_a_row += 1;
+                }
+                Exchange::Missing => {
+                    counters.missing += 1;
+                    counters.bad_in_a_row += 1;
+                }
+            }
+            while let Some(answer) = wire.link.answer() {
+                if let Some(mailbox) = wire.mailboxes.get_mut(usize::from(answer.request.slave)) {
+                    *mailbox = Mailbox::Answered(answer);
+                }
+            }
+            return;
+        }
         for (i, slave) in self.slaves.iter_mut().enumerate() {
             let image = self.images.get(i);
             let outputs = &self.outputs[image.map_or(0..0, |m| m.outputs.clone())];
@@ -354,20 +464,82 @@ impl Network {
         self.slaves.get(slave).ok_or(SdoError::NoSlave(slave))
     }
 
-    /// SDO upload through the slave's mailbox.
-    pub fn sdo_read(&self, slave: usize, index: u16, sub: u8) -> Result<(i64, usize), SdoError> {
+    /// SDO upload through the slave's mailbox. On a wire the first call queues it and
+    /// says `Pending`; asked again in a later cycle, the answer is given once it came.
+    pub fn sdo_read(&mut self, slave: usize, index: u16, sub: u8) -> Result<(i64, usize), SdoError> {
+        self.slave(slave)?;
+        match &mut self.transport {
+            Transport::Memory => self.slaves[slave].sdo_read(index, sub),
+            Transport::Wire(wire) => {
+                let (bytes, len) =
+                    wire.transfer(SdoRequest { slave: slave as u16, index, sub, access: SdoAccess::Upload })?;
+                // Signed as the device's dictionary describes the object.
+                let signed = self.slaves[slave].sdo_describe(index, sub).is_ok_and(|d| d.ty.is_signed());
+                let value = match (signed, len) {
+                    (true, 1) => i64::from(bytes[0] as i8),
+                    (true, 2) => i64::from(i16::from_le_bytes([bytes[0], bytes[1]])),
+                    (true, _) => i64::from(i32::from_le_bytes(bytes)),
+                    (false, _) => i64::from(u32::from_le_bytes(bytes)),
+                };
+                Ok((value, len))
+            }
+        }
+    }
+
+    /// SDO upload from the device model in this process, at once: in memory the slave
+    /// itself; on a wire the plan of what is there (its identity, what it describes of
+    /// itself), not the drive's present values.
+    pub fn sdo_read_local(&self, slave: usize, index: u16, sub: u8) -> Result<(i64, usize), SdoError> {
         self.slave(slave)?.sdo_read(index, sub)
     }
 
-    /// SDO download through the slave's mailbox.
+    /// SDO download through the slave's mailbox; on a wire, as `sdo_read`.
     pub fn sdo_write(&mut self, slave: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoError> {
         self.slave(slave)?;
-        self.slaves[slave].sdo_write(index, sub, data)
+        match &mut self.transport {
+            Transport::Memory => self.slaves[slave].sdo_write(index, sub, data),
+            Transport::Wire(wire) => {
+                let mut bytes = [0; 4];
+                let len = data.len().min(4);
+                if data.len() > 4 {
+                    return Err(SdoError::Abort(SdoAbort::LengthTooHigh));
+                }
+                bytes[..len].copy_from_slice(&data[..len]);
+                let access = SdoAccess::Download { data: bytes, len: len as u8 };
+                wire.transfer(SdoRequest { slave: slave as u16, index, sub, access }).map(|_| ())
+            }
+        }
     }
 
     /// AL Control from outside the start-up (tests, tools).
     pub fn request_state(&mut self, slave: usize, target: AlState) -> Result<(), AlStatusCode> {
         self.slaves[slave].request_state(target)
+    }
+}
+
+impl Wire {
+    fn is_lost(&self) -> bool {
+        self.counters.bad_in_a_row >= self.lost_after
+    }
+
+    /// One step of the transfer `request`: its answer if it came, else queued (`Pending`)
+    /// or refused while another transfer of that slave is under way (`MailboxBusy`).
+    fn transfer(&mut self, request: SdoRequest) -> Result<([u8; 4], usize), SdoError> {
+        let mailbox = &mut self.mailboxes[usize::from(request.slave)];
+        match *mailbox {
+            Mailbox::Answered(answer) if answer.request == request => {
+                *mailbox = Mailbox::Idle;
+                answer.result
+            }
+            Mailbox::Busy(under_way) if under_way == request => Err(SdoError::Pending),
+            Mailbox::Busy(_) => Err(SdoError::MailboxBusy),
+            // An answer nobody came back for is dropped for the next transfer.
+            Mailbox::Idle | Mailbox::Answered(_) => {
+                self.link.request(request)?;
+                *mailbox = Mailbox::Busy(request);
+                Err(SdoError::Pending)
+            }
+        }
     }
 }
 

@@ -61,6 +61,11 @@ impl Slave {
         (&*self.device as &dyn std::any::Any).downcast_ref()
     }
 
+    /// The process data watchdog of the slave's ESC ran out (`Device::process_data_lost`).
+    pub fn process_data_lost(&mut self) {
+        self.device.process_data_lost();
+    }
+
     pub(crate) fn device_mut_as<T: Device>(&mut self) -> Option<&mut T> {
         (&mut *self.device as &mut dyn std::any::Any).downcast_mut()
     }

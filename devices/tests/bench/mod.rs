@@ -95,7 +95,7 @@ impl Bench {
 
     /// An SDO upload, as a number (REAL32 objects come as their bits).
     pub fn read(&self, index: u16, sub: u8) -> i64 {
-        self.net.sdo_read(0, index, sub).unwrap_or_else(|e| panic!("read 0x{index:04X}:{sub}: {e}")).0
+        self.net.sdo_read_local(0, index, sub).unwrap_or_else(|e| panic!("read 0x{index:04X}:{sub}: {e}")).0
     }
 
     /// An SDO download of `value` with the object's own length.

@@ -66,34 +66,57 @@ impl Axis {
         self.check(result)
     }
 
-    /// HMPL 20.2: writes the homing objects by SDO and starts the drive's homing.
+    /// HMPL 20.2: writes the homing objects by SDO and starts the drive's homing. In
+    /// memory the objects are written at once and a refusal fails the call; on a wire
+    /// the run writes them first, one mailbox transfer after the other (`configure_homing`).
     pub fn start_homing(&mut self, network: &mut Network) -> Result<(), AxisError> {
         self.check_can_move()?;
         if !self.link.can_home() {
             return Err(self.fail(AxisError::CmdInvalidNoSpecificPdo));
         }
-        let home = self.settings.home;
-        let counts = |units: f64| self.link.counts(units).round() as i64;
-        let writes: [(u16, u8, i64, usize); 5] = [
-            (0x6098, 0, home.method, 1),
-            (0x6099, 1, counts(home.switch_vel), 4),
-            (0x6099, 2, counts(home.zero_vel), 4),
-            (0x609A, 0, counts(home.acc), 4),
-            (0x607C, 0, counts(home.offset), 4),
-        ];
-        for (index, sub, value, len) in writes {
+        let Some(objects) = self.homing_objects() else {
             // A value cut to the object's width would be another value.
-            if !fits_width(value, len)
-                || network.sdo_write(self.link.slave(), index, sub, &value.to_le_bytes()[..len]).is_err()
-            {
-                return Err(self.fail(AxisError::DriveHomeFailed));
-            }
+            return Err(self.fail(AxisError::DriveHomeFailed));
+        };
+        let mut run = Homing::new(self.cycle);
+        if run.configure(&mut self.link, network, &objects.writes()).is_err() {
+            return Err(self.fail(AxisError::DriveHomeFailed));
         }
-        let started = self.source.start_homing(Homing::new(self.cycle));
+        let started = self.source.start_homing(run);
         self.check(started)?;
-        Homing::enter(&mut self.link);
         self.home_state.start();
         Ok(())
+    }
+
+    /// Goes on writing the homing objects of a run that started on a wire.
+    pub(super) fn configure_homing(&mut self, network: &mut Network) {
+        if !matches!(self.source, ReferenceSource::Homing(Homing::Configuring { .. })) {
+            return;
+        }
+        let Some(objects) = self.homing_objects() else { return };
+        if let ReferenceSource::Homing(run) = &mut self.source
+            && let Err(e) = run.configure(&mut self.link, network, &objects.writes())
+        {
+            Homing::abort(&mut self.link);
+            self.finish_homing(Err(e));
+        }
+    }
+
+    /// The homing objects of the settings (CoE manual 3.2): method, the two speeds, the
+    /// acceleration and the offset, each as wide as its object; `None` when one does not fit.
+    fn homing_objects(&self) -> Option<HomingObjects> {
+        let home = self.settings.home;
+        let counts = |units: f64| self.link.counts(units).round() as i64;
+        let values =
+            [home.method, counts(home.switch_vel), counts(home.zero_vel), counts(home.acc), counts(home.offset)];
+        let mut bytes = [[0u8; 4]; 5];
+        for ((value, len), out) in values.iter().zip(HOMING_OBJECTS.map(|(_, _, len)| len)).zip(&mut bytes) {
+            if !fits_width(*value, len) {
+                return None;
+            }
+            out.copy_from_slice(&value.to_le_bytes()[..4]);
+        }
+        Some(HomingObjects(bytes))
     }
 
     /// IsHoming (HMPL 20.11): a MoveHome run is under way.
@@ -132,5 +155,21 @@ impl Axis {
             }
         }
         self.home_state.finish(result);
+    }
+}
+
+/// The homing objects the master writes, in order: index, sub-index, width in bytes.
+const HOMING_OBJECTS: [(u16, u8, usize); 5] =
+    [(0x6098, 0, 1), (0x6099, 1, 4), (0x6099, 2, 4), (0x609A, 0, 4), (0x607C, 0, 4)];
+
+/// The values of `HOMING_OBJECTS`, little-endian.
+struct HomingObjects([[u8; 4]; 5]);
+
+impl HomingObjects {
+    fn writes(&self) -> [(u16, u8, &[u8]); 5] {
+        std::array::from_fn(|i| {
+            let (index, sub, len) = HOMING_OBJECTS[i];
+            (index, sub, &self.0[i][..len])
+        })
     }
 }

@@ -610,7 +610,10 @@ impl Axis {
         self.sensed.drive_position = self.sensed.feedback.position;
         let timeout = self.cycles(self.settings.enable_timeout_ms);
         let at_rest = self.sensed.vel_fb.abs() < STANDSTILL * self.settings.max_vel;
-        let event = self.link.sequence(self.sensed.feedback.statusword, cycle, timeout, at_rest);
+        // A statusword the bus did not bring this cycle says nothing: an enabled axis whose
+        // drive is out of reach counts as disabled without a command (0x83II03FC).
+        let statusword = network.inputs_valid().then_some(self.sensed.feedback.statusword);
+        let event = self.link.sequence(statusword, cycle, timeout, at_rest);
         self.on_power_event(event, network);
     }
 
@@ -826,6 +829,7 @@ impl Axis {
 
     /// 4. Writes the drive: `position` is the drive command (after any gantry transform).
     pub fn actuate(&mut self, network: &mut Network, position: f64) {
+        self.configure_homing(network);
         let velocity = if self.op_mode() == MODE_CSV { self.reference.vel } else { 0.0 };
         let torque = match self.source {
             ReferenceSource::Torque { per_mille } if self.link.is_enabled() => per_mille,

@@ -1,7 +1,7 @@
 //! HMPL ch. 17: drive objects by SDO and in the process data; these return 0 or -1, the
 //! reply's `rc` says why (a CiA 301 abort code or an HMPL code).
 
-use api::{ErrorCode, SdoAbort, SystemError};
+use api::{CommandCall, ErrorCode, SdoAbort, SystemError};
 use ipc::call::Reply;
 
 use super::{Done, Failure, Outcome, now};
@@ -9,15 +9,40 @@ use crate::machine::Machine;
 use devices::coe::fits_width;
 use devices::ecat::{AlState, Field};
 
+/// HMPL 17.2.1 to 17.2.4, by SDO: at once in memory; on a wire the call waits for the
+/// mailbox's answer (`Done::Later`, then `resume` asks again each cycle).
+pub(super) fn sdo(m: &mut Machine, call: &CommandCall, reply: &mut Reply) -> Outcome {
+    use CommandCall as C;
+    let result = match *call {
+        C::ReadSDO { slv_id, obj_index, obj_subindex, obj_length } => {
+            read_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
+        }
+        C::ReadSDOEx { slv_id, obj_index, obj_subindex, obj_length } => {
+            read_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
+        }
+        C::WriteSDO { slv_id, obj_index, obj_subindex, obj_length, obj_value } => {
+            write_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
+        }
+        C::WriteSDOEx { slv_id, obj_index, obj_subindex, obj_length, ref obj_value } => {
+            write_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
+        }
+        _ => Err(Failure::Code(SystemError::HmplNotSupported.into())),
+    };
+    match result {
+        Err(Failure::Transfer) => Ok(Done::Later),
+        other => other,
+    }
+}
+
 /// HMPL 17.2.1: the object's value (sign-extended).
-pub(super) fn read_sdo(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], reply: &mut Reply) -> Outcome {
+fn read_sdo(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], reply: &mut Reply) -> Outcome {
     let (value, _) = sdo_read(m, slave_id, index, subindex, len)?;
     reply.push_int(value);
     Ok(Done::Now)
 }
 
 /// HMPL 17.2.2: 0 and the object's bytes.
-pub(super) fn read_sdo_ex(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], reply: &mut Reply) -> Outcome {
+fn read_sdo_ex(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], reply: &mut Reply) -> Outcome {
     let (value, len) = sdo_read(m, slave_id, index, subindex, len)?;
     reply.push_int(0);
     reply.set_blob(&value.to_le_bytes()[..len]);
@@ -25,14 +50,14 @@ pub(super) fn read_sdo_ex(m: &mut Machine, [slave_id, index, subindex, len]: [i6
 }
 
 /// HMPL 17.2.3: writes a value `len` bytes wide.
-pub(super) fn write_sdo(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], value: i64) -> Outcome {
+fn write_sdo(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], value: i64) -> Outcome {
     let len = length(len)?;
     let value = fitting(value, len)?.to_le_bytes();
     now(m.network.sdo_write(slave(slave_id)?, object(index)?, sub(subindex)?, &value[..len]))
 }
 
 /// HMPL 17.2.4: writes bytes, exactly `len` of them.
-pub(super) fn write_sdo_ex(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], data: &[u8]) -> Outcome {
+fn write_sdo_ex(m: &mut Machine, [slave_id, index, subindex, len]: [i64; 4], data: &[u8]) -> Outcome {
     let len = length(len)?;
     if data.len() != len {
         return Err(Failure::MinusOne(SdoAbort::LengthMismatch.code()));
@@ -96,7 +121,13 @@ fn fitting(value: i64, len: usize) -> Result<i64, Failure> {
 }
 
 /// An SDO read whose length must be the object's.
-fn sdo_read(m: &Machine, slave_id: i64, index: i64, subindex: i64, length_arg: i64) -> Result<(i64, usize), Failure> {
+fn sdo_read(
+    m: &mut Machine,
+    slave_id: i64,
+    index: i64,
+    subindex: i64,
+    length_arg: i64,
+) -> Result<(i64, usize), Failure> {
     let len = length(length_arg)?;
     let (value, size) = m.network.sdo_read(slave(slave_id)?, object(index)?, sub(subindex)?)?;
     if size != len {

@@ -40,6 +40,8 @@ enum Failure {
     MinusOne(u32),
     /// Refused with an alarm (DXMC format), returned as the code.
     Alarm(Alarm),
+    /// An SDO transfer on a wire is under way: `drive_objects::sdo` defers the call.
+    Transfer,
 }
 
 impl From<ErrorCode> for Failure {
@@ -59,6 +61,7 @@ impl From<SdoError> for Failure {
         Failure::MinusOne(match e {
             SdoError::Abort(abort) => abort.code(),
             SdoError::NoMailbox => SdoAbort::DeviceState.code(),
+            SdoError::MailboxBusy | SdoError::Pending => return Failure::Transfer,
             SdoError::NoSlave(_) => ErrorCode::System(SystemError::HmplArgOutOfRange).code(),
         })
     }
@@ -118,6 +121,16 @@ pub fn resume(machine: &mut Machine, request: &Request, reply: &mut Reply) -> bo
                 Some(result) => result.map_err(|e| Failure::Code(ErrorCode::axis(id, e))),
             }
         }
+        Ok(
+            call @ (CommandCall::ReadSDO { .. }
+            | CommandCall::ReadSDOEx { .. }
+            | CommandCall::WriteSDO { .. }
+            | CommandCall::WriteSDOEx { .. }),
+        ) => match drive_objects::sdo(machine, &call, reply) {
+            Ok(Done::Later) => return false,
+            Ok(Done::Now) => Ok(()),
+            Err(failure) => Err(failure),
+        },
         Ok(CommandCall::EnableComp { axis_id }) => match machine.kernel.take_comp_result(axis_id) {
             None => return false,
             Some(result) => result.map_err(Failure::Code),
@@ -157,6 +170,12 @@ fn finish(machine: &mut Machine, reply: &mut Reply, result: Result<(), Failure>)
             reply.rc = alarm.0;
             reply.valuec = 0;
             reply.push_int(alarm.0 as i64);
+        }
+        // Only the SDO calls meet a transfer under way, and they wait for it.
+        Err(Failure::Transfer) => {
+            reply.rc = SdoAbort::DeviceState.code();
+            reply.valuec = 0;
+            reply.push_int(-1);
         }
     }
 }
@@ -573,17 +592,8 @@ fn run_command(m: &mut Machine, caller: u8, call: &CommandCall, reply: &mut Repl
         }),
         C::ClearGrpLastErr { group_id } => now(m.kernel.clear_group_last_err(group_id)),
         // HMPL ch. 17: drive variables.
-        C::ReadSDO { slv_id, obj_index, obj_subindex, obj_length } => {
-            drive_objects::read_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
-        }
-        C::ReadSDOEx { slv_id, obj_index, obj_subindex, obj_length } => {
-            drive_objects::read_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], reply)
-        }
-        C::WriteSDO { slv_id, obj_index, obj_subindex, obj_length, obj_value } => {
-            drive_objects::write_sdo(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
-        }
-        C::WriteSDOEx { slv_id, obj_index, obj_subindex, obj_length, ref obj_value } => {
-            drive_objects::write_sdo_ex(m, [slv_id, obj_index, obj_subindex, obj_length], obj_value)
+        C::ReadSDO { .. } | C::ReadSDOEx { .. } | C::WriteSDO { .. } | C::WriteSDOEx { .. } => {
+            drive_objects::sdo(m, call, reply)
         }
         C::WritePDO { slv_id, obj_index, obj_subindex, obj_value } => {
             drive_objects::write_pdo(m, [slv_id, obj_index, obj_subindex], obj_value)

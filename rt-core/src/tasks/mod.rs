@@ -261,6 +261,11 @@ impl Tasks {
         self.link.order(Order::Alarm(AlarmReport { alarm: alarm.0, task, cycle, line, detail }));
     }
 
+    /// Raises an alarm of the controller as a whole (no task's outcome changes).
+    pub fn general_alarm(&mut self, event: Event, cycle: u64) {
+        self.raise(Alarm::general(event), 0, cycle, 0, 0);
+    }
+
     /// Records an alarm about an axis a task commanded (0x001F) on that task.
     pub fn axis_alarm(&mut self, task: u8, axis: u8, event: Event, cycle: u64) -> Alarm {
         let alarm = Alarm::axis(axis, event);
