@@ -376,11 +376,21 @@ async fn start_up<'sto>(
     let group = group.configure_dc_sync(maindevice, dc).await.map_err(master("DC SYNC0"))?;
     let group = group.into_safe_op(maindevice).await.map_err(master("PreOp to SafeOp"))?;
     let group = group.request_into_op(maindevice).await.map_err(master("SafeOp to Op"))?;
-    // SYNC0 slaves reach Op only with process data running (the SM watchdog).
+    // SYNC0 slaves reach Op only with process data running (the SM watchdog); a CiA 402
+    // drive leaves Not ready to switch on by itself once running (CoE manual 3.1,
+    // transition 1), and the controller starts its programs after that.
     let deadline = Instant::now() + OP_DEADLINE;
     loop {
         let response = group.tx_rx_dc(maindevice).await.map_err(master("process data to Op"))?;
-        if response.all_op() {
+        let drives_ready = plan.slaves.iter().zip(group.iter(maindevice)).all(|(planned, subdevice)| {
+            let statusword = planned.tx.iter().find(|e| (e.index, e.sub) == (STATUSWORD, 0));
+            statusword.is_none_or(|e| {
+                let io = subdevice.io_raw();
+                let bytes = io.inputs().get(e.offset..e.offset + 2);
+                bytes.is_some_and(|b| u16::from_le_bytes([b[0], b[1]]) & NOT_READY_MASK != 0)
+            })
+        });
+        if response.all_op() && drives_ready {
             return Ok(group);
         }
         if Instant::now() > deadline {
@@ -389,3 +399,7 @@ async fn start_up<'sto>(
         async_io::Timer::after(cycle_time).await;
     }
 }
+
+/// CiA 402 statusword (CoE manual table 3-5): Not ready to switch on is `xxxx xxxx x0xx 0000`.
+const STATUSWORD: u16 = 0x6041;
+const NOT_READY_MASK: u16 = 0x004F;

@@ -63,8 +63,9 @@ pub enum WireError {
         /// What the plan has.
         planned: String,
     },
-    /// Not every slave reached Op with process data running.
-    #[error("not every slave reached Op within {waited:?} of process data")]
+    /// Not every slave reached Op with process data running, or a drive stayed in Not
+    /// ready to switch on.
+    #[error("not every slave reached Op (and every drive Switch on disabled) within {waited:?} of process data")]
     NotOp {
         /// How long the master exchanged process data waiting for it.
         waited: std::time::Duration,

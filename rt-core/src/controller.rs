@@ -141,26 +141,38 @@ pub fn run(config: MachineConfig, options: RunOptions) -> Result<RunReport, Cont
 }
 
 /// The machine's EtherCAT network: in memory, started here (a failed start-up leaves
-/// the controller up, in Fail, as `ScanNetwork` can retry it); or on the wire of `[bus]
-/// interface`, whose start-up must succeed before the controller starts.
-fn bus(config: &MachineConfig, clock: Clock) -> Result<Network, ControllerError> {
+/// the controller up, in Fail, as `ScanNetwork` can retry it); or planned for the wire of
+/// `[bus] interface`, whose start-up (`start_wire`) must succeed before the first cycle.
+fn bus(config: &MachineConfig, clock: Clock) -> Result<(Network, Option<WireStart>), ControllerError> {
     let mut network = Network::for_machine(config);
     let Some(interface) = &config.bus.interface else {
         if let Err(e) = network.start(config.period_ns()) {
             tracing::error!("EtherCAT start-up stopped in {:?}: {e}", network.state());
         }
-        return Ok(network);
+        return Ok((network, None));
     };
     if clock != Clock::RealTime {
         return Err(ControllerError::WireNeedsRealTime);
     }
     let plan = maindevice::Plan::new(&mut network, config.period_ns())
         .map_err(|error| ControllerError::Plan { interface: interface.clone(), error })?;
-    let wire = maindevice::WireBus::start(interface, plan, config.period_ns())
+    Ok((network, Some(WireStart { interface: interface.clone(), plan })))
+}
+
+/// A wire to bring up: where, and what it must carry.
+struct WireStart {
+    interface: String,
+    plan: maindevice::Plan,
+}
+
+/// Brings the segment to Op, on this thread (not the RT thread, whose policy and CPU the
+/// master's threads would inherit).
+fn start_wire(wire: WireStart, period_ns: u64, slaves: usize) -> Result<maindevice::WireBus, ControllerError> {
+    let WireStart { interface, plan } = wire;
+    let bus = maindevice::WireBus::start(&interface, plan, period_ns)
         .map_err(|error| ControllerError::Wire { interface: interface.clone(), error })?;
-    tracing::info!("EtherCAT on {interface}: {} slaves in Op", network.slaves().len());
-    network.put_on_wire(Box::new(wire), maindevice::WireBus::lost_after_cycles(config.period_ns()));
-    Ok(network)
+    tracing::info!("EtherCAT on {interface}: {slaves} slaves in Op");
+    Ok(bus)
 }
 
 fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, ControllerError> {
@@ -175,7 +187,8 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
         }
         None => (None, None),
     };
-    let network = bus(&config, options.clock)?;
+    let (network, wire) = bus(&config, options.clock)?;
+    let slaves = network.slaves().len();
     let kernel = Kernel::new(&config, &network);
     let (core_link, supervisor_end) =
         tasks::link().map_err(|e| ControllerError::RtStart(format!("the supervisor's bell: {e}")))?;
@@ -184,7 +197,12 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     let task_ids: Vec<u8> = config.tasks.iter().map(|t| t.id).collect();
 
     let control = Arc::new(RtControl::default());
-    let (ready_tx, ready_rx) = mpsc::channel();
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<realtime::Granted, ControllerError>>();
+    // The wire comes up once the RT thread has rebuilt the memory in huge pages: that stalls
+    // the whole process, longer than the drives' process data watchdog allows.
+    let (pages_tx, pages_rx) = mpsc::channel::<()>();
+    let (wire_tx, wire_rx) = mpsc::channel::<Result<maindevice::WireBus, ControllerError>>();
+    let on_wire = wire.is_some();
     let rt = {
         let (ns, control, rt_config) = (options.ns.clone(), control.clone(), config.rt.clone());
         // Read here, before the RT thread pins itself: the CPUs the scripts will run on.
@@ -204,7 +222,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                 let mut endpoint = match CoreEndpoint::create(&ns, &task_ids) {
                     Ok(endpoint) => endpoint,
                     Err(e) => {
-                        let _ = ready_tx.send(Err(e));
+                        let _ = ready_tx.send(Err(e.into()));
                         return None;
                     }
                 };
@@ -213,7 +231,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                     let waker_config = rt_config.clone();
                     let setup = move |cpu| realtime::setup_waker_thread(&waker_config, cpu);
                     if let Err(e) = endpoint.hand_wakes_to_threads(&ns, &task_cpus, setup) {
-                        let _ = ready_tx.send(Err(e));
+                        let _ = ready_tx.send(Err(e.into()));
                         return None;
                     }
                 }
@@ -222,7 +240,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                 let scope = match ipc::scope::ScopeRing::create(&ns, period_ns, &scope_codes) {
                     Ok(ring) => ScopeSampler::new(ring),
                     Err(e) => {
-                        let _ = ready_tx.send(Err(e));
+                        let _ = ready_tx.send(Err(e.into()));
                         return None;
                     }
                 };
@@ -232,18 +250,37 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
                     Clock::RealTime => None,
                     Clock::Sim { speed } => Some(Lockstep::new(&task_configs, speed, &endpoint).with_feed(feed)),
                 };
-                let work = cycle::CycleWork::new(machine, endpoint)
+                let mut work = cycle::CycleWork::new(machine, endpoint)
                     .with_trace(trace)
                     .with_scope(Some(scope))
                     .with_console(console);
                 // Once everything the cycles use is allocated, and before the controller is
                 // announced: the first cycle follows the word at once.
                 let huge_pages = rt_config.huge_pages.then(huge_pages::back_with_huge_pages);
+                if on_wire {
+                    let _ = pages_tx.send(());
+                    match wire_rx.recv() {
+                        Ok(Ok(bus)) => {
+                            let lost_after = maindevice::WireBus::lost_after_cycles(period_ns);
+                            work.machine_mut().network.put_on_wire(Box::new(bus), lost_after);
+                        }
+                        Ok(Err(e)) => {
+                            let _ = ready_tx.send(Err(e));
+                            return None;
+                        }
+                        Err(_) => return None,
+                    }
+                }
                 let _ = ready_tx.send(Ok(granted));
                 Some(cycle::run(work, control, granted, huge_pages, lockstep))
             })
             .map_err(|e| ControllerError::RtStart(e.to_string()))?
     };
+    if let Some(wire) = wire
+        && pages_rx.recv().is_ok()
+    {
+        let _ = wire_tx.send(start_wire(wire, config.period_ns(), slaves));
+    }
     let granted = ready_rx.recv().map_err(|_| ControllerError::RtStart("no word from the RT thread".into()))??;
     tracing::info!(?granted, cycle_us = config.cycle_us, axes = config.axes.len(), ns = %options.ns, "controller up");
     // The supervisor's thread takes the scripts' CPUs, and so does every script process
