@@ -31,7 +31,11 @@ const MAX_SUBDEVICES: usize = 128;
 const MAX_PDI: usize = 4096;
 /// Frames in flight, and the room of each.
 const MAX_FRAMES: usize = 16;
-const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
+/// A full Ethernet frame (1514 bytes without its checksum, ethercrab's 28 of it headers).
+const MAX_PDU_DATA: usize = PduStorage::element_size(1486);
+/// The process image must go in one LRW beside the DC time's FRMW (10 + 8 + 2 bytes): the
+/// working counter the cycle checks is that of one datagram over every slave.
+pub const MAX_IMAGE: usize = 1486 - 20;
 /// How long the cycle may go without a complete frame before the segment counts as lost:
 /// longer than a lost frame's resends take, well inside a drive's 100 ms process data
 /// watchdog (ETG.1000.4 6.3).
@@ -68,6 +72,10 @@ impl WireBus {
     /// start-up list in PreOp, configures SYNC0 at `cycle_ns` and brings every slave to Op.
     /// Returns once the segment is in Op, or with what stopped it.
     pub fn start(interface: &str, plan: Plan, cycle_ns: u64) -> Result<WireBus, WireError> {
+        let image = plan.inputs_len + plan.outputs_len;
+        if image > MAX_IMAGE {
+            return Err(WireError::ImageTooLarge { bytes: image, max: MAX_IMAGE });
+        }
         let stop = Arc::new(AtomicBool::new(false));
         let (started_tx, started_rx) = mpsc::channel();
         let (interface, thread_stop) = (interface.to_string(), Arc::clone(&stop));
@@ -403,3 +411,22 @@ async fn start_up<'sto>(
 /// CiA 402 statusword (CoE manual table 3-5): Not ready to switch on is `xxxx xxxx x0xx 0000`.
 const STATUSWORD: u16 = 0x6041;
 const NOT_READY_MASK: u16 = 0x004F;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An image one LRW cannot carry is refused before any frame goes out (and without an
+    /// interface: the check comes first).
+    #[test]
+    fn an_image_larger_than_one_frame_is_refused() {
+        let plan = Plan { slaves: Vec::new(), outputs_len: 1000, inputs_len: 467 };
+        match WireBus::start("no-such-interface", plan, 1_000_000) {
+            Err(WireError::ImageTooLarge { bytes: 1467, max: MAX_IMAGE }) => {}
+            other => panic!("{:?}", other.err()),
+        }
+        let fits = Plan { slaves: Vec::new(), outputs_len: 1000, inputs_len: 466 };
+        let error = WireBus::start("no-such-interface", fits, 1_000_000).err().expect("no such interface");
+        assert!(matches!(error, WireError::Interface { .. }), "{error}");
+    }
+}

@@ -70,6 +70,14 @@ pub enum WireError {
         /// How long the master exchanged process data waiting for it.
         waited: std::time::Duration,
     },
+    /// The process image does not fit one frame.
+    #[error("the process image is {bytes} bytes; one frame carries {max}: fewer slaves or smaller PDO mappings")]
+    ImageTooLarge {
+        /// Inputs and outputs of every slave.
+        bytes: usize,
+        /// What one LRW beside the DC time carries.
+        max: usize,
+    },
     /// The OS refused one of the master's threads.
     #[error("the EtherCAT {name} thread could not start: {error}")]
     Thread {
