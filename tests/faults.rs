@@ -224,6 +224,31 @@ fn check(fault: Fault, reaction: &str) {
     // handling's own work, which seven debug controllers sharing 2 CPUs would blur.
     static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    // A cycle over the CPU budget with neither page faults nor preemptions in it is a
+    // stall of the virtual machine charged as CPU time (12.9 ms seen once): the run is
+    // made once more; the fault handling's own work would be over again.
+    match check_once(fault, reaction) {
+        Over::None => {}
+        Over::Stalled(first) => {
+            eprintln!("{fault:?} / {reaction}: a stall of the machine, run again: {first}");
+            if let Over::Stalled(message) | Over::Work(message) = check_once(fault, reaction) {
+                panic!("{message}\n(the run before: {first})");
+            }
+        }
+        Over::Work(message) => panic!("{message}"),
+    }
+}
+
+/// Cycles over the CPU budget after a fault: none, only stall-like ones, or others.
+enum Over {
+    None,
+    Stalled(String),
+    Work(String),
+}
+
+/// One run of `fault` with `reaction`, every check asserted but the CPU budget's, which is
+/// returned.
+fn check_once(fault: Fault, reaction: &str) -> Over {
     let run = run(Some(fault), reaction);
     let context = format!("{fault:?} / {reaction}\n{}\n{}", run.stdout.join("\n"), run.stderr);
 
@@ -290,9 +315,12 @@ fn check(fault: Fault, reaction: &str) {
     // Each over the budget is told with the RT thread's page faults and preemptions in it:
     // work on memory it had not touched shows as faults, a stall charged as CPU time as none.
     let budget_us = 1000.0;
-    let over: Vec<String> = (detected..detected + 50)
+    let rows: Vec<(u64, &HashMap<String, f64>)> = (detected..detected + 50)
         .map(|c| (c, run.row(c + 1)))
         .filter(|(_, next)| next["previous_cpu_us"] >= budget_us)
+        .collect();
+    let over: Vec<String> = rows
+        .iter()
         .map(|(c, next)| {
             let column = |name: &str| next[name];
             format!(
@@ -304,7 +332,13 @@ fn check(fault: Fault, reaction: &str) {
             )
         })
         .collect();
-    assert!(over.is_empty(), "cycles over {budget_us} us of CPU time: {over:?}: {context}");
+    let message = format!("cycles over {budget_us} us of CPU time: {over:?}: {context}");
+    let stall = |next: &HashMap<String, f64>| next["previous_faults"] == 0.0 && next["previous_preemptions"] == 0.0;
+    match rows.is_empty() {
+        true => Over::None,
+        false if rows.iter().all(|(_, next)| stall(next)) => Over::Stalled(message),
+        false => Over::Work(message),
+    }
 }
 
 fn matrix(fault: Fault) {
