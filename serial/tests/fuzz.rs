@@ -130,10 +130,13 @@ proptest! {
         prop_assert!(popped <= 4);
         // The line goes on: the end bytes close what it held, and the next frame is read
         // (unless the start byte is an end byte too: a stray one then puts every frame
-        // after it out of step, on any line).
+        // after it out of step, on any line; nor when the end repeats its byte, "++": a
+        // held "+" and the first of the closing two are an end, and the second joins the
+        // next frame, on any line).
         let payload: Vec<u8> = (0..max_data.min(20)).map(|i| b'a' + (i % 26) as u8)
             .filter(|b| Some(*b) != start && !end.contains(b)).collect();
-        prop_assume!(!payload.is_empty() && !start.is_some_and(|s| end.contains(&s)));
+        let overlapping = end.len() == 2 && end[0] == end[1];
+        prop_assume!(!payload.is_empty() && !start.is_some_and(|s| end.contains(&s)) && !overlapping);
         deframer.receive(&[&end[..], &framing.frame(&payload)].concat());
         let last = std::iter::from_fn(|| deframer.pop()).filter(|r| !matches!(r, Received::Overrun(_))).last();
         prop_assert_eq!(last, Some(Received::Frame(payload)));
