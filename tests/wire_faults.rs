@@ -13,6 +13,13 @@ use std::time::{Duration, Instant};
 use common::wire::{End, Segment, Wire, wire};
 use common::*;
 
+/// One wire test at a time: the cable test failed once on a clean clone beside an
+/// impaired one (never back in Op within 60 s; cause not found, see the note).
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    TURN.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
 /// A controller that is killed, with what it started, if the test ends before it does.
 struct Running(Option<std::process::Child>);
 
@@ -94,6 +101,7 @@ Print("moved again by %.3f mm", GetPosFb(0) - at)
 /// 0x7580).
 #[test]
 fn the_cable_pulled_during_a_move_and_put_back() {
+    let _turn = one_at_a_time();
     let wire = wire().expect("CI=true: the wire");
     let dir = tempfile::tempdir().unwrap();
     program(dir.path(), "pulled.lua", PULLED);
@@ -193,6 +201,7 @@ Print("done")
 /// A program that moves over the impaired cable; what `luamotion tasks` counted while it
 /// was impaired.
 fn over_impaired_cable(loss: f64, delay_us: u32, duplicate: f64) -> (u64, u64, u64, u64) {
+    let _turn = one_at_a_time();
     let wire = wire().expect("CI=true: the wire");
     let far = format!("{}x", wire.inside);
     let cable = Impaired::between(&wire, &far, loss, delay_us, duplicate);
