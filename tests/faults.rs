@@ -7,7 +7,6 @@
 mod common;
 
 use std::collections::HashMap;
-use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::{Mutex, OnceLock};
 use std::time::Duration;
@@ -129,13 +128,6 @@ impl Run {
     }
 }
 
-fn read_trace(path: &Path) -> Vec<HashMap<String, f64>> {
-    let text = std::fs::read_to_string(path).expect("trace");
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    lines.map(|l| header.iter().zip(l.split(',')).map(|(h, v)| (h.to_string(), v.parse().unwrap())).collect()).collect()
-}
-
 fn run(fault: Option<Fault>, reaction: &str) -> Run {
     let dir = tempfile::tempdir().unwrap();
     program(dir.path(), "faulty.lua", &faulty_program(fault));
@@ -187,7 +179,7 @@ fn run(fault: Option<Fault>, reaction: &str) -> Run {
     out.extend(finished.stdout.lines().map(str::to_string));
     let mut err = rest_of(&stderr, Duration::from_secs(10));
     err.push(finished.stderr);
-    Run { stdout: out, stderr: err.join("\n"), trace: read_trace(&trace), signalled_at }
+    Run { stdout: out, stderr: err.join("\n"), trace: e2e::read_trace(&trace), signalled_at }
 }
 
 /// The run without a fault: axis 1's reference, cycle by cycle from its move's start.

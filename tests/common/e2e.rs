@@ -97,8 +97,8 @@ pub fn check_fsa_walk(out: &Finished) {
 pub fn read_trace(path: &Path) -> Vec<HashMap<String, f64>> {
     let text = std::fs::read_to_string(path).expect("trace written");
     let mut lines = text.lines();
-    let header: Vec<String> = lines.next().unwrap().split(',').map(str::to_string).collect();
-    lines.map(|l| header.iter().cloned().zip(l.split(',').map(|v| v.parse().unwrap_or(f64::NAN))).collect()).collect()
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines.map(|l| header.iter().zip(l.split(',')).map(|(h, v)| (h.to_string(), v.parse().unwrap())).collect()).collect()
 }
 
 /// The reference positions of axes 0 and 1 from a trace file, from the cycle both are
