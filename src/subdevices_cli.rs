@@ -25,6 +25,10 @@ pub struct SubdevicesArgs {
     /// Machine file (TOML); without it, the built-in machine: 4 axes on D1 drives.
     #[arg(long)]
     config: Option<PathBuf>,
+    /// SCHED_FIFO priority of the thread that answers frames, as hardware answers them
+    /// whatever else runs (0: a plain thread). Below the controller's RT thread (80).
+    #[arg(long, default_value_t = 70, value_parser = clap::value_parser!(u8).range(0..=99))]
+    priority: u8,
 }
 
 /// Serves the segment until SIGINT or SIGTERM.
@@ -56,7 +60,13 @@ pub fn subdevices(args: SubdevicesArgs) -> Result<ExitCode> {
     tracing::info!("{count} subdevices on {}", args.interface);
     // A segment is machinery a master drives: a log reader that goes away must not stop it.
     crate::stdout::sayln!("serving {count} subdevices on {}", args.interface);
+    subdevice::realtime::fifo_or_plain(args.priority, "the segment");
     let served = subdevice::serve(&mut segment, &socket, &stop).context("the raw socket")?;
-    tracing::info!("{} frames answered, {} dropped", served.answered, served.dropped);
+    tracing::info!(
+        "{} frames answered, {} dropped, {} not sent (link down)",
+        served.answered,
+        served.dropped,
+        served.unsent
+    );
     Ok(ExitCode::SUCCESS)
 }

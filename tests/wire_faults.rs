@@ -101,6 +101,18 @@ Print("moved again by %.3f mm", GetPosFb(0) - at)
 /// 0x7580).
 #[test]
 fn the_cable_pulled_during_a_move_and_put_back() {
+    cable_pulled_and_put_back(End::Outside);
+}
+
+/// As above, the cable pulled at the segment's end: its interface goes down under it
+/// (the socket reports the network down), and the segment answers again once it is up.
+#[test]
+fn the_cable_pulled_at_the_segment_and_put_back() {
+    cable_pulled_and_put_back(End::Inside);
+}
+
+/// The link of `end` down during a move and up again.
+fn cable_pulled_and_put_back(end: End) {
     let _turn = one_at_a_time();
     let wire = wire().expect("CI=true: the wire");
     let dir = tempfile::tempdir().unwrap();
@@ -112,11 +124,15 @@ fn the_cable_pulled_during_a_move_and_put_back() {
     let mut seen = Vec::new();
     wait_for(controller.child(), &lines, &mut seen, "moving");
     std::thread::sleep(Duration::from_millis(200));
-    wire.run(&["link", "set", &wire.outside, "down"]).unwrap();
+    let link = |state: &str| match end {
+        End::Outside => wire.run(&["link", "set", &wire.outside, state]),
+        End::Inside => wire.run(&["-n", &wire.namespace, "link", "set", &wire.inside, state]),
+    };
+    link("down").unwrap();
     wait_for(controller.child(), &lines, &mut seen, "move refused: 0x000014B4");
     std::thread::sleep(Duration::from_millis(300));
     assert!(!seen.iter().any(|l| l.contains("back in Op")), "back in Op with the cable out: {seen:?}");
-    wire.run(&["link", "set", &wire.outside, "up"]).unwrap();
+    link("up").unwrap();
     let finished = controller.finish(Duration::from_secs(60));
     seen.extend(common::rest_of(&lines, Duration::from_secs(2)));
     let served = segment.stop();
@@ -135,6 +151,32 @@ fn the_cable_pulled_during_a_move_and_put_back() {
         finished.stderr.contains("controller: EtherCAT disconnected") && finished.stderr.contains("(alarm 0x00006103)"),
         "{context}"
     );
+}
+
+/// A segment switched on after the controller: the first scan finds nothing and times
+/// out, the master scans again, and the program runs as with a segment there from the
+/// start.
+#[test]
+fn a_segment_switched_on_late_is_found_by_the_next_scan() {
+    let _turn = one_at_a_time();
+    let wire = wire().expect("CI=true: the wire");
+    let dir = tempfile::tempdir().unwrap();
+    program(dir.path(), "late.lua", "Enable(0) Till(function() return IsEnabled(0) end)\nPrint(\"enabled\")\n");
+    let file = dir.path().join("wire.toml");
+    let machine = "[[axes]]\n[[axes]]\n[[axes]]\n[[axes]]\n[[tasks]]\nid = 0\nprogram = \"late.lua\"\nautorun = true\n";
+    std::fs::write(&file, format!("{machine}\n[bus]\ninterface = {:?}\n", wire.outside)).unwrap();
+    let mut controller = Running(Some(start_run(&unique_ns("wire-late"), &["--config", file.to_str().unwrap()])));
+    let logs = lines_of(controller.child().stderr.take().unwrap());
+    let mut seen = Vec::new();
+    wait_for(controller.child(), &logs, &mut seen, "scanning again in 500ms");
+    let segment = Segment::serve(&wire, End::Inside);
+    let finished = controller.finish(Duration::from_secs(30));
+    seen.extend(common::rest_of(&logs, Duration::from_secs(2)));
+    drop(segment);
+    let context = format!("{}\n{seen:#?}", finished.stdout);
+    assert!(finished.status.success(), "{context}");
+    assert_eq!(finished.lines_of_task(0), ["enabled"], "{context}");
+    assert_eq!(seen.iter().filter(|l| l.contains("EtherCAT scan ")).count(), 1, "the second scan found it: {context}");
 }
 
 /// `tests/python/impair.py` between the wire's inside end and a second veth pair in its

@@ -14,6 +14,11 @@ use config::{DriveModel, MachineConfig};
 use devices::ecat::Network;
 use maindevice::{Exchange, Plan, WireBus, WireError};
 
+/// The master's threads at the priority the controller gives them, one below its RT
+/// thread's; this test's cycle loop stands in for that thread.
+const MASTER_PRIORITY: u8 = 79;
+const CYCLE_PRIORITY: u8 = 80;
+
 /// The plan of `machine`, and its network, which lays out the image.
 fn plan(machine: &MachineConfig) -> (Plan, Network) {
     let mut network = Network::for_machine(machine);
@@ -45,8 +50,10 @@ fn the_master_brings_the_segment_to_op_and_moves_a_drive() {
     let expected_wkc = plan.working_counter();
     assert_eq!(expected_wkc, 3 * machine.axes.len() as u16, "each drive: outputs 2, inputs 1");
     let started = Instant::now();
-    let mut bus = WireBus::start(&wire.outside, plan.clone(), machine.period_ns()).expect("the segment in Op");
+    let mut bus =
+        WireBus::start(&wire.outside, plan.clone(), machine.period_ns(), MASTER_PRIORITY).expect("the segment in Op");
     eprintln!("in Op after {:?}", started.elapsed());
+    subdevice::realtime::fifo_or_plain(CYCLE_PRIORITY, "the test's cycle");
 
     let field = |output: bool, index| {
         let found = if output { network.output_field(0, index, 0) } else { network.input_field(0, index, 0) };
@@ -119,7 +126,7 @@ fn a_slave_of_the_wrong_type_stops_the_start() {
     let mut machine = MachineConfig::default();
     machine.axes[2].drive = DriveModel::D2;
     let (plan, _) = plan(&machine);
-    let error = WireBus::start(&wire.outside, plan, machine.period_ns()).err().expect("refused");
+    let error = WireBus::start(&wire.outside, plan, machine.period_ns(), MASTER_PRIORITY).err().expect("refused");
     assert!(matches!(error, WireError::WrongSlave { slave: 2, .. }), "{error}");
     let message = error.to_string();
     assert!(
@@ -137,7 +144,7 @@ fn a_missing_slave_stops_the_start() {
     let mut machine = MachineConfig::default();
     machine.axes.push(machine.axes[0].clone());
     let (plan, _) = plan(&machine);
-    let error = WireBus::start(&wire.outside, plan, machine.period_ns()).err().expect("refused");
+    let error = WireBus::start(&wire.outside, plan, machine.period_ns(), MASTER_PRIORITY).err().expect("refused");
     assert!(matches!(error, WireError::SlaveCount { found: 4, expected: 5 }), "{error}");
     drop(segment);
 }

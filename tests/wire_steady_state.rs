@@ -102,7 +102,7 @@ fn a_cycle_on_the_wire_never_allocates_in_steady_state() {
     let config = MachineConfig::default();
     let mut network = Network::for_machine(&config);
     let plan = maindevice::Plan::new(&mut network, config.period_ns()).unwrap();
-    let bus = maindevice::WireBus::start(&wire.outside, plan, config.period_ns()).expect("the segment in Op");
+    let bus = maindevice::WireBus::start(&wire.outside, plan, config.period_ns(), 0).expect("the segment in Op");
     network.put_on_wire(Box::new(bus), maindevice::WireBus::lost_after_cycles(config.period_ns()));
     let kernel = Kernel::new(&config, &network);
     let task = TaskConfig { autorun: false, external: true, ..TaskConfig::autorun(0, "-".into()) };

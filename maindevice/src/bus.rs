@@ -48,6 +48,10 @@ const PDU_RETRIES: usize = 3;
 const OP_ACKNOWLEDGED: u16 = 0x08 | 0x10;
 /// How often the master asks slaves that fell out of Op to come back.
 const RECOVERY_INTERVAL: Duration = Duration::from_millis(100);
+/// Scans before a segment that does not answer stops the start.
+const SCANS: u32 = 3;
+/// Between scans: time for a segment switched on with the controller to boot.
+const SCAN_PAUSE: Duration = Duration::from_millis(500);
 /// How long the segment may take from SafeOp to Op with process data running.
 const OP_DEADLINE: Duration = Duration::from_secs(10);
 
@@ -70,8 +74,10 @@ impl WireBus {
 
     /// Scans the segment on `interface`, checks it against `plan`, downloads each slave's
     /// start-up list in PreOp, configures SYNC0 at `cycle_ns` and brings every slave to Op.
-    /// Returns once the segment is in Op, or with what stopped it.
-    pub fn start(interface: &str, plan: Plan, cycle_ns: u64) -> Result<WireBus, WireError> {
+    /// The threads that carry frames ("ecat-master", "ecat-txrx") run at SCHED_FIFO
+    /// `priority` (0: plain threads). Returns once the segment is in Op, or with what
+    /// stopped it.
+    pub fn start(interface: &str, plan: Plan, cycle_ns: u64, priority: u8) -> Result<WireBus, WireError> {
         let image = plan.inputs_len + plan.outputs_len;
         if image > MAX_IMAGE {
             return Err(WireError::ImageTooLarge { bytes: image, max: MAX_IMAGE });
@@ -86,10 +92,19 @@ impl WireBus {
             .name("ecat-master".into())
             .stack_size(8 << 20)
             .spawn(move || {
+                subdevice::realtime::fifo_or_plain(priority, "ecat-master");
                 let (cycle, master) =
                     handoff::handoff(plan.outputs_len, plan.inputs_len, plan.working_counter(), std::thread::current());
                 let lowest = AtomicU8::new(AlState::Op.code());
-                let wire = Wire { interface: &interface, plan: &plan, cycle_ns, stop: &thread_stop, lowest, unmatched };
+                let wire = Wire {
+                    interface: &interface,
+                    plan: &plan,
+                    cycle_ns,
+                    priority,
+                    stop: &thread_stop,
+                    lowest,
+                    unmatched,
+                };
                 wire.run(cycle, master, wire_mailbox, started_tx);
             })
             .map_err(|error| WireError::Thread { name: "ecat-master", error })?;
@@ -152,6 +167,8 @@ struct Wire<'a> {
     interface: &'a str,
     plan: &'a Plan,
     cycle_ns: u64,
+    /// SCHED_FIFO priority of the threads that carry frames.
+    priority: u8,
     stop: &'a AtomicBool,
     /// The lowest AL state of the last frame back, as its code (ETG.1000.6 table 9).
     lowest: AtomicU8,
@@ -201,7 +218,11 @@ impl Wire<'_> {
             }
         };
         // This thread drives async-io's reactor (the socket and ethercrab's timeouts).
-        let txrx = std::thread::Builder::new().name("ecat-txrx".into()).spawn(move || async_io::block_on(task));
+        let priority = self.priority;
+        let txrx = std::thread::Builder::new().name("ecat-txrx".into()).spawn(move || {
+            subdevice::realtime::fifo_or_plain(priority, "ecat-txrx");
+            async_io::block_on(task)
+        });
         if let Err(error) = txrx {
             let _ = started.send(Err(WireError::Thread { name: "ecat-txrx", error }));
             return;
@@ -245,6 +266,7 @@ impl Wire<'_> {
         // Without a ring in two cycles the last outputs go again: the slaves' process data
         // watchdogs must not run out while the cycle is not running (yet, or any more).
         let keep_alive = Duration::from_nanos(2 * self.cycle_ns);
+        let (lost_after, mut missing_in_a_row) = (WireBus::lost_after_cycles(self.cycle_ns), 0);
         while !self.stop.load(Ordering::Relaxed) {
             std::thread::park_timeout(keep_alive);
             side.outputs.update();
@@ -260,9 +282,20 @@ impl Wire<'_> {
             let returned = side.returned.input_buffer_mut();
             returned.sequence = sequence;
             returned.working_counter = response.as_ref().map(|r| r.working_counter);
-            if let Some(lowest) = lowest {
-                returned.lowest = lowest;
-                self.lowest.store(lowest.code(), Ordering::Relaxed);
+            match lowest {
+                Some(lowest) => {
+                    returned.lowest = lowest;
+                    self.lowest.store(lowest.code(), Ordering::Relaxed);
+                    missing_in_a_row = 0;
+                }
+                // After as long as the cycle counts the segment lost, the slaves' states are
+                // not known any more: the mailbox thread looks at them until they answer.
+                None => {
+                    missing_in_a_row += 1;
+                    if missing_in_a_row >= lost_after {
+                        self.lowest.store(AlState::Init.code(), Ordering::Relaxed);
+                    }
+                }
             }
             for (slave, subdevice) in self.plan.slaves.iter().zip(group.iter(maindevice)) {
                 let io = subdevice.io_raw();
@@ -336,8 +369,19 @@ async fn start_up<'sto>(
     cycle_time: Duration,
 ) -> Result<OpGroup, WireError> {
     let master = |step| move |error| WireError::Master { step, error };
-    let mut group =
-        maindevice.init_single_group::<MAX_SUBDEVICES, MAX_PDI>(ethercat_now).await.map_err(master("scan"))?;
+    // A scan is a few dozen frames that each must come back; one lost past its resends
+    // (a busy machine, a cable plugged in just then) costs a scan again, not the start.
+    let mut scans = 1;
+    let mut group = loop {
+        match maindevice.init_single_group::<MAX_SUBDEVICES, MAX_PDI>(ethercat_now).await {
+            Err(error @ ethercrab::error::Error::Timeout(_)) if scans < SCANS => {
+                tracing::warn!("EtherCAT scan {scans} of {SCANS}: {error}; scanning again in {SCAN_PAUSE:?}");
+                scans += 1;
+                async_io::Timer::after(SCAN_PAUSE).await;
+            }
+            scanned => break scanned.map_err(master("scan"))?,
+        }
+    };
     if group.len() != plan.slaves.len() {
         return Err(WireError::SlaveCount { found: group.len(), expected: plan.slaves.len() });
     }
@@ -387,9 +431,18 @@ async fn start_up<'sto>(
     // SYNC0 slaves reach Op only with process data running (the SM watchdog); a CiA 402
     // drive leaves Not ready to switch on by itself once running (CoE manual 3.1,
     // transition 1), and the controller starts its programs after that.
+    // A frame lost on the way is sent again in the next cycle, as in Op; only the deadline
+    // ends the wait.
     let deadline = Instant::now() + OP_DEADLINE;
     loop {
-        let response = group.tx_rx_dc(maindevice).await.map_err(master("process data to Op"))?;
+        let response = match group.tx_rx_dc(maindevice).await {
+            Ok(response) => response,
+            Err(_) if Instant::now() <= deadline => {
+                async_io::Timer::after(cycle_time).await;
+                continue;
+            }
+            Err(error) => return Err(master("process data to Op")(error)),
+        };
         let drives_ready = plan.slaves.iter().zip(group.iter(maindevice)).all(|(planned, subdevice)| {
             let statusword = planned.tx.iter().find(|e| (e.index, e.sub) == (STATUSWORD, 0));
             statusword.is_none_or(|e| {
@@ -421,12 +474,12 @@ mod tests {
     #[test]
     fn an_image_larger_than_one_frame_is_refused() {
         let plan = Plan { slaves: Vec::new(), outputs_len: 1000, inputs_len: 467 };
-        match WireBus::start("no-such-interface", plan, 1_000_000) {
+        match WireBus::start("no-such-interface", plan, 1_000_000, 0) {
             Err(WireError::ImageTooLarge { bytes: 1467, max: MAX_IMAGE }) => {}
             other => panic!("{:?}", other.err()),
         }
         let fits = Plan { slaves: Vec::new(), outputs_len: 1000, inputs_len: 466 };
-        let error = WireBus::start("no-such-interface", fits, 1_000_000).err().expect("no such interface");
+        let error = WireBus::start("no-such-interface", fits, 1_000_000, 0).err().expect("no such interface");
         assert!(matches!(error, WireError::Interface { .. }), "{error}");
     }
 }

@@ -165,11 +165,13 @@ struct WireStart {
     plan: maindevice::Plan,
 }
 
-/// Brings the segment to Op, on this thread (not the RT thread, whose policy and CPU the
-/// master's threads would inherit).
-fn start_wire(wire: WireStart, period_ns: u64, slaves: usize) -> Result<maindevice::WireBus, ControllerError> {
+/// Brings the segment to Op, on this thread (not the RT thread, whose CPU the master's
+/// threads would inherit). They carry the cycle's frames one SCHED_FIFO priority below the
+/// RT thread, which hands them its images and so must come first.
+fn start_wire(wire: WireStart, config: &MachineConfig, slaves: usize) -> Result<maindevice::WireBus, ControllerError> {
     let WireStart { interface, plan } = wire;
-    let bus = maindevice::WireBus::start(&interface, plan, period_ns)
+    let priority = config.rt.priority.saturating_sub(1);
+    let bus = maindevice::WireBus::start(&interface, plan, config.period_ns(), priority)
         .map_err(|error| ControllerError::Wire { interface: interface.clone(), error })?;
     tracing::info!("EtherCAT on {interface}: {slaves} slaves in Op");
     Ok(bus)
@@ -279,7 +281,7 @@ fn run_claimed(config: MachineConfig, options: RunOptions) -> Result<RunReport, 
     if let Some(wire) = wire
         && pages_rx.recv().is_ok()
     {
-        let _ = wire_tx.send(start_wire(wire, config.period_ns(), slaves));
+        let _ = wire_tx.send(start_wire(wire, &config, slaves));
     }
     let granted = ready_rx.recv().map_err(|_| ControllerError::RtStart("no word from the RT thread".into()))??;
     tracing::info!(?granted, cycle_us = config.cycle_us, axes = config.axes.len(), ns = %options.ns, "controller up");

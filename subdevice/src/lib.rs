@@ -6,7 +6,7 @@
 //! From the wire inwards: `socket` (a raw AF_PACKET socket), `segment` (a frame through
 //! the line of ESCs), `frame` and `command` (ETG.1000.4 frames, datagrams, addressing and
 //! working counters), `esc` (one ESC), and its parts `registers`, `sync_manager`, `fmmu`,
-//! `sii`, `mailbox` and `dc`.
+//! `sii`, `mailbox` and `dc`. `realtime` gives the serving thread the priority of hardware.
 
 pub mod command;
 pub mod dc;
@@ -14,6 +14,7 @@ pub mod esc;
 pub mod fmmu;
 pub mod frame;
 pub mod mailbox;
+pub mod realtime;
 pub mod registers;
 pub mod segment;
 pub mod sii;

@@ -167,21 +167,70 @@ pub struct Served {
     pub answered: u64,
     /// Frames dropped as broken.
     pub dropped: u64,
+    /// Answers the interface refused (its link was down): lost as on a pulled cable.
+    pub unsent: u64,
+}
+
+/// The interface's link as `serve` last met it. A pulled cable or an interface set down
+/// is waited out, as an ESC waits for its link to come back; only a change is logged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Link {
+    Up,
+    Down,
+}
+
+impl Link {
+    fn met(&mut self, now: Link, why: Option<&io::Error>) {
+        if *self != now {
+            match why {
+                Some(error) => tracing::warn!("the segment's link is down ({error}); waiting for it"),
+                None => tracing::info!("the segment's link is up again"),
+            }
+            *self = now;
+        }
+    }
+}
+
+/// An error of a link that is down for now, not of the socket: the network down (the
+/// interface set down, ETG.1000.4's lost link) or no room to send. An interface that is
+/// gone (ENODEV) is not: it never comes back under this socket.
+fn link_is_down(error: &io::Error) -> bool {
+    matches!(error.raw_os_error(), Some(libc::ENETDOWN | libc::ENXIO | libc::ENOBUFS | libc::EAGAIN))
 }
 
 /// Serves the segment on the socket until `stop` is set: every frame that comes in is
-/// processed at the monotonic clock's time and sent back; a broken one is dropped.
+/// processed at the monotonic clock's time and sent back; a broken one is dropped. While
+/// the link is down the segment waits for it; an error of the socket itself ends it.
 pub fn serve(segment: &mut Segment, socket: &RawSocket, stop: &AtomicBool) -> io::Result<Served> {
     let mut buffer = [0u8; FRAME_BUFFER_LEN];
     let mut served = Served::default();
+    let mut link = Link::Up;
     while !stop.load(Ordering::Relaxed) {
-        let Some(n) = socket.receive(&mut buffer, POLL)? else { continue };
+        let n = match socket.receive(&mut buffer, POLL) {
+            Ok(Some(n)) => n,
+            Ok(None) => continue,
+            Err(error) if link_is_down(&error) => {
+                link.met(Link::Down, Some(&error));
+                // The kernel reports a link going down once; this only keeps a link that
+                // keeps failing from spinning.
+                std::thread::sleep(POLL / 10);
+                continue;
+            }
+            Err(error) => return Err(error),
+        };
         let frame = &mut buffer[..n];
         match segment.process(frame, monotonic_ns()) {
-            Ok(()) => {
-                socket.send(frame)?;
-                served.answered += 1;
-            }
+            Ok(()) => match socket.send(frame) {
+                Ok(()) => {
+                    link.met(Link::Up, None);
+                    served.answered += 1;
+                }
+                Err(error) if link_is_down(&error) => {
+                    link.met(Link::Down, Some(&error));
+                    served.unsent += 1;
+                }
+                Err(error) => return Err(error),
+            },
             Err(error) => {
                 tracing::debug!("frame of {n} bytes dropped: {error}");
                 served.dropped += 1;
