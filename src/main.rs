@@ -14,7 +14,9 @@ use rt_core::sim_clock::{Clock, Speed};
 use rt_core::supervisor::{Outcome, ScriptLauncher};
 use schema::MAX_TASKS;
 
+mod check_cli;
 mod drl_cli;
+mod lsp;
 mod replay_cli;
 mod scope;
 mod soak;
@@ -86,9 +88,18 @@ enum Cmd {
         clock: ClockArgs,
         #[command(flatten)]
         inputs: replay_cli::InputArgs,
+        /// Start without checking the programs first (`luamotion check`).
+        #[arg(long)]
+        no_check: bool,
         /// Programs to run as tasks 0, 1, 2, ...
         scripts: Vec<PathBuf>,
     },
+    /// Check Lua programs against the API before they run: unknown names, argument counts
+    /// and types, callbacks, the sandbox; exit code 1 on errors.
+    Check(check_cli::CheckArgs),
+    /// A language server over stdio for any editor: the check's findings as you type,
+    /// completion, hover and signature help from the registry.
+    Lsp,
     /// Run Lua test programs, each on a fresh controller, several at a time: a summary,
     /// JUnit XML, and exit code 1 when any fails.
     Test(test_runner::TestArgs),
@@ -306,6 +317,8 @@ enum ApiFormat {
     Markdown,
     /// lua-language-server annotations (scripts/luamotion.d.lua).
     Lua,
+    /// A `.luacheckrc` with the API's globals, for luacheck.
+    Luacheckrc,
 }
 
 /// The commands that run a controller in this process, whose heap is then kept as the RT
@@ -331,9 +344,13 @@ fn main() -> ExitCode {
     // plotters lays text out with it (the soak's report and the scope's plots).
     scope::register_font();
     let result = match cli.command {
-        Cmd::Run { controller, trace, http, scope, scope_options, clock, inputs, scripts } => inputs
-            .clock(clock.clock(), clock.speed)
-            .and_then(|clock| run(&controller, trace, http, (scope, scope_options), (clock, inputs), scripts)),
+        Cmd::Run { controller, trace, http, scope, scope_options, clock, inputs, no_check, scripts } => {
+            inputs.clock(clock.clock(), clock.speed).and_then(|clock| {
+                run(&controller, trace, http, (scope, scope_options), (clock, inputs), (!no_check, scripts))
+            })
+        }
+        Cmd::Check(args) => check_cli::check(args),
+        Cmd::Lsp => lsp::lsp(),
         Cmd::Scope(args) => scope::scope(args),
         Cmd::Test(args) => test_runner::test(args),
         Cmd::Tasks { ns } => tools::tasks(&ns),
@@ -351,6 +368,7 @@ fn main() -> ExitCode {
             let text = match format {
                 ApiFormat::Markdown => api::docs::markdown(),
                 ApiFormat::Lua => api::docs::lua_meta(),
+                ApiFormat::Luacheckrc => check::luacheckrc::generate(&check::Environment::new()),
             };
             stdout::out!("{text}").map(|()| ExitCode::SUCCESS).map_err(Into::into)
         }
@@ -450,7 +468,7 @@ fn run(
     http: Option<u16>,
     (scope, scope_options): (Vec<PathBuf>, scope::ScopeOptions),
     (clock, input_args): (Clock, replay_cli::InputArgs),
-    scripts: Vec<PathBuf>,
+    (check_first, scripts): (bool, Vec<PathBuf>),
 ) -> Result<ExitCode> {
     // Before anything starts: a name the scope does not know is the operator's first error.
     let scope_codes = if scope.is_empty() { Vec::new() } else { scope::Reader::codes(&scope_options)? };
@@ -465,6 +483,11 @@ fn run(
     }
     config.tasks.sort_by_key(|t| t.id);
     config.validate()?;
+    // Before anything moves: a program the check refuses does not start at all.
+    let programs = config.tasks.iter().filter(|t| !t.external).map(|t| t.program.clone());
+    if check_first && check_cli::refuses_to_start(programs) {
+        return Ok(ExitCode::from(1));
+    }
     let config_period_s = config.period_ns() as f64 * 1e-9;
     let ns = controller.namespace()?;
 

@@ -14,8 +14,8 @@ use std::time::Duration;
 use common::*;
 
 /// The commands this file runs with a closed stdout, as `luamotion --help` lists them.
-const COVERED: [&str; 11] =
-    ["run", "test", "scope", "serve", "subdevices", "drl", "tasks", "events", "soak", "api", "help"];
+const COVERED: [&str; 13] =
+    ["run", "test", "scope", "serve", "subdevices", "drl", "tasks", "events", "soak", "api", "check", "lsp", "help"];
 
 /// What the shell shows for a writer that SIGPIPE ended, and what a tool exits with here.
 const CLOSED: i32 = 128 + libc::SIGPIPE;
@@ -98,6 +98,14 @@ fn every_command_is_covered() {
 fn the_tools_end_quietly() {
     ends_quietly(&["api", "markdown"]);
     ends_quietly(&["api", "lua"]);
+    ends_quietly(&["api", "luacheckrc"]);
+    ends_quietly(&["check", "scripts"]);
+    // The language server's stdout is the editor's connection: with the editor gone
+    // before it said anything, it ends with a word, not a panic.
+    let lsp = Command::new(BIN).arg("lsp").stdin(Stdio::null()).stdout(closed_stdout()).stderr(Stdio::piped()).spawn();
+    let out = finish(lsp.unwrap(), Duration::from_secs(30));
+    assert_eq!(out.status.code(), Some(1), "{}", out.stderr);
+    assert!(out.stderr.contains("the editor ended the connection"), "{}", out.stderr);
     // clap prints help and version; a failed print is no error there.
     for args in [&["help"][..], &["help", "run"], &["--help"], &["run", "--help"], &["--version"]] {
         with_closed_stdout(args, Duration::from_secs(30));

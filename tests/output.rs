@@ -207,7 +207,8 @@ fn sandbox_messages_say_where_and_what() {
     ];
     let paths: Vec<String> =
         rows.iter().map(|(name, source, _)| program(dir.path(), name, source).display().to_string()).collect();
-    let args: Vec<&str> = paths.iter().map(String::as_str).collect();
+    // The VM's own messages: the check would refuse several of these programs first.
+    let args: Vec<&str> = ["--no-check"].into_iter().chain(paths.iter().map(String::as_str)).collect();
     let out = run(&unique_ns("messages"), &args);
     let all = format!("{}\n{}", out.stdout, out.stderr);
     for (task, (name, _, expected)) in rows.iter().enumerate() {

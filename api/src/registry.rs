@@ -256,6 +256,8 @@ pub struct ArgSpec {
     pub quantity: Option<Quantity>,
     /// What the argument names for the core beyond its range, if anything.
     pub role: Option<Role>,
+    /// Declared `or nil`: a trailing argument a call may leave out.
+    pub optional: bool,
 }
 
 /// What an argument names, declared with `as Role` after its type, so that the core reads
@@ -358,6 +360,15 @@ impl FunctionSpec {
             Some(ArgSpec { ty: ArgType::Rest, .. }) => None,
             _ => Some(self.args.len()),
         }
+    }
+
+    /// The fewest values a call must pass: up to the last argument a front end cannot do
+    /// without. Left out are `or nil` arguments, `...`, an unused `double*` (HMPL passes
+    /// NULL, 8.5) and values the function takes as they come (`Any`, nil included).
+    pub fn min_args(&self) -> usize {
+        let can_be_left_out =
+            |a: &ArgSpec| a.optional || matches!(a.ty, ArgType::Rest | ArgType::Doubles | ArgType::Any);
+        self.args.iter().rposition(|a| !can_be_left_out(a)).map_or(0, |last| last + 1)
     }
 
     /// Why a call that passed `given` values, more than `max_args`, is refused, in every
@@ -537,6 +548,7 @@ macro_rules! declare_functions {
                     ty: $crate::registry::ArgType::$aty,
                     quantity: declare_functions!(@quantity $($q)?),
                     role: declare_functions!(@role $($role)?),
+                    optional: declare_functions!(@optional $($nil)?),
                 }, )* ],
                 returns: declare_functions!(@ret $($ret)?),
                 doc: &[ $( $doc, )* ],
@@ -590,6 +602,8 @@ macro_rules! declare_functions {
     };
     (@role $role:ident) => { Some($crate::registry::Role::$role) };
     (@role) => { None };
+    (@optional $nil:ident) => { true };
+    (@optional) => { false };
     (@quantity $q:ident) => { Some($crate::registry::Quantity::$q) };
     (@quantity) => { None };
     (@name $name:ident $lua:literal) => { $lua };

@@ -23,6 +23,15 @@ pub enum ProjectError {
         /// Lua's message, `file:line: ...`.
         message: String,
     },
+    /// `luamotion check` found errors in `main.lua`: it would fail or do what it cannot
+    /// mean once running (an unknown API name, a wrong argument).
+    #[error("project {id}: the check found errors:\n{findings}")]
+    Check {
+        /// The project's DRL id.
+        id: u16,
+        /// The check's findings, as `luamotion check` prints them.
+        findings: String,
+    },
     /// The path of `main.lua` does not fit the task table's program field.
     #[error("project {id}: the path of {MAIN} is too long for the task table ({path})")]
     PathTooLong {
@@ -51,8 +60,8 @@ impl Projects {
         self.dir.join(id.to_string()).join(MAIN)
     }
 
-    /// "Open" (DXMC A.3, status 1 CHECKING): the project exists and its `main.lua`
-    /// compiles. Returns the path the script process runs.
+    /// "Open" (DXMC A.3, status 1 CHECKING): the project exists, its `main.lua` compiles
+    /// and `luamotion check` finds no error in it. Returns the path the script process runs.
     pub fn check(&self, id: u16) -> Result<PathBuf, ProjectError> {
         let path = self.main_lua(id);
         let source = std::fs::read_to_string(&path).map_err(|_| ProjectError::Missing(id, path.clone()))?;
@@ -65,6 +74,11 @@ impl Projects {
             .set_name(format!("@{}", path.display()))
             .into_function()
             .map_err(|e| ProjectError::Syntax { id, message: e.to_string() })?;
+        let checked =
+            check::Checker::default().check_file(&path).map_err(|_| ProjectError::Missing(id, path.clone()))?;
+        if checked.has_errors() {
+            return Err(ProjectError::Check { id, findings: checked.render() });
+        }
         Ok(path)
     }
 
@@ -147,6 +161,10 @@ mod tests {
         write(&p.main_lua(8), "for i = 1 do\n");
         let e = p.check(8).unwrap_err().to_string();
         assert!(e.contains("main.lua:1:") || e.contains("main.lua\"]:1:") || e.contains(":1:"), "{e}");
+        // Lua compiles it; the check refuses it before it runs.
+        write(&p.main_lua(9), "Enable(0)\nMoveAbsolute(0, 10)\n");
+        let e = p.check(9).unwrap_err().to_string();
+        assert!(e.contains("main.lua:2:1: error[E101]: unknown global `MoveAbsolute`"), "{e}");
     }
 
     #[test]
