@@ -43,11 +43,20 @@ pub struct ServeArgs {
     /// Export/import folder [default: the machine file's, else <data dir>/export].
     #[arg(long)]
     export: Option<PathBuf>,
+    /// Start without checking the machine file's task programs first (`luamotion check`).
+    #[arg(long)]
+    no_check: bool,
 }
 
 pub fn serve(args: ServeArgs) -> Result<ExitCode> {
     let config = args.controller.machine()?;
     config.validate()?;
+    // The programs `StartTask` may start, checked before anything does (DRL projects are
+    // checked as they are opened).
+    let programs = config.tasks.iter().filter(|t| !t.external).map(|t| t.program.clone());
+    if !args.no_check && crate::check_cli::refuses_to_start(programs) {
+        return Ok(ExitCode::from(1));
+    }
     let config = config.with_drl_task()?.with_ascii_task()?;
     let ns = args.controller.namespace()?;
     let data_dir = args.controller.data_dir();

@@ -131,3 +131,24 @@ fn luacheck_with_the_generated_luacheckrc() {
     assert!(report.contains("(W113) accessing undefined variable 'MoveAbsolute'"), "{report}");
     assert!(report.contains("(W113) accessing undefined variable 'os'"), "{report}");
 }
+
+/// `serve` checks the machine file's task programs (what `StartTask` may start) before
+/// anything starts; `--no-check` is the way round it.
+#[test]
+fn serve_refuses_a_task_program_with_an_unknown_name() {
+    let dir = tempfile::tempdir().unwrap();
+    program(dir.path(), "later.lua", "Enable(0)\nMoveAbsolute(0, 20)\n");
+    let machine = dir.path().join("machine.toml");
+    std::fs::write(&machine, "[[axes]]\n[[tasks]]\nid = 3\nprogram = \"later.lua\"\n").unwrap();
+    let ns = unique_ns("check-serve");
+    let child = Command::new(BIN)
+        .args(["serve", "--ns", &ns, "--modbus-port", "0", "--ascii-port", "0", "--config", machine.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = finish(child, std::time::Duration::from_secs(30));
+    assert_eq!(out.status.code(), Some(1), "{}", out.stderr);
+    assert!(out.stderr.contains("later.lua:2:1: error[E101]: unknown global `MoveAbsolute`"), "{}", out.stderr);
+    assert!(out.stderr.contains("nothing was started"), "{}", out.stderr);
+}
