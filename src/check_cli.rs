@@ -36,8 +36,8 @@ pub fn check(args: CheckArgs) -> Result<ExitCode> {
             Some(code) if code.severity() == check::Severity::Warning => allowed.push(code),
             Some(code) => bail!("{} is an error, which cannot be allowed; only warnings (W...) can", code.id()),
             None => {
-                let known: Vec<&str> = Code::ALL.iter().map(|c| c.id()).collect();
-                bail!("no check code {id:?}; the codes are {}", known.join(", "))
+                let known: Vec<String> = Code::ALL.iter().map(|c| format!("  {} {}", c.id(), c.summary())).collect();
+                bail!("no check code {id:?}; the codes are:\n{}", known.join("\n"))
             }
         }
     }

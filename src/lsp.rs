@@ -213,21 +213,20 @@ fn markdown(value: String) -> MarkupContent {
 
 /// The file a `file://` URI names, for `require`'s folder and the findings' file name.
 fn file_path(uri: &Uri) -> Option<PathBuf> {
-    let path = uri.as_str().strip_prefix("file://")?;
-    let mut bytes = Vec::new();
-    let mut rest = path.as_bytes();
-    while let Some((&b, tail)) = rest.split_first() {
-        match (b, tail) {
-            (b'%', [h, l, tail @ ..]) => {
-                let hex = std::str::from_utf8(&[*h, *l]).ok().and_then(|s| u8::from_str_radix(s, 16).ok())?;
-                bytes.push(hex);
-                rest = tail;
-            }
-            _ => {
-                bytes.push(b);
-                rest = tail;
-            }
-        }
+    if !uri.scheme()?.as_str().eq_ignore_ascii_case("file") {
+        return None;
     }
-    Some(PathBuf::from(String::from_utf8(bytes).ok()?))
+    Some(PathBuf::from(uri.path().as_estr().decode().into_string().ok()?.into_owned()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_uri_is_its_decoded_path() {
+        let uri = |s: &str| s.parse::<Uri>().unwrap();
+        assert_eq!(file_path(&uri("file:///home/cell%201/main.lua")), Some(PathBuf::from("/home/cell 1/main.lua")));
+        assert_eq!(file_path(&uri("untitled:Untitled-1")), None);
+    }
 }

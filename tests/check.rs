@@ -88,6 +88,10 @@ fn the_check_knows_every_global_of_a_script_vm() {
     let names: Vec<String> =
         out.lines_of_task(0).iter().filter_map(|l| l.strip_prefix("global ")).map(str::to_string).collect();
     assert!(names.len() > 300, "{names:?}");
+    // And the other way: every Lua global the check allows is in the VM.
+    let missing: Vec<&&str> =
+        check::environment::LUA_GLOBALS.iter().filter(|n| !names.iter().any(|m| m == *n)).collect();
+    assert!(missing.is_empty(), "the check allows what the sandbox does not have: {missing:?}");
     let reads: String = names.iter().map(|n| format!("local _ = {n}\n")).collect();
     let reader = program(dir.path(), "reader.lua", &reads);
     let out = luamotion(&["check", reader.to_str().unwrap()]);

@@ -3,7 +3,6 @@
 //! and the call the cursor is in.
 
 use api::FunctionSpec;
-use api::constants::{CONSTANTS, Constant};
 
 use crate::environment::{Environment, Known};
 
@@ -33,45 +32,24 @@ pub struct Item {
 
 /// Every name of the API a program can use, with what the registry says of it.
 pub fn completions(environment: &Environment) -> Vec<Item> {
-    let functions = api::registry::all().map(|spec| Item {
+    let function = |spec: &FunctionSpec| Item {
         label: spec.name.to_string(),
         kind: ItemKind::Function,
         detail: spec.signature(),
         documentation: function_doc(spec),
-    });
-    let constants = CONSTANTS.iter().map(|(name, value, source)| {
-        let value = match value {
-            Constant::Int(i) => i.to_string(),
-            Constant::Double(d) => d.to_string(),
-            Constant::Str(s) => format!("{s:?}"),
+    };
+    let globals = environment.globals().filter_map(|(name, known)| {
+        let kind = match known {
+            Known::Function(spec) => return Some(function(spec)),
+            Known::Constant => ItemKind::Constant,
+            Known::SystemVariable { .. } => ItemKind::Variable,
+            Known::ApiTable | Known::Lua => return None,
         };
-        Item {
-            label: name.to_string(),
-            kind: ItemKind::Constant,
-            detail: format!("{name} = {value}"),
-            documentation: source.to_string(),
-        }
+        let note = environment.note(name)?;
+        Some(Item { label: name.to_string(), kind, detail: note.detail.clone(), documentation: note.doc.clone() })
     });
-    let ids = api::constants::error_ids().map(|(name, id)| Item {
-        label: name.to_string(),
-        kind: ItemKind::Constant,
-        detail: format!("{name} = 0x{id:04X}"),
-        documentation: "error id (HMPL ch. 18)".to_string(),
-    });
-    let numbered = api::constants::numbered().map(|(name, value)| Item {
-        detail: format!("{name} = {value}"),
-        label: name,
-        kind: ItemKind::Constant,
-        documentation: String::new(),
-    });
-    let variables = api::system_vars::SystemVar::ALL.iter().map(|d| Item {
-        label: d.name.to_string(),
-        kind: ItemKind::Variable,
-        detail: format!("{}: {}", d.name, d.lua_type),
-        documentation: format!("{} ({})", d.doc, d.source),
-    });
-    let mut items: Vec<Item> = functions.chain(constants).chain(ids).chain(numbered).chain(variables).collect();
-    items.retain(|item| !item.label.is_empty() && (item.label.contains('.') || environment.get(&item.label).is_some()));
+    let mut items: Vec<Item> = globals.chain(environment.dotted_functions().map(function)).collect();
+    items.sort_by(|a, b| a.label.cmp(&b.label));
     items
 }
 
@@ -86,10 +64,7 @@ pub fn hover(environment: &Environment, word: &str) -> Option<String> {
     }
     match environment.get(word)? {
         Known::Function(spec) => Some(function_doc(spec)),
-        _ => completions(environment)
-            .into_iter()
-            .find(|i| i.label == word)
-            .map(|i| format!("`{}`\n\n{}", i.detail, i.documentation)),
+        _ => environment.note(word).map(|note| format!("`{}`\n\n{}", note.detail, note.doc)),
     }
 }
 

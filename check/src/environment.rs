@@ -6,6 +6,7 @@
 use std::collections::HashMap;
 
 use api::FunctionSpec;
+use api::constants::{CONSTANTS, Constant};
 use api::system_vars::SystemVar;
 
 /// Lua 5.4's base library as the sandbox leaves it (without `dofile` and `loadfile`),
@@ -78,6 +79,17 @@ pub struct Environment {
     names: HashMap<String, Known>,
     /// Registry functions by their full dotted name (`FreePort.Eth.Tx`).
     dotted: HashMap<&'static str, &'static FunctionSpec>,
+    /// What the registry says of each constant and variable.
+    notes: HashMap<String, Note>,
+}
+
+/// What the registry says of a constant or a variable, for an editor.
+#[derive(Clone, Debug, Default)]
+pub struct Note {
+    /// Its value (`BM_LOOKAHEAD = 6`) or type (`system_fclk: integer`).
+    pub detail: String,
+    /// Where it comes from and what it is.
+    pub doc: String,
 }
 
 impl Environment {
@@ -96,22 +108,46 @@ impl Environment {
                 }
             }
         }
-        let constants = api::constants::CONSTANTS.iter().map(|(name, _, _)| name.to_string());
-        let ids = api::constants::error_ids().map(|(name, _)| name.to_string());
-        for name in constants.chain(ids).chain(api::constants::numbered().map(|(name, _)| name)) {
-            names.insert(name, Known::Constant);
+        let mut notes = HashMap::new();
+        let mut note = |name: String, known: Known, detail: String, doc: String| {
+            names.insert(name.clone(), known);
+            notes.insert(name, Note { detail, doc });
+        };
+        for (name, value, source) in CONSTANTS {
+            let value = match value {
+                Constant::Int(i) => i.to_string(),
+                Constant::Double(d) => d.to_string(),
+                Constant::Str(s) => format!("{s:?}"),
+            };
+            note(name.to_string(), Known::Constant, format!("{name} = {value}"), source.to_string());
         }
-        let variables = SystemVar::ALL.iter().map(|d| d.name.to_string());
-        let tests =
-            (0..api::system_vars::TEST_VARS).flat_map(|i| [format!("system_ltest{i}"), format!("system_dtest{i}")]);
-        for name in variables.chain(tests) {
-            let writable = matches!(SystemVar::parse(&name), Some(SystemVar::LTest(_) | SystemVar::DTest(_)));
-            names.insert(name, Known::SystemVariable { writable });
+        for (name, id) in api::constants::error_ids() {
+            note(name.to_string(), Known::Constant, format!("{name} = 0x{id:04X}"), "error id (HMPL ch. 18)".into());
+        }
+        for (name, value) in api::constants::numbered() {
+            note(name.clone(), Known::Constant, format!("{name} = {value}"), String::new());
+        }
+        let tests = (0..api::system_vars::TEST_VARS).flat_map(|i| ["ltest", "dtest"].map(|k| format!("system_{k}{i}")));
+        let described = |name: &str| SystemVar::ALL.iter().find(|d| d.name == name);
+        let variables = SystemVar::ALL.iter().map(|d| d.name.to_string()).chain(tests);
+        for name in variables {
+            let var = SystemVar::parse(&name);
+            let writable = matches!(var, Some(SystemVar::LTest(_) | SystemVar::DTest(_)));
+            // The reference describes the first test variable of each kind for all ten.
+            let first = match var {
+                Some(SystemVar::LTest(_)) => "system_ltest0",
+                Some(SystemVar::DTest(_)) => "system_dtest0",
+                _ => name.as_str(),
+            };
+            let (detail, doc) = described(first)
+                .map(|d| (format!("{name}: {}", d.lua_type), format!("{} ({})", d.doc, d.source)))
+                .unwrap_or_default();
+            note(name.clone(), Known::SystemVariable { writable }, detail, doc);
         }
         for name in LUA_GLOBALS {
             names.insert(name.to_string(), Known::Lua);
         }
-        Environment { names, dotted }
+        Environment { names, dotted, notes }
     }
 
     /// What `name` is, if the program starts with it.
@@ -122,6 +158,16 @@ impl Environment {
     /// Every global name and what it is.
     pub fn globals(&self) -> impl Iterator<Item = (&str, Known)> {
         self.names.iter().map(|(name, known)| (name.as_str(), *known))
+    }
+
+    /// What the registry says of a constant or variable.
+    pub fn note(&self, name: &str) -> Option<&Note> {
+        self.notes.get(name)
+    }
+
+    /// Every dotted registry function (`FreePort.Eth.Tx`).
+    pub fn dotted_functions(&self) -> impl Iterator<Item = &'static FunctionSpec> + '_ {
+        self.dotted.values().copied()
     }
 
     /// The registry function of a dotted name (`FreePort.Eth.Tx`).

@@ -52,8 +52,6 @@ pub struct Options {
 /// One checked file: its text, for showing the lines, and what was found.
 #[derive(Debug)]
 pub struct Checked {
-    /// The file as given.
-    pub file: PathBuf,
     /// Its text.
     pub source: String,
     /// What was found, in the order of the source.
@@ -140,7 +138,7 @@ impl Checker {
         let source = std::fs::read_to_string(path).map_err(|source| CheckError::Read { path: path.into(), source })?;
         let folder = path.parent().map(|p| if p.as_os_str().is_empty() { Path::new(".") } else { p });
         let diagnostics = self.check_source(&path.display().to_string(), &source, folder);
-        Ok(Checked { file: path.to_path_buf(), source, diagnostics })
+        Ok(Checked { source, diagnostics })
     }
 
     /// Checks files, and the `.lua` files of folders (recursively), in name order.

@@ -16,6 +16,7 @@ use ethercrab::{
     Timeouts, std::ethercat_now,
 };
 
+use devices::cia402::State;
 use devices::ecat::{AlState, Exchange, Remote, SdoAnswer, SdoError, SdoRequest};
 use futures_lite::future::block_on;
 
@@ -448,7 +449,8 @@ async fn start_up<'sto>(
             statusword.is_none_or(|e| {
                 let io = subdevice.io_raw();
                 let bytes = io.inputs().get(e.offset..e.offset + 2);
-                bytes.is_some_and(|b| u16::from_le_bytes([b[0], b[1]]) & NOT_READY_MASK != 0)
+                let state = bytes.map(|b| State::from_statusword(u16::from_le_bytes([b[0], b[1]])));
+                state.is_some_and(|s| s != Some(State::NotReadyToSwitchOn))
             })
         });
         if response.all_op() && drives_ready {
@@ -461,9 +463,8 @@ async fn start_up<'sto>(
     }
 }
 
-/// CiA 402 statusword (CoE manual table 3-5): Not ready to switch on is `xxxx xxxx x0xx 0000`.
+/// The CiA 402 statusword (CoE manual table 3-4), decoded with table 3-5's masks.
 const STATUSWORD: u16 = 0x6041;
-const NOT_READY_MASK: u16 = 0x004F;
 
 #[cfg(test)]
 mod tests {

@@ -36,16 +36,12 @@ pub fn setup_current_thread(config: &RtConfig) -> Granted {
         }
     }
     if config.priority > 0 {
-        let param = libc::sched_param { sched_priority: config.priority as i32 };
-        // SAFETY: `param` is valid for the call.
-        if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } == 0 {
-            granted.fifo_priority = Some(config.priority);
-        } else {
-            tracing::warn!(
-                "SCHED_FIFO priority {} refused ({}); the RT thread runs as a plain thread",
-                config.priority,
-                errno()
-            );
+        match subdevice::realtime::fifo(config.priority) {
+            Ok(()) => granted.fifo_priority = Some(config.priority),
+            Err(error) => tracing::warn!(
+                "SCHED_FIFO priority {} refused ({error}); the RT thread runs as a plain thread",
+                config.priority
+            ),
         }
     }
     granted
@@ -156,11 +152,7 @@ pub fn setup_waker_thread(config: &RtConfig, cpu: usize) {
         tracing::warn!("cannot pin the task waker of CPU {cpu} there ({})", errno());
     }
     if config.priority > 1 {
-        let param = libc::sched_param { sched_priority: config.priority as i32 - 1 };
-        // SAFETY: `param` is valid for the call.
-        if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } != 0 {
-            tracing::warn!("SCHED_FIFO refused to the task waker ({})", errno());
-        }
+        subdevice::realtime::fifo_or_plain(config.priority - 1, "the task waker");
     }
 }
 

@@ -1,7 +1,8 @@
 //! SCHED_FIFO for the threads that stand in for hardware or drive the wire: an ESC answers
 //! a frame in microseconds whatever else the machine does, and a master's frames leave on
 //! its cycle. As plain threads on a loaded machine they wait behind any busy process for
-//! longer than a frame may take.
+//! longer than a frame may take. The core's RT thread and task wakers ask through it too
+//! (`rt-core/src/realtime.rs`): one request of the OS, in the lowest crate that needs it.
 
 use std::io;
 
